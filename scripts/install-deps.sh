@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package dsdem needs. Idempotent; fast when all is present.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config git
+  libeigen3-dev
+  gmsh libgmsh-dev
+  libvtk9-dev
+  libyaml-cpp-dev
+  libcli11-dev
+  libfmt-dev libspdlog-dev
+  libhdf5-dev
+  libgtest-dev libgmock-dev googletest
+  libbenchmark-dev
+  python3 python3-matplotlib python3-numpy python3-meshio
+  ffmpeg
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

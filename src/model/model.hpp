@@ -1,0 +1,102 @@
+#pragma once
+// The simulated model as structures of arrays (DESIGN.md §9): contiguous node and
+// element fields, no object per node. Built by mesh/model_builder from a Gmsh mesh
+// and a scenario; read and written by the solver phases.
+#include <string>
+#include <vector>
+
+#include "model/types.hpp"
+
+namespace dsdem {
+
+// Zone of a triangle (DESIGN.md §1): A breaks and collides, B is plain FEM, C is FEM
+// whose surface takes part in contact.
+enum class Zone : std::uint8_t { Discrete = 0, Bedrock = 1, ContactBedrock = 2 };
+
+// Per-node fixity bits.
+enum : std::uint8_t { kFixX = 1, kFixY = 2 };
+
+struct Nodes {
+  std::vector<Vec2> X;    // reference position, m
+  std::vector<Vec2> u;    // displacement, m (current position x = X + u)
+  std::vector<Vec2> v;    // velocity, m/s
+  std::vector<Vec2> a;    // acceleration, m/s^2
+  std::vector<Vec2> f;    // total force this step, N (per unit thickness in plane strain)
+  std::vector<double> m;  // lumped mass, kg
+  std::vector<std::uint8_t> fix;   // kFixX | kFixY: velocity prescribed in that direction
+  std::vector<Vec2> v_prescribed;  // prescribed velocity where fixed, m/s
+  std::vector<Index> origin;       // the mesh node this node was split from (joint insertion)
+
+  std::size_t size() const { return X.size(); }
+  void resize(std::size_t n) {
+    X.resize(n, Vec2::Zero());
+    u.resize(n, Vec2::Zero());
+    v.resize(n, Vec2::Zero());
+    a.resize(n, Vec2::Zero());
+    f.resize(n, Vec2::Zero());
+    m.resize(n, 0.0);
+    fix.resize(n, 0);
+    v_prescribed.resize(n, Vec2::Zero());
+    origin.resize(n, kNoIndex);
+  }
+  Vec2 x(Index i) const { return X[i] + u[i]; }
+};
+
+struct Triangles {
+  std::vector<std::array<Index, 3>> conn;  // counter-clockwise node indices
+  std::vector<Index> group;                // index into Model::groups (a surface group)
+  std::vector<Index> material;             // index into Model::materials
+  std::vector<Zone> zone;
+  std::vector<Mat2> Dm_inv;   // inverse of the reference edge matrix [X1-X0, X2-X0]
+  std::vector<double> area0;  // reference area, m^2
+  std::vector<Vec3> stress;   // Cauchy stress (xx, yy, xy), Pa
+  std::vector<Vec3> strain;   // Green-Lagrange strain (xx, yy, 2*xy engineering shear)
+  std::vector<Vec3> stress0;  // initial (in-situ) stress kept from an earlier stage, Pa
+
+  std::size_t size() const { return conn.size(); }
+  void resize(std::size_t n) {
+    conn.resize(n, {kNoIndex, kNoIndex, kNoIndex});
+    group.resize(n, kNoIndex);
+    material.resize(n, kNoIndex);
+    zone.resize(n, Zone::Bedrock);
+    Dm_inv.resize(n, Mat2::Identity());
+    area0.resize(n, 0.0);
+    stress.resize(n, Vec3::Zero());
+    strain.resize(n, Vec3::Zero());
+    stress0.resize(n, Vec3::Zero());
+  }
+};
+
+enum class GroupKind : std::uint8_t { Surface = 2, Curve = 1, Point = 0 };
+
+// A Gmsh physical group, after joint insertion: the model's triangles (surfaces),
+// the model's nodes on it (curves and points; every copy of a split node), and the
+// mesh edges on it (curves, as pairs of original mesh node ids).
+struct Group {
+  std::string name;
+  GroupKind kind = GroupKind::Surface;
+  int gmsh_tag = -1;
+  std::vector<Index> triangles;
+  std::vector<Index> nodes;
+  std::vector<std::array<Index, 2>> mesh_edges;
+};
+
+// Linear elastic material (the interface admits plastic laws later, DESIGN.md §2).
+struct Material {
+  std::string name;
+  std::string model = "linear_elastic";
+  double E = 0.0;       // Young's modulus, Pa
+  double nu = 0.0;      // Poisson's ratio
+  double rho = 0.0;     // density, kg/m^3
+  bool plane_stress = false;
+  double thickness = 1.0;  // m (plane strain: unit thickness)
+  double lambda() const {
+    return plane_stress ? E * nu / (1.0 - nu * nu) : E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  }
+  double mu() const { return E / (2.0 * (1.0 + nu)); }
+  double p_wave_modulus() const { return lambda() + 2.0 * mu(); }
+  double cp() const { return std::sqrt(p_wave_modulus() / rho); }
+  double cs() const { return std::sqrt(mu() / rho); }
+};
+
+}  // namespace dsdem
