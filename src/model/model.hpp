@@ -100,3 +100,24 @@ struct Material {
 };
 
 }  // namespace dsdem
+
+namespace dsdem {
+
+// Everything the solver advances. Joints and contact state live in their own modules'
+// arrays, owned here too once those modules are wired in.
+struct Model {
+  Nodes nodes;
+  Triangles triangles;
+  std::vector<Group> groups;
+  std::vector<Material> materials;
+  bool plane_stress = false;
+  double thickness = 1.0;  // m
+
+  Index find_group(const std::string& name) const {
+    for (std::size_t i = 0; i < groups.size(); ++i)
+      if (groups[i].name == name) return static_cast<Index>(i);
+    return kNoIndex;
+  }
+};
+
+}  // namespace dsdem

@@ -1,0 +1,376 @@
+#include "io/scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/schema.hpp"
+
+namespace dsdem::io {
+
+namespace {
+
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string s = fmt::format("the scenario has {} error{}:", lines.size(), lines.size() == 1 ? "" : "s");
+  for (const auto& l : lines) s += "\n  " + l;
+  return s;
+}
+
+SourceLocation location(const SchemaReader& r, const YAML::Node& n, const std::string& key) {
+  SourceLocation loc;
+  loc.file = r.file();
+  loc.key = key;
+  if (n.IsDefined()) {
+    loc.line = n.Mark().line;
+    loc.column = n.Mark().column;
+  }
+  return loc;
+}
+
+TimeHistory to_history(const std::vector<std::array<double, 2>>& rows) {
+  TimeHistory h;
+  for (const auto& r : rows) {
+    h.t.push_back(r[0]);
+    h.value.push_back(r[1]);
+  }
+  return h;
+}
+
+std::vector<BoundarySpec> read_boundaries(SchemaReader& r, const YAML::Node& list, const KeyPath& path) {
+  std::vector<BoundarySpec> out;
+  if (!list.IsDefined()) return out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node b = list[i];
+    const KeyPath p = path.index(i);
+    if (!b.IsMap()) {
+      r.error(b, p.actual, "expected a map with group and type");
+      continue;
+    }
+    r.check_keys(b, p);
+    BoundarySpec spec;
+    spec.group = r.string(b, p, "group").value_or("");
+    spec.where = location(r, b["group"].IsDefined() ? b["group"] : b, p.child("group").actual);
+    const std::string type = r.string(b, p, "type").value_or("");
+    const auto dir = r.string(b, p, "direction");
+    auto x = r.table(b, p, "x");
+    auto y = r.table(b, p, "y");
+    if (x) spec.x = to_history(*x);
+    if (y) spec.y = to_history(*y);
+    if (type == "fixed") {
+      spec.type = BoundaryType::Fixed;
+    } else if (type == "free") {
+      spec.type = BoundaryType::Free;
+    } else if (type == "roller") {
+      spec.type = BoundaryType::Roller;
+      if (!dir) r.error(b, p.child("direction").actual, "a roller needs the direction it holds: x or y");
+      spec.direction = dir && *dir == "y" ? 1 : 0;
+    } else if (type == "velocity" || type == "displacement") {
+      spec.type = type == "velocity" ? BoundaryType::Velocity : BoundaryType::Displacement;
+      if (!spec.x && !spec.y)
+        r.error(b, p.actual, fmt::format("a {} condition needs x and/or y (a number or [[t, value], ...])", type));
+    }
+    if ((spec.type == BoundaryType::Fixed || spec.type == BoundaryType::Roller || spec.type == BoundaryType::Free) &&
+        (spec.x || spec.y))
+      r.error(b, p.actual, fmt::format("'{}' takes no x/y values; use type velocity or displacement", type));
+    out.push_back(std::move(spec));
+  }
+  return out;
+}
+
+DampingSpec read_damping(SchemaReader& r, const YAML::Node& map, const KeyPath& path, const DampingSpec& fallback) {
+  if (!map.IsDefined()) return fallback;
+  r.check_keys(map, path);
+  DampingSpec d;
+  d.alpha = r.number(map, path, "alpha").value_or(0.0);
+  d.beta = r.number(map, path, "beta").value_or(0.0);
+  return d;
+}
+
+}  // namespace
+
+ScenarioError::ScenarioError(const std::vector<std::string>& errors)
+    : std::runtime_error(join_lines(errors)), errors_(errors) {}
+
+std::string SourceLocation::describe(const std::string& message) const {
+  if (line >= 0) return fmt::format("{}:{}:{}: {}: {}", file, line + 1, column + 1, key, message);
+  return fmt::format("{}: {}: {}", file, key, message);
+}
+
+double TimeHistory::at(double time) const {
+  if (t.empty()) return 0.0;
+  if (time <= t.front()) return value.front();
+  if (time >= t.back()) return value.back();
+  const auto it = std::upper_bound(t.begin(), t.end(), time);
+  const std::size_t k = static_cast<std::size_t>(it - t.begin());
+  const double s = (time - t[k - 1]) / (t[k] - t[k - 1]);
+  return value[k - 1] + s * (value[k] - value[k - 1]);
+}
+
+double TimeHistory::rate_at(double time) const {
+  if (t.size() < 2 || time < t.front() || time >= t.back()) return 0.0;
+  const auto it = std::upper_bound(t.begin(), t.end(), time);
+  const std::size_t k = static_cast<std::size_t>(it - t.begin());
+  return (value[k] - value[k - 1]) / (t[k] - t[k - 1]);
+}
+
+double Scenario::end_time() const {
+  double t = 0.0;
+  for (const auto& s : stages) t += s.duration;
+  return t;
+}
+
+std::string Scenario::resolve(const std::string& path) const {
+  const std::filesystem::path p(path);
+  if (p.is_absolute()) return p.string();
+  return (std::filesystem::path(directory) / p).lexically_normal().string();
+}
+
+void apply_override(YAML::Node& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ScenarioError({fmt::format("--set {}: expected key.path=value", assignment)});
+  const std::string key = assignment.substr(0, eq);
+  const std::string value = assignment.substr(eq + 1);
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  // Walk with plain Node handles; yaml-cpp nodes are references into the tree.
+  std::vector<YAML::Node> chain{root};
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node cur = chain.back();
+    const std::string& part = parts[i];
+    if (cur.IsSequence()) {
+      std::size_t idx = 0;
+      try {
+        idx = std::stoul(part);
+      } catch (...) {
+        throw ScenarioError({fmt::format("--set {}: '{}' is a list; use an index", key, part)});
+      }
+      if (idx >= cur.size())
+        throw ScenarioError({fmt::format("--set {}: index {} beyond the {} entries", key, idx, cur.size())});
+      chain.push_back(cur[idx]);
+    } else {
+      chain.push_back(cur[part]);
+    }
+  }
+  YAML::Node leaf = chain.back();
+  YAML::Node v;
+  try {
+    v = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw ScenarioError({fmt::format("--set {}: value '{}' is not valid YAML: {}", key, value, e.msg)});
+  }
+  if (leaf.IsSequence()) {
+    std::size_t idx = 0;
+    try {
+      idx = std::stoul(parts.back());
+    } catch (...) {
+      throw ScenarioError({fmt::format("--set {}: '{}' is a list; use an index", key, parts.back())});
+    }
+    if (idx >= leaf.size()) throw ScenarioError({fmt::format("--set {}: index {} beyond the list", key, idx)});
+    leaf[idx] = v;
+  } else {
+    leaf[parts.back()] = v;
+  }
+}
+
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw ScenarioError({fmt::format("{}: cannot open the scenario file", path)});
+  std::stringstream buf;
+  buf << in.rdbuf();
+  Scenario s = parse_scenario(buf.str(), path, overrides);
+  return s;
+}
+
+Scenario parse_scenario(const std::string& yaml_text, const std::string& file_name,
+                        const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ScenarioError({fmt::format("{}:{}:{}: YAML syntax error: {}", file_name, e.mark.line + 1, e.mark.column + 1, e.msg)});
+  }
+  if (!root.IsMap()) throw ScenarioError({fmt::format("{}: the scenario must be a YAML map of sections (mesh, materials, ...)", file_name)});
+  for (const auto& o : overrides) apply_override(root, o);
+
+  SchemaReader r(file_name);
+  Scenario sc;
+  sc.file = file_name;
+  sc.directory = std::filesystem::path(file_name).parent_path().string();
+  if (sc.directory.empty()) sc.directory = ".";
+  const KeyPath top{"", ""};
+  r.check_keys(root, top);
+  sc.title = r.string(root, top, "title").value_or("");
+
+  // mesh
+  if (YAML::Node mesh = r.section(root, top, "mesh", YAML::NodeType::Map); mesh.IsDefined()) {
+    const KeyPath p = top.child("mesh");
+    r.check_keys(mesh, p);
+    sc.mesh_file = r.string(mesh, p, "file").value_or("");
+    sc.where_mesh = location(r, mesh["file"].IsDefined() ? mesh["file"] : mesh, "mesh.file");
+    sc.element_size = r.number(mesh, p, "element_size");
+    sc.plane_stress = r.string(mesh, p, "plane").value_or("strain") == "stress";
+    sc.thickness = r.number(mesh, p, "thickness").value_or(1.0);
+    if (!sc.mesh_file.empty()) {
+      const std::string ext = std::filesystem::path(sc.mesh_file).extension().string();
+      if (ext != ".msh" && ext != ".geo")
+        r.error(mesh["file"], "mesh.file", fmt::format("'{}' is neither a .msh nor a .geo file", sc.mesh_file));
+      else if (!std::filesystem::exists(sc.resolve(sc.mesh_file)))
+        r.error(mesh["file"], "mesh.file", fmt::format("file not found: {}", sc.resolve(sc.mesh_file)));
+      else if (ext == ".geo" && !sc.element_size)
+        r.error(mesh, "mesh.element_size", "a .geo geometry needs an element size to be meshed");
+    }
+    if (!sc.plane_stress && mesh["thickness"].IsDefined() && sc.thickness != 1.0)
+      r.error(mesh["thickness"], "mesh.thickness", "a thickness other than 1 needs plane: stress (plane strain is per unit thickness)");
+  }
+
+  // materials
+  if (YAML::Node mats = r.section(root, top, "materials", YAML::NodeType::Map); mats.IsDefined()) {
+    const KeyPath p = top.child("materials");
+    for (auto it = mats.begin(); it != mats.end(); ++it) {
+      const std::string name = it->first.Scalar();
+      const KeyPath mp = p.item(name);
+      const YAML::Node m = it->second;
+      if (!m.IsMap()) {
+        r.error(m, mp.actual, "expected a map with E, nu, rho");
+        continue;
+      }
+      r.check_keys(m, mp);
+      Material mat;
+      mat.name = name;
+      mat.model = r.string(m, mp, "model").value_or("linear_elastic");
+      mat.E = r.number(m, mp, "E").value_or(0.0);
+      mat.nu = r.number(m, mp, "nu").value_or(0.0);
+      mat.rho = r.number(m, mp, "rho").value_or(0.0);
+      sc.materials[name] = mat;
+    }
+    if (mats.size() == 0) r.error(mats, "materials", "at least one material is needed");
+  }
+  for (auto& [name, m] : sc.materials) {
+    m.plane_stress = sc.plane_stress;
+    m.thickness = sc.thickness;
+  }
+
+  // regions
+  if (YAML::Node regs = r.section(root, top, "regions", YAML::NodeType::Sequence); regs.IsDefined()) {
+    const KeyPath p = top.child("regions");
+    std::vector<std::string> names;
+    for (const auto& [n, m] : sc.materials) names.push_back(n);
+    for (std::size_t i = 0; i < regs.size(); ++i) {
+      const KeyPath rp = p.index(i);
+      const YAML::Node g = regs[i];
+      if (!g.IsMap()) {
+        r.error(g, rp.actual, "expected a map with group, material and zone");
+        continue;
+      }
+      r.check_keys(g, rp);
+      RegionSpec reg;
+      reg.group = r.string(g, rp, "group").value_or("");
+      reg.material = r.string(g, rp, "material").value_or("");
+      const std::string zone = r.string(g, rp, "zone").value_or("continuous");
+      reg.zone = zone == "discrete" ? Zone::Discrete : zone == "contact" ? Zone::ContactBedrock : Zone::Bedrock;
+      reg.where_group = location(r, g["group"].IsDefined() ? g["group"] : g, rp.child("group").actual);
+      reg.where_material = location(r, g["material"].IsDefined() ? g["material"] : g, rp.child("material").actual);
+      if (!reg.material.empty() && !sc.materials.count(reg.material)) {
+        const std::string near = nearest(reg.material, names);
+        r.error(g["material"], rp.child("material").actual,
+                fmt::format("no material '{}' under materials{}", reg.material,
+                            near.empty() ? "" : "; did you mean '" + near + "'?"));
+      }
+      for (const auto& other : sc.regions)
+        if (!reg.group.empty() && other.group == reg.group)
+          r.error(g["group"], rp.child("group").actual, fmt::format("group '{}' is given two regions", reg.group));
+      sc.regions.push_back(reg);
+    }
+  }
+
+  std::vector<BoundarySpec> boundaries;
+  if (YAML::Node b = r.section(root, top, "boundaries", YAML::NodeType::Sequence); b.IsDefined())
+    boundaries = read_boundaries(r, b, top.child("boundaries"));
+
+  if (auto g = r.vector2(root, top, "gravity")) sc.gravity = Vec2((*g)[0], (*g)[1]);
+  DampingSpec damping;
+  if (YAML::Node d = r.section(root, top, "damping", YAML::NodeType::Map); d.IsDefined())
+    damping = read_damping(r, d, top.child("damping"), damping);
+
+  std::optional<double> end;
+  if (YAML::Node t = r.section(root, top, "time", YAML::NodeType::Map); t.IsDefined()) {
+    const KeyPath p = top.child("time");
+    r.check_keys(t, p);
+    end = r.number(t, p, "end");
+    sc.dt = r.number(t, p, "dt");
+    sc.safety = r.number(t, p, "safety").value_or(0.3);
+  }
+
+  if (YAML::Node st = r.section(root, top, "stages", YAML::NodeType::Sequence); st.IsDefined()) {
+    const KeyPath p = top.child("stages");
+    for (std::size_t i = 0; i < st.size(); ++i) {
+      const KeyPath sp = p.index(i);
+      const YAML::Node s = st[i];
+      if (!s.IsMap()) {
+        r.error(s, sp.actual, "expected a map with name and duration");
+        continue;
+      }
+      r.check_keys(s, sp);
+      StageSpec stage;
+      stage.name = r.string(s, sp, "name").value_or(fmt::format("stage{}", i + 1));
+      stage.duration = r.number(s, sp, "duration").value_or(0.0);
+      stage.damping = read_damping(r, r.section(s, sp, "damping", YAML::NodeType::Map), sp.child("damping"), damping);
+      if (YAML::Node sb = r.section(s, sp, "boundaries", YAML::NodeType::Sequence); sb.IsDefined())
+        stage.boundaries = read_boundaries(r, sb, sp.child("boundaries"));
+      else
+        stage.boundaries = boundaries;
+      stage.stop_kinetic_ratio = r.number(s, sp, "stop_kinetic_ratio").value_or(0.0);
+      sc.stages.push_back(std::move(stage));
+    }
+    if (end && st.size() > 0)
+      r.error(root["time"]["end"], "time.end", "give either time.end or stages with durations, not both");
+  } else {
+    StageSpec stage;
+    stage.name = "main";
+    stage.duration = end.value_or(0.0);
+    stage.damping = damping;
+    stage.boundaries = boundaries;
+    if (!end && root["time"].IsDefined()) r.error(root["time"], "time.end", "missing value (end time, s); or give stages");
+    sc.stages.push_back(std::move(stage));
+  }
+
+  if (YAML::Node o = r.section(root, top, "output", YAML::NodeType::Map); o.IsDefined()) {
+    const KeyPath p = top.child("output");
+    r.check_keys(o, p);
+    sc.output.field_interval = r.number(o, p, "field_interval").value_or(0.0);
+    sc.output.history_interval = r.number(o, p, "history_interval").value_or(0.0);
+    sc.output.progress_interval = r.number(o, p, "progress_interval").value_or(2.0);
+    if (YAML::Node gs = r.section(o, p, "gauges", YAML::NodeType::Sequence); gs.IsDefined()) {
+      const KeyPath gp = p.child("gauges");
+      for (std::size_t i = 0; i < gs.size(); ++i) {
+        const KeyPath ip = gp.index(i);
+        if (!gs[i].IsMap()) {
+          r.error(gs[i], ip.actual, "expected a map with name and at");
+          continue;
+        }
+        r.check_keys(gs[i], ip);
+        GaugeSpec g;
+        g.name = r.string(gs[i], ip, "name").value_or("");
+        if (auto at = r.vector2(gs[i], ip, "at")) g.at = Vec2((*at)[0], (*at)[1]);
+        g.where = location(r, gs[i]["at"].IsDefined() ? gs[i]["at"] : gs[i], ip.child("at").actual);
+        for (const auto& other : sc.output.gauges)
+          if (!g.name.empty() && other.name == g.name)
+            r.error(gs[i]["name"], ip.child("name").actual, fmt::format("two gauges are named '{}'", g.name));
+        sc.output.gauges.push_back(g);
+      }
+    }
+  }
+  const double total = sc.end_time();
+  if (sc.output.field_interval <= 0.0) sc.output.field_interval = total / 50.0;
+  if (sc.output.history_interval <= 0.0) sc.output.history_interval = total / 1000.0;
+
+  if (!r.ok()) throw ScenarioError(r.errors());
+  return sc;
+}
+
+}  // namespace dsdem::io

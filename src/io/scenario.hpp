@@ -1,0 +1,116 @@
+#pragma once
+// The scenario (YAML) in memory, validated as a whole before step 0 (DESIGN.md §9).
+#include <array>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "model/model.hpp"
+
+namespace dsdem::io {
+
+// All input errors at once: every line is "file:line:col: key: message".
+class ScenarioError : public std::runtime_error {
+ public:
+  explicit ScenarioError(const std::vector<std::string>& errors);
+  const std::vector<std::string>& errors() const { return errors_; }
+
+ private:
+  std::vector<std::string> errors_;
+};
+
+// Where a value came from, for errors found after parsing (e.g. a group the mesh lacks).
+struct SourceLocation {
+  std::string file;
+  int line = -1;    // 0-based as yaml-cpp gives them
+  int column = -1;
+  std::string key;  // actual key path
+  std::string describe(const std::string& message) const;
+};
+
+// Piecewise-linear function of time, held constant after its last point and before its first.
+struct TimeHistory {
+  std::vector<double> t, value;
+  double at(double time) const;
+  double rate_at(double time) const;  // derivative (piecewise constant)
+  bool empty() const { return t.empty(); }
+};
+
+enum class BoundaryType { Fixed, Roller, Velocity, Displacement, Free };
+
+struct BoundarySpec {
+  std::string group;
+  BoundaryType type = BoundaryType::Fixed;
+  int direction = 0;  // roller: 0 = x held, 1 = y held
+  std::optional<TimeHistory> x, y;
+  SourceLocation where;
+};
+
+struct RegionSpec {
+  std::string group;
+  std::string material;
+  Zone zone = Zone::Bedrock;
+  SourceLocation where_group, where_material;
+};
+
+struct DampingSpec {
+  double alpha = 0.0;  // 1/s
+  double beta = 0.0;   // s
+};
+
+struct StageSpec {
+  std::string name;
+  double duration = 0.0;
+  DampingSpec damping;
+  std::vector<BoundarySpec> boundaries;
+  double stop_kinetic_ratio = 0.0;  // 0 = run the full duration
+};
+
+struct GaugeSpec {
+  std::string name;
+  Vec2 at = Vec2::Zero();
+  SourceLocation where;
+};
+
+struct OutputSpec {
+  double field_interval = 0.0;     // s (0 = end/50)
+  double history_interval = 0.0;   // s (0 = end/1000)
+  double progress_interval = 2.0;  // s wall clock
+  std::vector<GaugeSpec> gauges;
+};
+
+struct Scenario {
+  std::string file;       // path of the scenario file
+  std::string directory;  // its folder: relative paths are resolved from here
+  std::string title;
+  std::string mesh_file;  // absolute or relative to directory
+  std::optional<double> element_size;
+  bool plane_stress = false;
+  double thickness = 1.0;
+  std::map<std::string, Material> materials;
+  std::vector<RegionSpec> regions;
+  Vec2 gravity = Vec2(0.0, -9.81);
+  std::optional<double> dt;
+  double safety = 0.3;
+  std::vector<StageSpec> stages;  // at least one after parsing
+  OutputSpec output;
+  SourceLocation where_mesh;
+
+  double end_time() const;
+  std::string resolve(const std::string& path) const;
+};
+
+// Applies `key.path=value` overrides (list entries by index: stages.0.duration=2).
+void apply_override(YAML::Node& root, const std::string& assignment);
+
+// Loads, applies overrides and validates the scenario; throws ScenarioError listing
+// every problem with file, line, column and key.
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides = {});
+Scenario parse_scenario(const std::string& yaml_text, const std::string& file_name,
+                        const std::vector<std::string>& overrides = {});
+
+}  // namespace dsdem::io

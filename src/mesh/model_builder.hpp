@@ -1,0 +1,25 @@
+#pragma once
+// Builds the solver's Model from a Gmsh mesh and a validated scenario: materials per
+// surface group, zones, lumped masses, reference geometry. Errors that need the mesh
+// (groups it lacks, inverted elements) name the scenario's file, line and key.
+#include "io/scenario.hpp"
+#include "mesh/raw_mesh.hpp"
+#include "model/model.hpp"
+
+namespace dsdem::mesh {
+
+// Loads (and for a .geo, meshes into work_dir) the scenario's mesh.
+RawMesh load_mesh(const io::Scenario& scenario, const std::string& work_dir);
+
+// Throws io::ScenarioError listing every mismatch between scenario and mesh.
+Model build_model(const io::Scenario& scenario, const RawMesh& mesh);
+
+// Lumped masses rho * A * t / 3 to each node (DESIGN.md §2).
+void compute_lumped_masses(Model& model);
+
+}  // namespace dsdem::mesh
+
+namespace dsdem::mesh {
+// A model of one material from a raw mesh, without a scenario (tests, benchmarks).
+Model build_model(const RawMesh& mesh, const Material& material, Zone zone = Zone::Bedrock);
+}  // namespace dsdem::mesh

@@ -1,0 +1,67 @@
+#include "solver/constraints.hpp"
+
+#include <map>
+
+namespace dsdem::solver {
+
+std::vector<PrescribedDof> build_constraints(const Model& model, const std::vector<io::BoundarySpec>& boundaries,
+                                             double t_start) {
+  // (node, dir) -> dof; std::map keeps the output order deterministic.
+  std::map<std::pair<Index, int>, PrescribedDof> dofs;
+  for (const auto& b : boundaries) {
+    const Index g = model.find_group(b.group);
+    if (g == kNoIndex) continue;  // validated before: cannot happen
+    for (Index n : model.groups[g].nodes) {
+      auto set = [&](int dir, PrescribedDof::Kind kind, const io::TimeHistory* h) {
+        PrescribedDof d;
+        d.node = n;
+        d.dir = dir;
+        d.kind = kind;
+        d.history = h;
+        d.u_start = model.nodes.u[n][dir];
+        d.t_start = t_start;
+        dofs[{n, dir}] = d;
+      };
+      switch (b.type) {
+        case io::BoundaryType::Fixed:
+          set(0, PrescribedDof::Fixed, nullptr);
+          set(1, PrescribedDof::Fixed, nullptr);
+          break;
+        case io::BoundaryType::Roller:
+          set(b.direction, PrescribedDof::Fixed, nullptr);
+          break;
+        case io::BoundaryType::Velocity:
+        case io::BoundaryType::Displacement: {
+          const auto kind = b.type == io::BoundaryType::Velocity ? PrescribedDof::Velocity : PrescribedDof::Displacement;
+          if (b.x) set(0, kind, &*b.x);
+          if (b.y) set(1, kind, &*b.y);
+          break;
+        }
+        case io::BoundaryType::Free:
+          dofs.erase({n, 0});
+          dofs.erase({n, 1});
+          break;
+      }
+    }
+  }
+  std::vector<PrescribedDof> out;
+  out.reserve(dofs.size());
+  for (auto& [key, d] : dofs) out.push_back(d);
+  return out;
+}
+
+double prescribed_velocity(const PrescribedDof& d, double t) {
+  switch (d.kind) {
+    case PrescribedDof::Fixed: return 0.0;
+    case PrescribedDof::Velocity: return d.history->at(t - d.t_start);
+    case PrescribedDof::Displacement: return d.history->rate_at(t - d.t_start);
+  }
+  return 0.0;
+}
+
+double prescribed_acceleration(const PrescribedDof& d, double t) {
+  if (d.kind == PrescribedDof::Velocity) return d.history->rate_at(t - d.t_start);
+  return 0.0;
+}
+
+}  // namespace dsdem::solver

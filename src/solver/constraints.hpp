@@ -1,0 +1,29 @@
+#pragma once
+// Prescribed motions of nodes (fixed, roller, velocity or displacement histories),
+// built per stage from the scenario's boundary conditions.
+#include <vector>
+
+#include "io/scenario.hpp"
+#include "model/model.hpp"
+
+namespace dsdem::solver {
+
+struct PrescribedDof {
+  Index node = kNoIndex;
+  int dir = 0;  // 0 = x, 1 = y
+  enum Kind : std::uint8_t { Fixed, Velocity, Displacement } kind = Fixed;
+  const io::TimeHistory* history = nullptr;  // owned by the stage's BoundarySpec
+  double u_start = 0.0;    // displacement at the start of the stage (displacement histories are relative)
+  double t_start = 0.0;    // stage start time: histories run on stage time
+  double reaction_prev = 0.0;  // reaction force at the previous step, N (for the work it does)
+};
+
+// Later conditions in the list override earlier ones on shared nodes; "free" releases.
+std::vector<PrescribedDof> build_constraints(const Model& model, const std::vector<io::BoundarySpec>& boundaries,
+                                             double t_start);
+
+// Prescribed velocity and acceleration of a dof at time t.
+double prescribed_velocity(const PrescribedDof& d, double t);
+double prescribed_acceleration(const PrescribedDof& d, double t);
+
+}  // namespace dsdem::solver

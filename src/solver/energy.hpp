@@ -1,0 +1,25 @@
+#pragma once
+// The energy ledger (J, per unit thickness in plane strain). Conservative parts are
+// evaluated from the state; work and dissipation are accumulated with the trapezoidal
+// rule on each step's displacement increment, which matches velocity Verlet to O(dt^2).
+namespace dsdem::solver {
+
+struct EnergyLedger {
+  double kinetic = 0.0;
+  double strain = 0.0;                // elastic energy of the triangles
+  double gravity_potential = 0.0;     // -sum m g.u, relative to the start of the run
+  double joint_elastic = 0.0;         // elastic energy stored in intact joints
+  double contact_elastic = 0.0;       // elastic energy stored in contact springs
+  double external_work = 0.0;         // work done on the model by prescribed motions and boundary loads
+  double damping_dissipated = 0.0;    // Rayleigh damping (and boundary dashpots)
+  double fracture_dissipated = 0.0;   // cohesive softening
+  double friction_dissipated = 0.0;   // contact friction and contact damping
+  double initial_total = 0.0;         // mechanical energy at the start of the run
+
+  double mechanical() const { return kinetic + strain + gravity_potential + joint_elastic + contact_elastic; }
+  double dissipated() const { return damping_dissipated + fracture_dissipated + friction_dissipated; }
+  // Relative balance error: |E - E0 + D - W| over the largest energy in play.
+  double balance_error() const;
+};
+
+}  // namespace dsdem::solver

@@ -1,0 +1,247 @@
+#include "solver/solver.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "solver/parallel.hpp"
+
+namespace dsdem::solver {
+
+namespace {
+std::ptrdiff_t ssize(std::size_t n) { return static_cast<std::ptrdiff_t>(n); }
+}  // namespace
+
+StableStep stable_time_step(const Model& model, double beta) {
+  StableStep best;
+  best.dt = std::numeric_limits<double>::infinity();
+  const auto& tri = model.triangles;
+  for (std::size_t t = 0; t < tri.size(); ++t) {
+    const auto& c = tri.conn[t];
+    const Vec2 x0 = model.nodes.x(c[0]), x1 = model.nodes.x(c[1]), x2 = model.nodes.x(c[2]);
+    const double h = fem::characteristic_length(x0, x1, x2);
+    const Material& mat = model.materials[tri.material[t]];
+    const double cp = mat.cp();
+    const double dt = fem::critical_time_step(h, cp, beta);
+    if (dt < best.dt) {
+      best.dt = dt;
+      best.element = static_cast<Index>(t);
+      best.position = (x0 + x1 + x2) / 3.0;
+      const std::string group = tri.group[t] >= 0 ? model.groups[tri.group[t]].name : "?";
+      best.controlled_by = fmt::format("triangle {} (group {}, material {}) at ({:.4g}, {:.4g}) m: h = {:.4g} m, cp = {:.5g} m/s",
+                                       t, group, mat.name, best.position.x(), best.position.y(), h, cp);
+    }
+  }
+  return best;
+}
+
+Solver::Solver(Model& model) : model_(model) {
+  const std::size_t ne = model_.triangles.size(), nn = model_.nodes.size();
+  element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+  element_damping_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+  element_strain_energy_.assign(ne, 0.0);
+  element_detF_.assign(ne, 1.0);
+  damping_force_.assign(nn, Vec2::Zero());
+  damping_force_prev_.assign(nn, Vec2::Zero());
+  u_prev_.assign(nn, Vec2::Zero());
+  for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
+  build_node_incidence();
+}
+
+void Solver::build_node_incidence() {
+  const std::size_t nn = model_.nodes.size();
+  incidence_offset_.assign(nn + 1, 0);
+  for (const auto& c : model_.triangles.conn)
+    for (Index n : c) ++incidence_offset_[n + 1];
+  for (std::size_t i = 0; i < nn; ++i) incidence_offset_[i + 1] += incidence_offset_[i];
+  incidence_entry_.assign(incidence_offset_[nn], 0);
+  std::vector<Index> fill(incidence_offset_.begin(), incidence_offset_.end() - 1);
+  for (std::size_t t = 0; t < model_.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) incidence_entry_[fill[model_.triangles.conn[t][k]]++] = static_cast<Index>(3 * t + k);
+}
+
+void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
+
+void Solver::initialise() {
+  clear_forces();
+  add_gravity();
+  add_internal_forces();
+  add_damping_forces();
+  apply_constraints();
+  auto& n = model_.nodes;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
+  damping_force_prev_ = damping_force_;
+  update_energy();
+  energy_.initial_total = energy_.mechanical() + energy_.dissipated() - energy_.external_work;
+}
+
+void Solver::step() {
+  kick_and_drift();
+  clear_forces();
+  add_gravity();
+  add_internal_forces();
+  add_damping_forces();
+  apply_constraints();
+  finish_velocities();
+  update_energy();
+  check_stability();
+  ++step_;
+}
+
+void Solver::kick_and_drift() {
+  auto& n = model_.nodes;
+  const double dt = settings_.dt;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.v[i] += 0.5 * dt * n.a[i];
+  const double t_half = time_ + 0.5 * dt;
+  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    u_prev_[i] = n.u[i];
+    n.u[i] += dt * n.v[i];
+  }
+  time_ += dt;
+  for (const auto& d : constraints_)
+    if (d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(time_ - d.t_start);
+}
+
+void Solver::clear_forces() {
+  auto& n = model_.nodes;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    n.f[i].setZero();
+    damping_force_[i].setZero();
+  }
+}
+
+void Solver::add_gravity() {
+  auto& n = model_.nodes;
+  const Vec2 g = settings_.gravity;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.f[i] += n.m[i] * g;
+}
+
+void Solver::add_internal_forces() {
+  auto& n = model_.nodes;
+  auto& tri = model_.triangles;
+  const double beta = settings_.beta;
+  const double thickness = model_.thickness;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < ssize(tri.size()); ++t) {
+    const auto& c = tri.conn[t];
+    fem::TriangleInput in;
+    for (int k = 0; k < 3; ++k) {
+      in.x[k] = n.X[c[k]] + n.u[c[k]];
+      in.v[k] = n.v[c[k]];
+    }
+    in.Dm_inv = tri.Dm_inv[t];
+    in.area0 = tri.area0[t];
+    in.thickness = thickness;
+    in.S0 = tri.stress0[t];
+    in.beta = beta;
+    fem::TriangleResponse r;
+    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, element_damping_force_[t]);
+    element_force_[t] = r.force;
+    tri.stress[t] = r.cauchy;
+    tri.strain[t] = r.green;
+    element_strain_energy_[t] = r.strain_energy;
+    element_detF_[t] = r.detF;
+  }
+  // Gather per node in a fixed order: bit-identical for any thread count.
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
+    for (Index k = incidence_offset_[i]; k < incidence_offset_[i + 1]; ++k) {
+      const Index e = incidence_entry_[k];
+      f += element_force_[e / 3][e % 3];
+      fd += element_damping_force_[e / 3][e % 3];
+    }
+    n.f[i] += f + fd;
+    damping_force_[i] += fd;
+  }
+}
+
+void Solver::add_damping_forces() {
+  const double alpha = settings_.alpha;
+  if (alpha <= 0.0) return;
+  auto& n = model_.nodes;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    const Vec2 fd = -alpha * n.m[i] * n.v[i];
+    n.f[i] += fd;
+    damping_force_[i] += fd;
+  }
+}
+
+void Solver::apply_constraints() {
+  auto& n = model_.nodes;
+  for (auto& d : constraints_) {
+    // The reaction makes the node follow its prescribed acceleration.
+    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.f[d.node][d.dir];
+    n.f[d.node][d.dir] += reaction;
+    energy_.external_work += 0.5 * (d.reaction_prev + reaction) * (n.u[d.node][d.dir] - u_prev_[d.node][d.dir]);
+    d.reaction_prev = reaction;
+  }
+}
+
+void Solver::finish_velocities() {
+  auto& n = model_.nodes;
+  const double dt = settings_.dt;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
+    n.v[i] += 0.5 * dt * n.a[i];
+  }
+  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, time_);
+}
+
+void Solver::update_energy() {
+  auto& n = model_.nodes;
+  const Vec2 g = settings_.gravity;
+  energy_.kinetic = deterministic_sum(n.size(), [&](std::size_t i) { return 0.5 * n.m[i] * n.v[i].squaredNorm(); },
+                                      reduction_scratch_);
+  energy_.strain = deterministic_sum(element_strain_energy_.size(), [&](std::size_t t) { return element_strain_energy_[t]; },
+                                     reduction_scratch_);
+  energy_.gravity_potential =
+      deterministic_sum(n.size(), [&](std::size_t i) { return -n.m[i] * g.dot(n.u[i]); }, reduction_scratch_);
+  energy_.damping_dissipated -= deterministic_sum(
+      n.size(), [&](std::size_t i) { return 0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i]); },
+      reduction_scratch_);
+  std::swap(damping_force_prev_, damping_force_);
+}
+
+Vec2 Solver::reaction_on(const std::vector<Index>& nodes) const {
+  Vec2 r = Vec2::Zero();
+  for (const auto& d : constraints_)
+    if (std::binary_search(nodes.begin(), nodes.end(), d.node)) r[d.dir] += d.reaction_prev;
+  return r;
+}
+
+void Solver::check_stability() {
+  const auto& n = model_.nodes;
+  const auto& tri = model_.triangles;
+  if (!std::isfinite(energy_.kinetic) || !std::isfinite(energy_.strain)) {
+    for (std::size_t i = 0; i < n.size(); ++i)
+      if (!std::isfinite(n.v[i].squaredNorm()) || !std::isfinite(n.u[i].squaredNorm()))
+        throw InstabilityError(fmt::format("non-finite velocity at node {} ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s",
+                                           i, n.X[i].x(), n.X[i].y(), step_, time_),
+                               "non_finite", static_cast<Index>(i), n.X[i], step_, time_);
+    throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_, time_), "non_finite",
+                           kNoIndex, Vec2::Zero(), step_, time_);
+  }
+  for (std::size_t t = 0; t < tri.size(); ++t) {
+    if (!(element_detF_[t] > 0.0)) {
+      const auto& c = tri.conn[t];
+      const Vec2 p = (n.x(c[0]) + n.x(c[1]) + n.x(c[2])) / 3.0;
+      throw InstabilityError(
+          fmt::format("inverted element {} (det F = {:.3g}) at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step "
+                      "is too large or the element is crushed",
+                      t, element_detF_[t], p.x(), p.y(), step_, time_),
+          "inverted_element", static_cast<Index>(t), p, step_, time_);
+    }
+  }
+}
+
+}  // namespace dsdem::solver

@@ -1,0 +1,102 @@
+#pragma once
+// The explicit time step (DESIGN.md §1): one short named sequence of phases.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "fem/cst.hpp"
+#include "model/model.hpp"
+#include "solver/constraints.hpp"
+#include "solver/energy.hpp"
+
+namespace dsdem::solver {
+
+// A run that went unstable: what, where and when.
+class InstabilityError : public std::runtime_error {
+ public:
+  InstabilityError(const std::string& what, std::string kind, Index id, Vec2 position, long step, double time)
+      : std::runtime_error(what), kind(std::move(kind)), id(id), position(position), step(step), time(time) {}
+  std::string kind;  // "inverted_element", "non_finite", "energy_growth"
+  Index id;
+  Vec2 position;
+  long step;
+  double time;
+};
+
+struct StepSettings {
+  Vec2 gravity = Vec2(0.0, -9.81);
+  double alpha = 0.0;  // Rayleigh mass coefficient, 1/s
+  double beta = 0.0;   // Rayleigh stiffness coefficient, s
+  double dt = 0.0;     // s
+};
+
+// What controls the stable time step.
+struct StableStep {
+  double dt = 0.0;           // critical step (before the safety factor), s
+  std::string controlled_by; // e.g. "triangle 12 (group rock) h = 0.1 m, cp = 3000 m/s"
+  Index element = kNoIndex;
+  Vec2 position = Vec2::Zero();
+};
+StableStep stable_time_step(const Model& model, double beta);
+
+class Solver {
+ public:
+  explicit Solver(Model& model);
+
+  void set_settings(const StepSettings& s) { settings_ = s; }
+  const StepSettings& settings() const { return settings_; }
+  // Replaces the prescribed motions (a new stage); keeps the state.
+  void set_constraints(std::vector<PrescribedDof> dofs);
+  const std::vector<PrescribedDof>& constraints() const { return constraints_; }
+
+  // Computes forces and accelerations at the current state without advancing, and sets
+  // the energy reference. Call once before the first step.
+  void initialise();
+  // One explicit step of velocity Verlet (DESIGN.md §1).
+  void step();
+
+  double time() const { return time_; }
+  long step_count() const { return step_; }
+  const EnergyLedger& energy() const { return energy_; }
+  EnergyLedger& energy() { return energy_; }
+  Model& model() { return model_; }
+  const Model& model() const { return model_; }
+  // Reaction force on a group's constrained nodes (sum), N.
+  Vec2 reaction_on(const std::vector<Index>& nodes) const;
+
+ private:
+  // Phases of one step, in order.
+  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions
+  void clear_forces();
+  void add_gravity();
+  void add_internal_forces();     // triangles, objective CST (DESIGN.md §2)
+  void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
+  void apply_constraints();       // reactions at prescribed dofs
+  void finish_velocities();       // a(n+1) = f/m, v(n+1)
+  void update_energy();
+  void check_stability();
+
+  void build_node_incidence();
+
+  Model& model_;
+  StepSettings settings_;
+  std::vector<PrescribedDof> constraints_;
+  EnergyLedger energy_;
+  double time_ = 0.0;
+  long step_ = 0;
+
+  // Per-element scratch (no allocation in the loop): nodal forces before the gather.
+  std::vector<std::array<Vec2, 3>> element_force_;
+  std::vector<std::array<Vec2, 3>> element_damping_force_;
+  std::vector<double> element_strain_energy_;
+  std::vector<double> element_detF_;
+  // Node -> (element * 3 + local) incidence, CSR, for a deterministic parallel gather.
+  std::vector<Index> incidence_offset_, incidence_entry_;
+  // Non-conservative nodal forces of the previous and current step (trapezoidal work).
+  std::vector<Vec2> damping_force_, damping_force_prev_;
+  std::vector<Vec2> u_prev_;
+  std::vector<double> reduction_scratch_;
+  std::vector<fem::ElasticConstants> elastic_;
+};
+
+}  // namespace dsdem::solver
