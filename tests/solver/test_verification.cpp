@@ -89,7 +89,7 @@ TEST(Verification, PWaveSpeedInBarWithinOnePercent) {
 // of Euler-Bernoulli: f1 = 1.8751^2 / (2 pi L^2) sqrt(E I / (rho A)).
 TEST(Verification, CantileverFirstFrequencyWithinTwoPercentOfBeamTheory) {
   const double L = 4.0, h = 0.2, E = 10e9, rho = 2500;
-  Model model = mesh::build_model(mesh::rectangle_mesh(80, 4, L, h, mesh::Diagonal::Cross), rock(E, 0.0, rho, true));
+  Model model = mesh::build_model(mesh::rectangle_mesh(120, 6, L, h, mesh::Diagonal::Cross), rock(E, 0.0, rho, true));
   solver::Solver s(model);
   s.set_constraints(solver::build_constraints(model, {bc("left", io::BoundaryType::Fixed)}, 0.0));
   const double dt = 0.9 * solver::stable_time_step(model, 0.0).dt;
