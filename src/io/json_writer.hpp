@@ -61,8 +61,8 @@ class Json {
   // Array append. A null value becomes an empty array first; std::logic_error otherwise.
   void push_back(Json item);
 
-  // Serialises. indent < 0: one line, no spaces; otherwise pretty-printed with `indent`
-  // spaces per level and a final newline-free closing bracket.
+  // Serialises. indent < 0: one line, no spaces; otherwise one member or item per line,
+  // indented by `indent` spaces per level. No trailing newline.
   std::string dump(int indent = 2) const;
 
  private:

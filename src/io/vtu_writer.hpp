@@ -76,7 +76,8 @@ Field vector_field(std::string quantity, std::string unit, std::span<const Vec2>
 //   in plane strain (exact for small-strain linear elasticity, an estimate otherwise).
 // Extra fields must have nodes.size() (point) or triangles.size() (cell) entries and
 // names distinct from the built-in ones. Throws std::invalid_argument on a size or name
-// mismatch, std::runtime_error if the file cannot be written.
+// mismatch or a node/material index out of range, std::runtime_error (naming the path
+// and the OS error) if the file cannot be written; the target is then left untouched.
 void write_triangles_vtu(const std::filesystem::path& path, const Nodes& nodes,
                          const Triangles& triangles, std::span<const Material> materials,
                          const FieldSet& extra_point_fields = {},
