@@ -1,1 +1,119 @@
-int main() { return 0; }
+// dsdem command line: a thin layer over libdsdem (DESIGN.md §10).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+#include "dsdem_version.hpp"
+#include "io/scenario.hpp"
+#include "io/schema.hpp"
+#include "solver/runner.hpp"
+
+namespace {
+
+// Exit codes: 0 success, 1 unexpected failure, 2 bad input, 3 the run went unstable.
+constexpr int kExitInputError = 2;
+constexpr int kExitUnstable = 3;
+
+int guarded(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const dsdem::io::ScenarioError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kExitInputError;
+  } catch (const dsdem::solver::InstabilityError& e) {
+    fmt::print(stderr, "error: the run went unstable: {}\n", e.what());
+    return kExitUnstable;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dsdem: continuous-discontinuous simulation of rock-slope failure and landslide run-out (FEM-DSDEM, 2D)"};
+  app.require_subcommand(0, 1);
+  bool show_version = false;
+  app.add_flag("--version", show_version, "Print version and git commit");
+
+  // run
+  auto* run_cmd = app.add_subcommand("run", "Run a scenario");
+  std::string run_scenario_path, out_dir = "out";
+  std::vector<std::string> run_sets;
+  int threads = 0;
+  bool quiet = false, no_fields = false;
+  run_cmd->add_option("scenario", run_scenario_path, "Scenario YAML file")->required();
+  run_cmd->add_option("-o,--output", out_dir, "Output directory")->capture_default_str();
+  run_cmd->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--set", run_sets, "Override a scenario value: key.path=value (repeatable)");
+  run_cmd->add_flag("-q,--quiet", quiet, "No progress on the terminal (the log still gets everything)");
+  run_cmd->add_flag("--no-fields", no_fields, "Do not write VTU field frames");
+
+  // check
+  auto* check_cmd = app.add_subcommand("check", "Validate a scenario and print the model, dt and a run-time estimate");
+  std::string check_scenario_path;
+  std::vector<std::string> check_sets;
+  check_cmd->add_option("scenario", check_scenario_path, "Scenario YAML file")->required();
+  check_cmd->add_option("--set", check_sets, "Override a scenario value: key.path=value (repeatable)");
+
+  // schema
+  auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  if (show_version) {
+    fmt::print("dsdem {} (git {})\n", DSDEM_VERSION, DSDEM_GIT_COMMIT);
+    return 0;
+  }
+  if (*run_cmd) {
+    return guarded([&] {
+      const auto sc = dsdem::io::load_scenario(run_scenario_path, run_sets);
+      if (threads > 0) omp_set_num_threads(threads);
+      // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
+      const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-run-{}", ::getpid());
+      struct Cleanup {
+        std::filesystem::path p;
+        ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
+      } cleanup{work};
+      auto prepared = dsdem::solver::prepare_run(sc, work.string());
+      dsdem::solver::RunOptions options;
+      options.output_dir = out_dir;
+      options.threads = threads;
+      options.quiet = quiet;
+      options.write_fields = !no_fields;
+      const auto result = dsdem::solver::run(prepared, options);
+      fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", out_dir, result.steps,
+                 result.wall_time_s, result.energy_balance_error);
+      return 0;
+    });
+  }
+  if (*check_cmd) {
+    return guarded([&] {
+      const auto sc = dsdem::io::load_scenario(check_scenario_path, check_sets);
+      const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-check-{}", ::getpid());
+      struct Cleanup {
+        std::filesystem::path p;
+        ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
+      } cleanup{work};
+      auto prepared = dsdem::solver::prepare_run(sc, work.string());
+      fmt::print("{}", dsdem::solver::check_report(prepared));
+      fmt::print("scenario OK\n");
+      return 0;
+    });
+  }
+  if (*schema_cmd) {
+    fmt::print("{}", dsdem::io::schema_markdown());
+    return 0;
+  }
+  fmt::print("{}", app.help());
+  return 0;
+}

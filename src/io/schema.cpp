@@ -124,6 +124,11 @@ std::vector<KeySpec> build_schema() {
   return s;
 }
 
+// The doc text without its final period, for use inside a message.
+std::string brief(const std::string& doc) {
+  return !doc.empty() && doc.back() == '.' ? doc.substr(0, doc.size() - 1) : doc;
+}
+
 std::string type_name(KeyType t) {
   switch (t) {
     case KeyType::Number: return "number";
@@ -247,7 +252,7 @@ void SchemaReader::check_range(const YAML::Node& at, const KeyPath& p, const Key
     if (std::isfinite(s.min)) range += fmt::format("{} {}", s.min_exclusive ? ">" : ">=", s.min);
     if (std::isfinite(s.max)) range += fmt::format("{}{} {}", range.empty() ? "" : " and ", s.max_exclusive ? "<" : "<=", s.max);
     error(at, p.actual, fmt::format("{} is out of range: must be {}{} ({})", v, range,
-                                    s.unit.empty() ? "" : " " + s.unit, s.doc));
+                                    s.unit.empty() ? "" : " " + s.unit, brief(s.doc)));
   }
 }
 
@@ -266,7 +271,7 @@ std::optional<double> SchemaReader::number(const YAML::Node& map, const KeyPath&
   const KeySpec& s = spec(p);
   const YAML::Node n = map[key];
   if (!n.IsDefined() || n.IsNull()) {
-    if (s.required()) error(map, p.actual, fmt::format("missing value ({}{})", s.doc, s.unit.empty() ? "" : ", in " + s.unit));
+    if (s.required()) error(map, p.actual, fmt::format("missing value ({}{})", brief(s.doc), s.unit.empty() ? "" : ", in " + s.unit));
     if (!s.default_text.empty() && !s.required()) {
       try {
         return std::stod(s.default_text);
@@ -301,7 +306,7 @@ std::optional<std::string> SchemaReader::string(const YAML::Node& map, const Key
   const KeySpec& s = spec(p);
   const YAML::Node n = map[key];
   if (!n.IsDefined() || n.IsNull()) {
-    if (s.required()) error(map, p.actual, fmt::format("missing value ({})", s.doc));
+    if (s.required()) error(map, p.actual, fmt::format("missing value ({})", brief(s.doc)));
     if (!s.default_text.empty() && !s.required()) return s.default_text;
     return std::nullopt;
   }
@@ -326,7 +331,7 @@ std::optional<bool> SchemaReader::boolean(const YAML::Node& map, const KeyPath& 
   const KeySpec& s = spec(p);
   const YAML::Node n = map[key];
   if (!n.IsDefined() || n.IsNull()) {
-    if (s.required()) error(map, p.actual, fmt::format("missing value ({})", s.doc));
+    if (s.required()) error(map, p.actual, fmt::format("missing value ({})", brief(s.doc)));
     if (s.default_text == "true") return true;
     if (s.default_text == "false") return false;
     return std::nullopt;
@@ -345,7 +350,7 @@ std::optional<std::array<double, 2>> SchemaReader::vector2(const YAML::Node& map
   const KeySpec& s = spec(p);
   const YAML::Node n = map[key];
   if (!n.IsDefined() || n.IsNull()) {
-    if (s.required()) error(map, p.actual, fmt::format("missing value ({}, [x, y] in {})", s.doc, s.unit));
+    if (s.required()) error(map, p.actual, fmt::format("missing value ({}, [x, y] in {})", brief(s.doc), s.unit));
     return std::nullopt;
   }
   std::array<double, 2> v{};
@@ -395,7 +400,7 @@ YAML::Node SchemaReader::section(const YAML::Node& map, const KeyPath& parent, c
   const KeySpec& s = spec(p);
   const YAML::Node n = map[key];
   if (!n.IsDefined() || n.IsNull()) {
-    if (s.required()) error(map, p.actual, fmt::format("missing section ({})", s.doc));
+    if (s.required()) error(map, p.actual, fmt::format("missing section ({})", brief(s.doc)));
     return YAML::Node(YAML::NodeType::Undefined);
   }
   if (n.Type() != type) {

@@ -49,6 +49,7 @@ RawMesh read_msh(const std::string& path) {
 
   RawMesh mesh;
   mesh.source = path;
+  mesh.msh_file = path;
 
   std::vector<std::size_t> node_tags;
   std::vector<double> coords, param;

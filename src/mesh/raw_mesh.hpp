@@ -19,6 +19,7 @@ struct RawPhysicalGroup {
 
 struct RawMesh {
   std::string source;                          // file it came from (for error messages)
+  std::string msh_file;                        // the .msh read (meshed from source when that is a .geo)
   std::vector<Vec2> nodes;                     // m
   std::vector<std::array<Index, 3>> triangles; // counter-clockwise after read
   std::vector<Index> triangle_surface_group;   // index into groups of its (first) surface group, or kNoIndex

@@ -13,7 +13,7 @@ template <class Term>
 double deterministic_sum(std::size_t n, Term term, std::vector<double>& scratch) {
   const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
   if (scratch.size() < chunks) scratch.resize(chunks);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (chunks > 4)
   for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(chunks); ++c) {
     const std::size_t begin = static_cast<std::size_t>(c) * kReductionChunk;
     const std::size_t end = begin + kReductionChunk < n ? begin + kReductionChunk : n;

@@ -29,6 +29,7 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   run.scenario = scenario;
   const RawMesh raw = mesh::load_mesh(scenario, work_dir);
   run.model = mesh::build_model(scenario, raw);
+  run.mesh_file = raw.msh_file;
 
   // Gauges must sit in (or within half an element of) the model.
   std::vector<std::string> errors;
@@ -138,6 +139,11 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   const int threads = omp_get_max_threads();
   const fs::path out(options.output_dir);
   io::ensure_writable_directory(out);
+  // Keep the mesh the run used next to its results.
+  if (!prepared.mesh_file.empty() && fs::exists(prepared.mesh_file)) {
+    std::error_code ec;
+    fs::copy_file(prepared.mesh_file, out / fs::path(prepared.mesh_file).filename(), fs::copy_options::overwrite_existing, ec);
+  }
 
   // Log: file always, terminal unless quiet.
   auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "dsdem.log").string(), true);

@@ -26,6 +26,7 @@ struct PreparedRun {
   StableStep stable;
   double dt = 0.0;
   long estimated_steps = 0;
+  std::string mesh_file;  // the .msh the model came from (meshed from the .geo when one was given)
 };
 
 // Loads the mesh, builds and validates the model against the scenario (throws

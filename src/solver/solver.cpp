@@ -13,6 +13,7 @@ namespace {
 std::ptrdiff_t ssize(std::size_t n) { return static_cast<std::ptrdiff_t>(n); }
 }  // namespace
 
+
 StableStep stable_time_step(const Model& model, double beta) {
   StableStep best;
   best.dt = std::numeric_limits<double>::infinity();
@@ -36,7 +37,7 @@ StableStep stable_time_step(const Model& model, double beta) {
   return best;
 }
 
-Solver::Solver(Model& model) : model_(model) {
+Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() > kParallelThreshold) {
   const std::size_t ne = model_.triangles.size(), nn = model_.nodes.size();
   element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   element_damping_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
@@ -70,7 +71,7 @@ void Solver::initialise() {
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
   damping_force_prev_ = damping_force_;
   update_energy();
@@ -93,11 +94,11 @@ void Solver::step() {
 void Solver::kick_and_drift() {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.v[i] += 0.5 * dt * n.a[i];
   const double t_half = time_ + 0.5 * dt;
   for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     u_prev_[i] = n.u[i];
     n.u[i] += dt * n.v[i];
@@ -109,7 +110,7 @@ void Solver::kick_and_drift() {
 
 void Solver::clear_forces() {
   auto& n = model_.nodes;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     n.f[i].setZero();
     damping_force_[i].setZero();
@@ -119,7 +120,7 @@ void Solver::clear_forces() {
 void Solver::add_gravity() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.f[i] += n.m[i] * g;
 }
 
@@ -128,7 +129,7 @@ void Solver::add_internal_forces() {
   auto& tri = model_.triangles;
   const double beta = settings_.beta;
   const double thickness = model_.thickness;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t t = 0; t < ssize(tri.size()); ++t) {
     const auto& c = tri.conn[t];
     fem::TriangleInput in;
@@ -150,7 +151,7 @@ void Solver::add_internal_forces() {
     element_detF_[t] = r.detF;
   }
   // Gather per node in a fixed order: bit-identical for any thread count.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
     for (Index k = incidence_offset_[i]; k < incidence_offset_[i + 1]; ++k) {
@@ -167,7 +168,7 @@ void Solver::add_damping_forces() {
   const double alpha = settings_.alpha;
   if (alpha <= 0.0) return;
   auto& n = model_.nodes;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     const Vec2 fd = -alpha * n.m[i] * n.v[i];
     n.f[i] += fd;
@@ -189,7 +190,7 @@ void Solver::apply_constraints() {
 void Solver::finish_velocities() {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
     n.v[i] += 0.5 * dt * n.a[i];

@@ -23,6 +23,8 @@ class InstabilityError : public std::runtime_error {
   double time;
 };
 
+constexpr std::size_t kParallelThreshold = 4000;
+
 struct StepSettings {
   Vec2 gravity = Vec2(0.0, -9.81);
   double alpha = 0.0;  // Rayleigh mass coefficient, 1/s
@@ -79,6 +81,8 @@ class Solver {
   void build_node_incidence();
 
   Model& model_;
+  // Small models run serially: a parallel region costs more than it saves there.
+  bool parallel_ = false;
   StepSettings settings_;
   std::vector<PrescribedDof> constraints_;
   EnergyLedger energy_;

@@ -1,0 +1,76 @@
+// The command line: version, check, run, and bad input that exits cleanly (issue 2).
+#include <gtest/gtest.h>
+
+#include "cli_util.hpp"
+
+using namespace dsdem::test;
+namespace fs = std::filesystem;
+
+TEST(Cli, VersionPrintsVersionAndCommit) {
+  const auto c = run_dsdem("--version");
+  EXPECT_EQ(c.exit_code, 0);
+  EXPECT_NE(c.output.find("dsdem 0."), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("git "), std::string::npos) << c.output;
+}
+
+TEST(Cli, CheckPrintsModelTimeStepAndEstimate) {
+  const auto c = run_dsdem("check " + example("elastic_slope/scenario.yaml"));
+  EXPECT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.output.find("triangles"), std::string::npos);
+  EXPECT_NE(c.output.find("stable dt"), std::string::npos);
+  EXPECT_NE(c.output.find("controlled by triangle"), std::string::npos);
+  EXPECT_NE(c.output.find("of wall time"), std::string::npos);
+  EXPECT_NE(c.output.find("scenario OK"), std::string::npos);
+}
+
+TEST(Cli, RunWritesFieldsHistoriesLogAndSummary) {
+  const fs::path out = fresh_dir("cli_run");
+  const auto c = run_dsdem("run " + example("elastic_slope/scenario.yaml") + " -o " + out.string() +
+                           " --set time.end=0.02 --set output.field_interval=0.01 --threads 1 -q");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  for (const char* f : {"summary.json", "history.csv", "fields.pvd", "dsdem.log", "slope.msh"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const std::string summary = read_text(out / "summary.json");
+  for (const char* key : {"\"elements\"", "\"nodes\"", "\"joints\"", "\"steps\"", "\"dt_s\"", "\"end_time_s\"",
+                          "\"threads\"", "\"wall_time_s\"", "\"energy_balance_error\""})
+    EXPECT_NE(summary.find(key), std::string::npos) << key;
+  const std::string history = read_text(out / "history.csv");
+  EXPECT_EQ(history.rfind("time_s,step,stage,kinetic_J_per_m,strain_J_per_m", 0), 0u) << history.substr(0, 200);
+  EXPECT_NE(history.find("crest_displacement_x_m"), std::string::npos);
+  const std::string pvd = read_text(out / "fields.pvd");
+  EXPECT_NE(pvd.find("fields/fields_000002.vtu"), std::string::npos) << pvd;
+  fs::remove_all(out);
+}
+
+TEST(Cli, BadScenarioExitsWithCode2AndWritesNothing) {
+  const fs::path dir = fresh_dir("cli_bad");
+  fs::create_directories(dir);
+  fs::copy_file(example("elastic_slope/slope.geo"), dir / "slope.geo");
+  std::string text = read_text(example("elastic_slope/scenario.yaml"));
+  text.replace(text.find("nu: 0.25"), 8, "nu: 0.55");
+  std::ofstream(dir / "bad.yaml") << text;
+  const fs::path out = dir / "out";
+  const auto c = run_dsdem("run " + (dir / "bad.yaml").string() + " -o " + out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("bad.yaml:11:9:"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("materials.limestone.nu: 0.55 is out of range"), std::string::npos) << c.output;
+  EXPECT_FALSE(fs::exists(out));
+  // A group the mesh lacks is found after meshing, still before anything is written.
+  text = read_text(example("elastic_slope/scenario.yaml"));
+  text.replace(text.find("group: base"), 11, "group: bse");
+  std::ofstream(dir / "bad2.yaml") << text;
+  const auto c2 = run_dsdem("run " + (dir / "bad2.yaml").string() + " -o " + out.string());
+  EXPECT_EQ(c2.exit_code, 2) << c2.output;
+  EXPECT_NE(c2.output.find("no curve or point group 'bse' (did you mean 'base'?)"), std::string::npos) << c2.output;
+  EXPECT_FALSE(fs::exists(out));
+  const auto c3 = run_dsdem("run " + (dir / "missing.yaml").string());
+  EXPECT_EQ(c3.exit_code, 2);
+  EXPECT_NE(c3.output.find("cannot open the scenario file"), std::string::npos) << c3.output;
+  fs::remove_all(dir);
+}
+
+TEST(Cli, TooLargeFixedTimeStepIsRejectedNamingTheElement) {
+  const auto c = run_dsdem("check " + example("elastic_slope/scenario.yaml") + " --set time.dt=0.01");
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("exceeds the stable time step"), std::string::npos) << c.output;
+}

@@ -1,0 +1,197 @@
+// Scenario validation: every error names file, line, column and key (issue 2).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/scenario.hpp"
+#include "io/schema.hpp"
+#include "mesh/model_builder.hpp"
+#include "mesh/structured.hpp"
+
+using namespace dsdem;
+
+namespace {
+
+const std::string kGood = R"(title: test
+mesh:
+  file: DATA/mesh/square.geo
+  element_size: 0.25
+materials:
+  rock:
+    E: 10.0e9
+    nu: 0.25
+    rho: 2500
+regions:
+  - group: block
+    material: rock
+boundaries:
+  - group: bottom
+    type: fixed
+time:
+  end: 0.01
+output:
+  gauges:
+    - name: top
+      at: [0.5, 1.0]
+)";
+
+std::string good() {
+  std::string s = kGood;
+  s.replace(s.find("DATA"), 4, DSDEM_TEST_DATA_DIR);
+  return s;
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto pos = s.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) s.replace(pos, from.size(), to);
+  return s;
+}
+
+std::vector<std::string> errors_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    io::parse_scenario(text, "case.yaml", sets);
+  } catch (const io::ScenarioError& e) {
+    return e.errors();
+  }
+  return {};
+}
+
+::testing::AssertionResult has_error(const std::vector<std::string>& errors, const std::string& expected) {
+  for (const auto& e : errors)
+    if (e.find(expected) != std::string::npos) return ::testing::AssertionSuccess();
+  std::string all;
+  for (const auto& e : errors) all += "\n  " + e;
+  return ::testing::AssertionFailure() << "no error containing '" << expected << "' in:" << all;
+}
+
+}  // namespace
+
+TEST(Scenario, GoodScenarioParses) {
+  const io::Scenario sc = io::parse_scenario(good(), "case.yaml");
+  EXPECT_EQ(sc.materials.at("rock").E, 10e9);
+  ASSERT_EQ(sc.stages.size(), 1u);
+  EXPECT_DOUBLE_EQ(sc.end_time(), 0.01);
+  EXPECT_DOUBLE_EQ(sc.safety, 0.3);
+  EXPECT_DOUBLE_EQ(sc.output.field_interval, 0.01 / 50);
+  EXPECT_EQ(sc.gravity, Vec2(0, -9.81));
+  ASSERT_EQ(sc.output.gauges.size(), 1u);
+}
+
+TEST(Scenario, YamlSyntaxErrorGivesLineAndColumn) {
+  const auto e = errors_of("mesh:\n  file: [a, b\nmaterials: {}\n");
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_TRUE(has_error(e, "case.yaml:")) << e[0];
+  EXPECT_TRUE(has_error(e, "YAML syntax error"));
+}
+
+TEST(Scenario, UnknownKeyGetsNearestValidOneWithLineAndColumn) {
+  const auto e = errors_of(replace(good(), "    nu: 0.25", "    nu: 0.25\n    densty: 3"));
+  EXPECT_TRUE(has_error(e, "case.yaml:9:5: materials.rock.densty: unknown key; valid keys here: model, E, nu, rho"));
+  const auto e2 = errors_of(replace(good(), "materials:", "matrials:"));
+  EXPECT_TRUE(has_error(e2, "matrials: unknown key; did you mean 'materials'?"));
+  EXPECT_TRUE(has_error(e2, "materials: missing section"));
+}
+
+TEST(Scenario, WrongTypeIsReported) {
+  const auto e = errors_of(replace(good(), "E: 10.0e9", "E: ten"));
+  EXPECT_TRUE(has_error(e, "case.yaml:7:8: materials.rock.E: expected a number in Pa, got 'ten'"));
+  const auto e2 = errors_of(replace(good(), "at: [0.5, 1.0]", "at: 3"));
+  EXPECT_TRUE(has_error(e2, "output.gauges[0].at: expected two numbers [x, y] in m"));
+}
+
+TEST(Scenario, MissingValuesAreReported) {
+  const auto e = errors_of(replace(good(), "    nu: 0.25\n", ""));
+  EXPECT_TRUE(has_error(e, "case.yaml:7:5: materials.rock.nu: missing value (Poisson's ratio)"));
+  const auto e2 = errors_of(replace(good(), "  end: 0.01", "  safety: 0.5"));
+  EXPECT_TRUE(has_error(e2, "time.end: missing value"));
+}
+
+TEST(Scenario, OutOfRangeValuesAreReported) {
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "E: 10.0e9", "E: 0")), "materials.rock.E: 0 is out of range: must be > 0 Pa"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "E: 10.0e9", "E: -5e9")), "materials.rock.E: -5000000000 is out of range"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "nu: 0.25", "nu: 0.5")), "materials.rock.nu: 0.5 is out of range: must be > -1 and < 0.5"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "rho: 2500", "rho: 0")), "materials.rock.rho: 0 is out of range"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "end: 0.01", "end: -1")), "time.end: -1 is out of range"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "end: 0.01", "end: 0.01\n  safety: 1.5")), "time.safety: 1.5 is out of range"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "end: 0.01", "end: .nan")), "time.end: nan is not a finite number"));
+}
+
+TEST(Scenario, AllErrorsAreReportedAtOnce) {
+  std::string s = replace(good(), "E: 10.0e9", "E: -1");
+  s = replace(s, "rho: 2500", "rho: -1");
+  s = replace(s, "type: fixed", "type: glued");
+  const auto e = errors_of(s);
+  EXPECT_EQ(e.size(), 3u);
+  EXPECT_TRUE(has_error(e, "boundaries[0].type: 'glued' is not one of: fixed, roller, velocity, displacement, free"));
+}
+
+TEST(Scenario, UnknownMaterialAndMissingMeshFile) {
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "material: rock", "material: rok")),
+                        "regions[0].material: no material 'rok' under materials; did you mean 'rock'?"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "square.geo", "nothere.geo")), "mesh.file: file not found"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "  element_size: 0.25\n", "")), "mesh.element_size: a .geo geometry needs an element size"));
+}
+
+TEST(Scenario, RollerNeedsDirectionAndVelocityNeedsValues) {
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: roller")), "a roller needs the direction"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: velocity")), "needs x and/or y"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: velocity\n    y: [[0, 0], [0, 1]]")),
+                        "times must increase"));
+}
+
+TEST(Scenario, SetOverridesValuesAndIsValidatedToo) {
+  const io::Scenario sc = io::parse_scenario(good(), "case.yaml", {"materials.rock.E=2e9", "time.end=0.5", "boundaries.0.type=free"});
+  EXPECT_EQ(sc.materials.at("rock").E, 2e9);
+  EXPECT_DOUBLE_EQ(sc.end_time(), 0.5);
+  EXPECT_EQ(sc.stages[0].boundaries[0].type, io::BoundaryType::Free);
+  EXPECT_TRUE(has_error(errors_of(good(), {"materials.rock.nu=0.7"}), "materials.rock.nu: 0.7 is out of range"));
+  EXPECT_TRUE(has_error(errors_of(good(), {"materials.rock.Ee=1"}), "did you mean 'E'?"));
+  EXPECT_TRUE(has_error(errors_of(good(), {"novalue"}), "expected key.path=value"));
+}
+
+TEST(Scenario, StagesOverrideDampingAndBoundaries) {
+  std::string s = replace(good(), "time:\n  end: 0.01", R"(time:
+  safety: 0.5
+stages:
+  - name: gravity
+    duration: 1.0
+    damping: {alpha: 20}
+  - name: dynamic
+    duration: 2.0
+    boundaries:
+      - group: bottom
+        type: roller
+        direction: y)");
+  const io::Scenario sc = io::parse_scenario(s, "case.yaml");
+  ASSERT_EQ(sc.stages.size(), 2u);
+  EXPECT_DOUBLE_EQ(sc.stages[0].damping.alpha, 20);
+  EXPECT_EQ(sc.stages[0].boundaries.size(), 1u);
+  EXPECT_EQ(sc.stages[1].boundaries[0].type, io::BoundaryType::Roller);
+  EXPECT_DOUBLE_EQ(sc.end_time(), 3.0);
+}
+
+TEST(Scenario, GroupsTheMeshLacksAreReportedAgainstTheScenarioLine) {
+  const io::Scenario sc = io::parse_scenario(replace(replace(good(), "group: block", "group: blok"), "group: bottom", "group: base"),
+                                             "case.yaml");
+  const RawMesh raw = [] {
+    RawMesh m = mesh::rectangle_mesh(2, 2, 1, 1, mesh::Diagonal::Right, 0, 0, "block");
+    return m;
+  }();
+  try {
+    mesh::build_model(sc, raw);
+    FAIL() << "expected an error";
+  } catch (const io::ScenarioError& e) {
+    EXPECT_TRUE(has_error(e.errors(), "case.yaml:11:12: regions[0].group: the mesh rectangle_mesh has no surface group 'blok' (did you mean 'block'?)"));
+    EXPECT_TRUE(has_error(e.errors(), "case.yaml:14:12: boundaries[0].group: the mesh rectangle_mesh has no curve or point group 'base'"));
+  }
+}
+
+TEST(Schema, EveryKeyIsDocumentedAndMarkdownListsIt) {
+  const std::string md = io::schema_markdown();
+  for (const auto& s : io::scenario_schema()) {
+    EXPECT_FALSE(s.doc.empty()) << s.pattern;
+    EXPECT_NE(md.find("`" + s.pattern + "`"), std::string::npos) << s.pattern;
+  }
+}
