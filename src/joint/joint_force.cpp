@@ -5,7 +5,7 @@
 
 namespace dsdem {
 
-JointKinematics joint_kinematics(const JointNodePositions& x) {
+JointKinematics joint_kinematics(const JointNodePositions& x, const JointSeparations& delta) {
   JointKinematics k;
   const Vec2 m0 = 0.5 * (x[0] + x[2]);
   const Vec2 m1 = 0.5 * (x[1] + x[3]);
@@ -21,19 +21,29 @@ JointKinematics joint_kinematics(const JointNodePositions& x) {
     k.n = Vec2(k.t.y(), -k.t.x());  // clockwise turn: outward of tri_a (CCW along a0->a1)
   }
   for (int i = 0; i < 2; ++i) {
-    const Vec2 delta = x[2 + i] - x[i];
-    k.dn[i] = delta.dot(k.n);
-    k.ds[i] = delta.dot(k.t);
+    k.dn[i] = delta[i].dot(k.n);
+    k.ds[i] = delta[i].dot(k.t);
   }
   return k;
+}
+
+JointKinematics joint_kinematics(const JointNodePositions& x) {
+  return joint_kinematics(x, {x[2] - x[0], x[3] - x[1]});
 }
 
 JointForceResult joint_force(const JointNodePositions& x, double length0,
                              const JointProperties& p,
                              const std::array<JointPointState, 2>& state,
                              bool damage_enabled) {
+  return joint_force(x, {x[2] - x[0], x[3] - x[1]}, length0, p, state, damage_enabled);
+}
+
+JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
+                             double length0, const JointProperties& p,
+                             const std::array<JointPointState, 2>& state,
+                             bool damage_enabled) {
   JointForceResult r;
-  r.kin = joint_kinematics(x);
+  r.kin = joint_kinematics(x, delta);
   const double w = 0.5 * length0;  // Lobatto weight of each end point
   bool any_failed_now = false;
   for (int i = 0; i < 2; ++i) {

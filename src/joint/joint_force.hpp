@@ -23,6 +23,14 @@ struct JointKinematics {
 };
 // A collapsed mid-line (length below 1e-12 of the face lengths) falls back to the
 // direction of the longer face; if all four nodes coincide the frame stays (x, -y).
+//
+// delta[i] = x_b_i - x_a_i, the separation vector at end point i. Separations are
+// tiny next to coordinates (1e-8 m against 1e3 m), so differencing positions loses
+// digits: the solver passes delta from displacements, (X_b - X_a) + (u_b - u_a) with
+// X_b - X_a = 0, and the positions only set the frame. The overloads without delta
+// difference the positions.
+using JointSeparations = std::array<Vec2, 2>;
+JointKinematics joint_kinematics(const JointNodePositions& x, const JointSeparations& delta);
 JointKinematics joint_kinematics(const JointNodePositions& x);
 
 struct JointForceResult {
@@ -41,6 +49,10 @@ struct JointForceResult {
 // The joint breaks (failed_now) when both end points have failed: a failed end point
 // carries no tension and no cohesion, so breaking then removes no finite force. The
 // caller sets the break time and position and stops evaluating a broken joint.
+JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
+                             double length0, const JointProperties& p,
+                             const std::array<JointPointState, 2>& state,
+                             bool damage_enabled = true);
 JointForceResult joint_force(const JointNodePositions& x, double length0,
                              const JointProperties& p,
                              const std::array<JointPointState, 2>& state,

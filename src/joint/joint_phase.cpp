@@ -10,8 +10,13 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
     if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
     const auto& nd = joints.nodes[j];
     const JointNodePositions x{nodes.x(nd[0]), nodes.x(nd[1]), nodes.x(nd[2]), nodes.x(nd[3])};
-    const JointForceResult r = joint_force(x, joints.length0[j], properties[joints.property[j]],
-                                           joints.state[j], damage_enabled);
+    // Separations from displacements: the two faces coincide in the reference.
+    const JointSeparations delta{
+        (nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
+        (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
+    const JointForceResult r = joint_force(x, delta, joints.length0[j],
+                                           properties[joints.property[j]], joints.state[j],
+                                           damage_enabled);
     joints.state[j] = r.state;
     joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
     joints.dissipated[j] += r.dissipation;
