@@ -122,3 +122,23 @@ TEST(JointPhase, GravityStageFreezesDamageAndNeverBreaks) {
   EXPECT_NEAR(-fb.dot(n), p.kn * d * std::sqrt(2.0), 1e-9 * p.kn * d);  // elastic
   EXPECT_NEAR(tot.energy, 0.5 * p.kn * d * d * std::sqrt(2.0), 1e-9 * p.kn * d * d);
 }
+
+TEST(JointPhase, JointsWithAnInitiallyBrokenPropertyStartBrokenAndCarryNothing) {
+  std::vector<JointProperties> props{test::disc_rock(), test::disc_rock()};
+  props[1].name = "pre_existing_crack";
+  props[1].initially_broken = true;
+  TwoTriangles m = make_two_triangles();
+  m.joints.property[0] = 1;
+  mark_initially_broken(m.joints, props, m.nodes.X);
+  EXPECT_TRUE(m.joints.broken[0]);
+  EXPECT_EQ(m.joints.break_mode[0], BreakMode::Initial);
+  EXPECT_EQ(m.joints.break_time[0], 0.0);
+  EXPECT_EQ(m.joints.damage[0], 1.0);
+  EXPECT_EQ(m.joints.break_position[0], Vec2(1000.5, 500.5));  // centre of the diagonal
+  // Even pressed into each other, a broken joint adds nothing (contact's job).
+  for (Index k : m.b_nodes) m.nodes.u[k] = Vec2(1e-6, -1e-6);
+  const JointPhaseTotals tot = add_joint_forces(m.nodes, m.joints, props, 1.0);
+  for (const Vec2& f : m.nodes.f) EXPECT_EQ(f.norm(), 0.0);
+  EXPECT_EQ(tot.energy, 0.0);
+  EXPECT_EQ(tot.broken_now, 0);
+}
