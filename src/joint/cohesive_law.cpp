@@ -1,0 +1,76 @@
+#include "joint/cohesive_law.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dsdem {
+
+CohesiveResponse cohesive_law(double dn, double ds, const JointProperties& p,
+                              const JointPointState& old, bool damage_enabled) {
+  CohesiveResponse r;
+  JointPointState st = old;
+  const double s = std::abs(ds);
+  const double tan_phi = std::tan(p.phi);
+  const double wt = p.ft / p.kn;          // opening at the tensile strength (eq. 6)
+  const double wn = 2.0 * p.GI / p.ft;    // mode I softening length: area = GI
+  if (damage_enabled) {
+    st.dn_max = std::max(old.dn_max, dn);
+    st.s_max = std::max(old.s_max, s);
+  }
+
+  // Normal traction of the normal law alone (eq. 6, secant unloading): enters eq. 8.
+  double sn_normal;
+  if (dn <= 0.0) {
+    sn_normal = p.kn * dn;
+  } else {
+    const double d_normal = std::min(1.0, std::max(0.0, st.dn_max - wt) / wn);
+    sn_normal = p.ft * (1.0 - d_normal) * dn / std::max(st.dn_max, wt);
+  }
+  // Eq. 8 with the tension cut-off; fr is the residual friction (compression only).
+  // The floor only guards division by zero for properties validate() rejects.
+  const double tiny = 1e-12 * (p.c + p.ft);
+  const double fs = std::max(p.c - std::min(sn_normal, p.ft) * tan_phi, tiny);
+  const double fr = std::max(-sn_normal, 0.0) * tan_phi;
+  const double ws = fs / p.ks;
+  const double wsII = 2.0 * p.GII / std::max(fs - fr, tiny);
+
+  // Eq. 9 on the largest opening and slip reached; damage never decreases.
+  const double en = std::max(st.dn_max - wt, 0.0) / wn;
+  const double es = std::max(st.s_max - ws, 0.0) / wsII;
+  if (damage_enabled) st.damage = std::max(old.damage, std::min(1.0, std::hypot(en, es)));
+  const double D = st.damage;
+
+  // Secant tractions: the envelope value at the largest separation, scaled back
+  // linearly toward the origin (eqs. 6-7 on loading, secant on unloading).
+  r.sn = dn <= 0.0 ? p.kn * dn : p.ft * (1.0 - D) * dn / std::max(st.dn_max, wt);
+  const double tau_env = fr + (fs - fr) * (1.0 - D);
+  r.ss = tau_env * ds / std::max(st.s_max, ws);
+
+  r.energy = 0.5 * (r.sn * dn + r.ss * ds);
+  // Dissipation = trapezoidal work - change of stored energy. The normal law has a kink
+  // at dn = 0 (secant on one side, kn on the other, both through the origin): a step
+  // across it is integrated in two pieces, so closing a crack dissipates nothing.
+  const double e_old = 0.5 * (old.sn * old.dn + old.ss * old.ds);
+  const double work_n = old.dn * dn < 0.0 ? 0.5 * (r.sn * dn - old.sn * old.dn)
+                                          : 0.5 * (old.sn + r.sn) * (dn - old.dn);
+  const double work_s = 0.5 * (old.ss + r.ss) * (ds - old.ds);
+  r.dissipation = work_n + work_s - (r.energy - e_old);
+  r.failed = D >= 1.0;
+  r.failed_now = r.failed && old.damage < 1.0;
+  if (r.failed_now) {
+    r.mode = (en > 0.0 && es > 0.0) ? BreakMode::Mixed : (en > 0.0 ? BreakMode::Tension
+                                                                    : BreakMode::Shear);
+    st.mode = r.mode;
+  }
+  st.dn = dn;
+  st.ds = ds;
+  st.sn = r.sn;
+  st.ss = r.ss;
+  r.state = st;
+  r.fs = fs;
+  r.ws = ws;
+  r.wsII = wsII;
+  return r;
+}
+
+}  // namespace dsdem

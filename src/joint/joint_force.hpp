@@ -1,0 +1,70 @@
+#pragma once
+// Forces of one 4-node zero-thickness joint (DESIGN.md §3, paper eq. 10): separations
+// in the joint's current frame, the cohesive law at the two end points (Lobatto /
+// nodal integration, weight L0/2 each), equal and opposite nodal forces on the faces.
+#include <array>
+
+#include "joint/cohesive_law.hpp"
+
+namespace dsdem {
+
+// Node order everywhere in this header: (a0, a1, b0, b1) as in Joints::nodes.
+using JointNodePositions = std::array<Vec2, 4>;
+
+// Current local frame and separations. The tangent follows the mid-line of the two
+// faces (so it rotates with the joint); the normal is the tangent turned clockwise,
+// i.e. the outward normal of tri_a, pointing from face a to face b.
+struct JointKinematics {
+  Vec2 t = Vec2::UnitX();  // unit tangent, a0 -> a1
+  Vec2 n = -Vec2::UnitY(); // unit normal, from face a to face b
+  std::array<double, 2> dn{0.0, 0.0};  // opening (x_b - x_a).n at end points 0, 1, m
+  std::array<double, 2> ds{0.0, 0.0};  // slip (x_b - x_a).t at end points 0, 1, m
+  double length = 0.0;                 // current mid-line length, m
+};
+// A collapsed mid-line (length below 1e-12 of the face lengths) falls back to the
+// direction of the longer face; if all four nodes coincide the frame stays (x, -y).
+//
+// delta[i] = x_b_i - x_a_i, the separation vector at end point i. Separations are
+// tiny next to coordinates (1e-8 m against 1e3 m), so differencing positions loses
+// digits: the solver passes delta from displacements, (X_b - X_a) + (u_b - u_a) with
+// X_b - X_a = 0, and the positions only set the frame. The overloads without delta
+// difference the positions.
+using JointSeparations = std::array<Vec2, 2>;
+JointKinematics joint_kinematics(const JointNodePositions& x, const JointSeparations& delta);
+JointKinematics joint_kinematics(const JointNodePositions& x);
+
+struct JointForceResult {
+  std::array<Vec2, 4> f;  // forces on (a0, a1, b0, b1), N per unit thickness
+  JointKinematics kin;
+  std::array<double, 2> sn{0.0, 0.0};  // tractions at the end points, Pa
+  std::array<double, 2> ss{0.0, 0.0};
+  std::array<JointPointState, 2> state;  // updated end-point histories
+  double energy = 0.0;       // elastic energy stored in the joint, J/m (L0/2 * sum)
+  double dissipation = 0.0;  // dissipated since the last evaluation, J/m
+  bool failed_now = false;   // both end points have now failed (the joint breaks)
+  BreakMode mode = BreakMode::None;  // when failed_now: both ends' mode if equal, else Mixed
+};
+
+// One intact joint. length0: reference length (tractions are per reference length).
+// The joint breaks (failed_now) when both end points have failed: a failed end point
+// carries no tension and no cohesion, so breaking then removes no finite force. The
+// caller sets the break time and position and stops evaluating a broken joint.
+JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
+                             double length0, const JointProperties& p,
+                             const std::array<JointPointState, 2>& state,
+                             bool damage_enabled = true);
+JointForceResult joint_force(const JointNodePositions& x, double length0,
+                             const JointProperties& p,
+                             const std::array<JointPointState, 2>& state,
+                             bool damage_enabled = true);
+
+// Spring stiffness (N/m per unit thickness) that one end point of the joint puts
+// between its two nodes: max(kn, ks) * L0/2.
+double joint_end_stiffness(const JointProperties& p, double length0);
+
+// Critical time step of two masses joined by a spring k: 2*sqrt(m/k) with m the
+// reduced mass m_a*m_b/(m_a + m_b) (exact for that two-body system). The solver
+// passes for k the sum of the joint end stiffnesses acting on the lighter node.
+double joint_stable_dt(double m_a, double m_b, double k);
+
+}  // namespace dsdem

@@ -1,0 +1,99 @@
+#pragma once
+// Cohesive joint elements (DESIGN.md §3): their properties and all joints of a model
+// as a structure of arrays (DESIGN.md §9). Filled by mesh/joint_insertion, updated by
+// the joint phase of the time step.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "model/types.hpp"
+
+namespace dsdem {
+
+// Parameters of the joint law (paper eqs. 6-9, DESIGN.md §3). Stiffnesses are tractions
+// per unit relative displacement; strengths are tractions; energies per unit area.
+struct JointProperties {
+  std::string name;
+  double kn = 0.0;   // normal stiffness, Pa/m
+  double ks = 0.0;   // shear stiffness, Pa/m
+  double ft = 0.0;   // tensile strength, Pa
+  double c = 0.0;    // cohesion, Pa
+  double phi = 0.0;  // friction angle, rad
+  double GI = 0.0;   // mode I fracture energy, N/m
+  double GII = 0.0;  // mode II fracture energy, N/m
+  bool initially_broken = false;  // every joint with these properties starts broken
+};
+
+// Empty when p is admissible, else a message naming the offending fields. Besides
+// positivity, the shear strength under the tension cut-off c - ft*tan(phi) must stay
+// positive, otherwise eq. 8 gives fs <= 0 and wsII = 2*GII/fs is undefined.
+std::string validate(const JointProperties& p);
+
+// How a joint broke. Initial: it was declared broken by the scenario (pre-existing crack).
+enum class BreakMode : std::uint8_t { None = 0, Tension = 1, Shear = 2, Mixed = 3, Initial = 4 };
+const char* to_string(BreakMode m);
+
+// History of one integration (end) point of a joint. The maxima and the damage are the
+// irreversible state (DESIGN.md §3); the last separations and tractions let the law
+// report the dissipation of each increment.
+struct JointPointState {
+  double dn_max = 0.0;  // largest opening reached (>= 0), m
+  double s_max = 0.0;   // largest |slip| reached (>= 0), m
+  double damage = 0.0;  // in [0, 1]; 1 = this point has failed (eq. 9 reached)
+  double dn = 0.0;      // opening at the last evaluation, m
+  double ds = 0.0;      // slip at the last evaluation, m
+  double sn = 0.0;      // normal traction at the last evaluation, Pa (tension > 0)
+  double ss = 0.0;      // shear traction at the last evaluation, Pa
+  BreakMode mode = BreakMode::None;  // how this point failed, once damage == 1
+};
+
+// All joints of a model. Joint j glues edge (a0, a1) of triangle tri_a to edge (b0, b1)
+// of triangle tri_b: a0 coincides with b0 and a1 with b1 in the reference
+// configuration, and a0 -> a1 runs counter-clockwise along tri_a (so tri_b lies on the
+// right of a0 -> a1, and the joint normal points from a to b). End point 0 is
+// (a0, b0), end point 1 is (a1, b1).
+struct Joints {
+  std::vector<std::array<Index, 4>> nodes;  // (a0, a1, b0, b1) model node ids
+  std::vector<Index> tri_a;
+  std::vector<Index> tri_b;
+  std::vector<Index> property;     // index into the joint property table
+  std::vector<Index> curve_group;  // named mesh curve the joint lies on, or kNoIndex
+  std::vector<double> length0;     // reference length, m
+  std::vector<std::array<JointPointState, 2>> state;  // per end point
+  std::vector<double> damage;      // mean of the two end points' damage, in [0, 1]
+  std::vector<std::uint8_t> broken;  // 1 once broken, for good
+  std::vector<double> break_time;    // s; NaN while intact
+  std::vector<Vec2> break_position;  // current mid-point of the joint when it broke, m
+  std::vector<BreakMode> break_mode;
+  std::vector<double> dissipated;  // fracture + frictional energy dissipated so far, J/m
+
+  std::size_t size() const { return nodes.size(); }
+  void resize(std::size_t n) {
+    nodes.resize(n, {kNoIndex, kNoIndex, kNoIndex, kNoIndex});
+    tri_a.resize(n, kNoIndex);
+    tri_b.resize(n, kNoIndex);
+    property.resize(n, kNoIndex);
+    curve_group.resize(n, kNoIndex);
+    length0.resize(n, 0.0);
+    state.resize(n, {JointPointState{}, JointPointState{}});
+    damage.resize(n, 0.0);
+    broken.resize(n, 0);
+    break_time.resize(n, std::numeric_limits<double>::quiet_NaN());
+    break_position.resize(n, Vec2::Zero());
+    break_mode.resize(n, BreakMode::None);
+    dissipated.resize(n, 0.0);
+  }
+
+  // Declare joint j broken from the start (pre-existing crack): fully damaged, time 0,
+  // position = mid-point of its reference edge given as a0/a1 positions.
+  void set_initially_broken(std::size_t j, const Vec2& xa0, const Vec2& xa1);
+};
+
+// Break every joint whose property has initially_broken set (X: model reference
+// positions, indexed by the joints' node ids).
+void mark_initially_broken(Joints& joints, const std::vector<JointProperties>& properties,
+                           const std::vector<Vec2>& X);
+
+}  // namespace dsdem

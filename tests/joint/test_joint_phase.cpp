@@ -1,0 +1,144 @@
+// The joint phase on a model built by joint insertion: forces into Nodes::f, breaking
+// with time, position and mode, energy bookkeeping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "joint/joint_phase.hpp"
+#include "joint/joint_test_props.hpp"
+#include "mesh/joint_insertion.hpp"
+
+using namespace dsdem;
+
+namespace {
+
+// Two breakable triangles of the unit square (diagonal (0,0)-(1,1)) far from the
+// origin, one joint on the diagonal.
+struct TwoTriangles {
+  Nodes nodes;
+  Joints joints;
+  std::vector<Index> b_nodes;  // nodes of tri_b
+};
+
+TwoTriangles make_two_triangles() {
+  RawMesh m;
+  const Vec2 o(1000.0, 500.0);
+  m.nodes = {o + Vec2(0, 0), o + Vec2(1, 0), o + Vec2(1, 1), o + Vec2(0, 1)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.triangle_surface_group = {0, 0};
+  RawPhysicalGroup g;
+  g.name = "slide";
+  g.triangles = {0, 1};
+  m.groups = {g};
+  JointInsertionOptions opt;
+  opt.breakable = {true};
+  JointInsertionResult r = insert_joints(m, opt);
+  TwoTriangles out;
+  out.nodes.resize(r.nodes.size());
+  out.nodes.X = r.nodes;
+  out.nodes.origin = r.origin;
+  out.joints = r.joints;
+  const auto& cb = r.triangles[r.joints.tri_b[0]];
+  out.b_nodes.assign(cb.begin(), cb.end());
+  return out;
+}
+
+}  // namespace
+
+TEST(JointPhase, PullApartBreaksOnceWithTimePositionModeAndEnergy) {
+  const std::vector<JointProperties> props{test::disc_rock()};
+  const JointProperties& p = props[0];
+  TwoTriangles m = make_two_triangles();
+  ASSERT_EQ(m.joints.size(), 1u);
+  const double L = std::sqrt(2.0);
+  EXPECT_NEAR(m.joints.length0[0], L, 1e-15);
+  // Joint normal: outward of tri_a = triangle 0 (below the diagonal) -> (-1, 1)/sqrt2.
+  const Vec2 n = Vec2(-1.0, 1.0) / L;
+  const double wt = p.ft / p.kn, wn = 2 * p.GI / p.ft, dt = 1e-4;
+  // Openings through the kinks of the law (wt, wt + wn), so the trapezoid is exact.
+  std::vector<double> path;
+  for (int i = 1; i <= 10; ++i) path.push_back(wt * i / 10);
+  for (int i = 1; i <= 400; ++i) path.push_back(wt + wn * i / 400);
+  for (int i = 1; i <= 10; ++i) path.push_back(wt + wn + wn * i / 10);
+  double work = 0.0, f_old = 0.0, d_old = 0.0, dissipated = 0.0;
+  int broke_at = -1;
+  for (int i = 1; i <= int(path.size()); ++i) {
+    const double d = path[i - 1];
+    for (Index k : m.b_nodes) m.nodes.u[k] = d * n;
+    std::fill(m.nodes.f.begin(), m.nodes.f.end(), Vec2::Zero());
+    const JointPhaseTotals tot = add_joint_forces(m.nodes, m.joints, props, i * dt);
+    dissipated += tot.dissipation;
+    // Force on face b, pulling it back; forces sum to zero over the pair.
+    Vec2 fb = Vec2::Zero(), fsum = Vec2::Zero();
+    for (Index k : m.b_nodes) fb += m.nodes.f[k];
+    for (const Vec2& f : m.nodes.f) fsum += f;
+    EXPECT_EQ(fsum.norm(), 0.0);
+    const double expected = d < wt ? p.kn * d : (d < wt + wn ? p.ft * (1 - (d - wt) / wn) : 0.0);
+    if (!m.joints.broken[0] || tot.broken_now) {
+      const double got = tot.broken_now ? 0.0 : -fb.dot(n) / L;
+      EXPECT_NEAR(got, expected, 1e-9 * p.ft) << "d = " << d;
+    } else {
+      EXPECT_EQ(fb.norm(), 0.0);  // broken: contact takes over, the joint is silent
+    }
+    const double f = -fb.dot(n);
+    work += 0.5 * (f + f_old) * (d - d_old);
+    f_old = f;
+    d_old = d;
+    if (tot.broken_now) {
+      EXPECT_EQ(broke_at, -1);
+      broke_at = i;
+    }
+  }
+  ASSERT_GT(broke_at, 0);
+  EXPECT_TRUE(broke_at == 410 || broke_at == 411) << broke_at;  // path[409] = wt + wn
+  EXPECT_TRUE(m.joints.broken[0]);
+  EXPECT_EQ(m.joints.break_time[0], broke_at * dt);
+  EXPECT_EQ(m.joints.break_mode[0], BreakMode::Tension);
+  EXPECT_EQ(m.joints.damage[0], 1.0);
+  // Mid-point of the opened joint: the diagonal's centre moved by half the opening.
+  const double d_break = path[broke_at - 1];
+  const Vec2 mid = Vec2(1000.5, 500.5) + 0.5 * d_break * n;
+  EXPECT_NEAR((m.joints.break_position[0] - mid).norm(), 0.0, 1e-12);
+  // Everything the pull did went into fracture: L (GI + ft^2 / 2kn).
+  const double exact = L * (p.GI + p.ft * p.ft / (2 * p.kn));
+  EXPECT_NEAR(m.joints.dissipated[0], dissipated, 1e-12 * exact);
+  EXPECT_NEAR(work, exact, 1e-9 * exact);
+  EXPECT_NEAR(dissipated, exact, 1e-9 * exact);
+}
+
+TEST(JointPhase, GravityStageFreezesDamageAndNeverBreaks) {
+  const std::vector<JointProperties> props{test::disc_rock()};
+  const JointProperties& p = props[0];
+  TwoTriangles m = make_two_triangles();
+  const Vec2 n = Vec2(-1.0, 1.0) / std::sqrt(2.0);
+  const double d = 5 * (p.ft / p.kn + 2 * p.GI / p.ft);  // far past failure
+  for (Index k : m.b_nodes) m.nodes.u[k] = d * n;
+  const JointPhaseTotals tot = add_joint_forces(m.nodes, m.joints, props, 0.0, false);
+  EXPECT_EQ(tot.broken_now, 0);
+  EXPECT_FALSE(m.joints.broken[0]);
+  EXPECT_EQ(m.joints.damage[0], 0.0);
+  Vec2 fb = Vec2::Zero();
+  for (Index k : m.b_nodes) fb += m.nodes.f[k];
+  EXPECT_NEAR(-fb.dot(n), p.kn * d * std::sqrt(2.0), 1e-9 * p.kn * d);  // elastic
+  EXPECT_NEAR(tot.energy, 0.5 * p.kn * d * d * std::sqrt(2.0), 1e-9 * p.kn * d * d);
+}
+
+TEST(JointPhase, JointsWithAnInitiallyBrokenPropertyStartBrokenAndCarryNothing) {
+  std::vector<JointProperties> props{test::disc_rock(), test::disc_rock()};
+  props[1].name = "pre_existing_crack";
+  props[1].initially_broken = true;
+  TwoTriangles m = make_two_triangles();
+  m.joints.property[0] = 1;
+  mark_initially_broken(m.joints, props, m.nodes.X);
+  EXPECT_TRUE(m.joints.broken[0]);
+  EXPECT_EQ(m.joints.break_mode[0], BreakMode::Initial);
+  EXPECT_EQ(m.joints.break_time[0], 0.0);
+  EXPECT_EQ(m.joints.damage[0], 1.0);
+  EXPECT_EQ(m.joints.break_position[0], Vec2(1000.5, 500.5));  // centre of the diagonal
+  // Even pressed into each other, a broken joint adds nothing (contact's job).
+  for (Index k : m.b_nodes) m.nodes.u[k] = Vec2(1e-6, -1e-6);
+  const JointPhaseTotals tot = add_joint_forces(m.nodes, m.joints, props, 1.0);
+  for (const Vec2& f : m.nodes.f) EXPECT_EQ(f.norm(), 0.0);
+  EXPECT_EQ(tot.energy, 0.0);
+  EXPECT_EQ(tot.broken_now, 0);
+}
