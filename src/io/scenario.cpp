@@ -89,7 +89,45 @@ DampingSpec read_damping(SchemaReader& r, const YAML::Node& map, const KeyPath& 
   return d;
 }
 
+JointSpec read_joint_spec(SchemaReader& r, const YAML::Node& m, const KeyPath& p) {
+  JointSpec j;
+  j.where = location(r, m, p.actual);
+  if (!m.IsMap()) {
+    r.error(m, p.actual, "expected a map of joint properties (kn, ks, ft, c, phi, GI, GII, broken)");
+    return j;
+  }
+  r.check_keys(m, p);
+  j.kn = r.number(m, p, "kn");
+  j.ks = r.number(m, p, "ks");
+  j.penalty = m["penalty"].IsDefined() ? r.number(m, p, "penalty") : std::nullopt;
+  j.ft = r.number(m, p, "ft");
+  j.c = r.number(m, p, "c");
+  j.phi_deg = r.number(m, p, "phi");
+  j.GI = r.number(m, p, "GI");
+  j.GII = r.number(m, p, "GII");
+  if (m["broken"].IsDefined()) j.broken = r.boolean(m, p, "broken");
+  return j;
+}
+
 }  // namespace
+
+JointSpec JointSpec::merged(const JointSpec& over) const {
+  JointSpec j = *this;
+  auto take = [](auto& mine, const auto& theirs) {
+    if (theirs) mine = theirs;
+  };
+  take(j.kn, over.kn);
+  take(j.ks, over.ks);
+  take(j.penalty, over.penalty);
+  take(j.ft, over.ft);
+  take(j.c, over.c);
+  take(j.phi_deg, over.phi_deg);
+  take(j.GI, over.GI);
+  take(j.GII, over.GII);
+  take(j.broken, over.broken);
+  j.where = over.where;
+  return j;
+}
 
 ScenarioError::ScenarioError(const std::vector<std::string>& errors)
     : std::runtime_error(join_lines(errors)), errors_(errors) {}
@@ -325,6 +363,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
       else
         stage.boundaries = boundaries;
       stage.stop_kinetic_ratio = r.number(s, sp, "stop_kinetic_ratio").value_or(0.0);
+      stage.failure = r.boolean(s, sp, "failure").value_or(true);
       sc.stages.push_back(std::move(stage));
     }
     if (end && st.size() > 0)
@@ -338,6 +377,29 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
     if (!end && root["time"].IsDefined()) r.error(root["time"], "time.end", "missing value (end time, s); or give stages");
     sc.stages.push_back(std::move(stage));
   }
+
+  if (YAML::Node j = r.section(root, top, "joints", YAML::NodeType::Map); j.IsDefined()) {
+    const KeyPath p = top.child("joints");
+    r.check_keys(j, p);
+    sc.joints.present = true;
+    sc.joints.where = location(r, j, "joints");
+    if (YAML::Node d = r.section(j, p, "default", YAML::NodeType::Map); d.IsDefined())
+      sc.joints.defaults = read_joint_spec(r, d, p.child("default"));
+    else
+      r.error(j, "joints.default", "missing section (the properties of every joint)");
+    if (YAML::Node g = r.section(j, p, "groups", YAML::NodeType::Map); g.IsDefined())
+      for (auto it = g.begin(); it != g.end(); ++it)
+        sc.joints.groups[it->first.Scalar()] = read_joint_spec(r, it->second, p.child("groups").item(it->first.Scalar()));
+    if (YAML::Node i = r.section(j, p, "interface", YAML::NodeType::Map); i.IsDefined())
+      sc.joints.interface = read_joint_spec(r, i, p.child("interface"));
+    if (YAML::Node c = r.section(j, p, "curves", YAML::NodeType::Map); c.IsDefined())
+      for (auto it = c.begin(); it != c.end(); ++it)
+        sc.joints.curves[it->first.Scalar()] = read_joint_spec(r, it->second, p.child("curves").item(it->first.Scalar()));
+  }
+  bool any_discrete = false;
+  for (const auto& reg : sc.regions) any_discrete = any_discrete || reg.zone == Zone::Discrete;
+  if (any_discrete && !sc.joints.present)
+    r.error(root, "joints", "a discrete (breakable) zone needs joint properties: add joints.default with ft, c, phi, GI, GII");
 
   if (YAML::Node o = r.section(root, top, "output", YAML::NodeType::Map); o.IsDefined()) {
     const KeyPath p = top.child("output");

@@ -62,12 +62,31 @@ struct DampingSpec {
   double beta = 0.0;   // s
 };
 
+// Joint properties as given; absent values fall back to joints.default (DESIGN.md §3).
+struct JointSpec {
+  std::optional<double> kn, ks, penalty, ft, c, phi_deg, GI, GII;
+  std::optional<bool> broken;
+  SourceLocation where;
+  // Values of `over` where given, else these.
+  JointSpec merged(const JointSpec& over) const;
+};
+
+struct JointsSection {
+  bool present = false;
+  JointSpec defaults;
+  std::map<std::string, JointSpec> groups;  // by surface group name
+  std::optional<JointSpec> interface;
+  std::map<std::string, JointSpec> curves;  // by curve group name
+  SourceLocation where;
+};
+
 struct StageSpec {
   std::string name;
   double duration = 0.0;
   DampingSpec damping;
   std::vector<BoundarySpec> boundaries;
   double stop_kinetic_ratio = 0.0;  // 0 = run the full duration
+  bool failure = true;              // joints may damage and break
 };
 
 struct GaugeSpec {
@@ -98,6 +117,7 @@ struct Scenario {
   double safety = 0.3;
   std::vector<StageSpec> stages;  // at least one after parsing
   OutputSpec output;
+  JointsSection joints;
   SourceLocation where_mesh;
 
   double end_time() const;

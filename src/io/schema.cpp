@@ -112,6 +112,30 @@ std::vector<KeySpec> build_schema() {
   s.push_back(num("stages[].stop_kinetic_ratio", "", "", 0, 1,
                   "End the stage early once kinetic energy falls below this fraction of its peak in the stage.", true));
 
+  // Cohesive joints (DESIGN.md §3; paper eqs. 6-9).
+  s.push_back(of("joints", KeyType::Map, "", "Cohesive joint properties for discrete (breakable) zones."));
+  const std::vector<std::pair<std::string, std::string>> joint_sets{
+      {"joints.default", "Properties of every joint unless a group, interface or curve entry overrides them."},
+      {"joints.groups.*", "Overrides for joints inside one discrete surface group."},
+      {"joints.interface", "Overrides for joints between a discrete group and a continuous one (the bond to bedrock)."},
+      {"joints.curves.*", "Overrides for joints on a named mesh curve (pre-existing crack, weak interlayer)."}};
+  s.push_back(of("joints.groups", KeyType::Map, "", "Per discrete group overrides, by group name."));
+  s.push_back(of("joints.curves", KeyType::Map, "", "Per curve overrides, by curve group name."));
+  for (const auto& [prefix, doc] : joint_sets) {
+    s.push_back(of(prefix, KeyType::Map, "", doc));
+    s.push_back(num(prefix + ".kn", "Pa/m", "p*E/h", 0, kInf, "Normal stiffness (default: penalty p*E/h, logged).", true));
+    s.push_back(num(prefix + ".ks", "Pa/m", "kn", 0, kInf, "Shear stiffness (default: kn).", true));
+    s.push_back(num(prefix + ".penalty", "", "10", 0, kInf, "p in the penalty rule kn = p*E/h when kn is absent.", true));
+    s.push_back(num(prefix + ".ft", "Pa", prefix == "joints.default" ? "required" : "", 0, kInf, "Tensile strength.", true));
+    s.push_back(num(prefix + ".c", "Pa", prefix == "joints.default" ? "required" : "", 0, kInf, "Cohesion.", true));
+    s.push_back(num(prefix + ".phi", "deg", prefix == "joints.default" ? "required" : "", 0, 90, "Friction angle.", false, true));
+    s.push_back(num(prefix + ".GI", "N/m", prefix == "joints.default" ? "required" : "", 0, kInf, "Mode I fracture energy.", true));
+    s.push_back(num(prefix + ".GII", "N/m", prefix == "joints.default" ? "required" : "", 0, kInf, "Mode II fracture energy.", true));
+    s.push_back(of(prefix + ".broken", KeyType::Boolean, "false", "Start broken (a pre-existing crack: contact only)."));
+  }
+  s.push_back(of("stages[].failure", KeyType::Boolean, "true",
+                 "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));
+
   s.push_back(of("output", KeyType::Map, "", "What is written and how often."));
   s.push_back(num("output.field_interval", "s", "end/50", 0, kInf, "Interval between VTU frames.", true));
   s.push_back(num("output.history_interval", "s", "end/1000", 0, kInf, "Interval between history rows.", true));

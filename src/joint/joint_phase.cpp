@@ -4,7 +4,7 @@ namespace dsdem {
 
 JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
-                                  bool damage_enabled) {
+                                  bool damage_enabled, double thickness) {
   JointPhaseTotals tot;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
@@ -19,8 +19,8 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                            damage_enabled);
     joints.state[j] = r.state;
     joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
-    joints.dissipated[j] += r.dissipation;
-    tot.dissipation += r.dissipation;
+    joints.dissipated[j] += thickness * r.dissipation;
+    tot.dissipation += thickness * r.dissipation;
     if (r.failed_now) {
       // Both ends carry no tension or cohesion any more: drop the joint, keep the
       // energy it still stores as dissipated so the balance closes.
@@ -28,13 +28,13 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
       joints.break_time[j] = time;
       joints.break_position[j] = 0.25 * (x[0] + x[1] + x[2] + x[3]);
       joints.break_mode[j] = r.mode;
-      joints.dissipated[j] += r.energy;
-      tot.dissipation += r.energy;
+      joints.dissipated[j] += thickness * r.energy;
+      tot.dissipation += thickness * r.energy;
       ++tot.broken_now;
       continue;
     }
-    for (int k = 0; k < 4; ++k) nodes.f[nd[k]] += r.f[k];
-    tot.energy += r.energy;
+    for (int k = 0; k < 4; ++k) nodes.f[nd[k]] += thickness * r.f[k];
+    tot.energy += thickness * r.energy;
   }
   return tot;
 }

@@ -18,9 +18,10 @@ struct JointPhaseTotals {
 // Reads the current positions X + u of nodes, adds the joint forces to nodes.f.
 // damage_enabled = false (gravity stage) freezes the joint histories: no damage, no
 // break. Serial: the scatter into nodes.f is in joint order, so results are
-// bit-identical run to run.
+// bit-identical run to run. thickness (m) scales forces and energies (plane stress);
+// plane strain is per unit thickness.
 JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
-                                  bool damage_enabled = true);
+                                  bool damage_enabled = true, double thickness = 1.0);
 
 }  // namespace dsdem

@@ -7,6 +7,9 @@
 #include "fem/cst.hpp"
 #include "io/schema.hpp"
 #include "mesh/gmsh_reader.hpp"
+#include "mesh/joint_insertion.hpp"
+
+#include <spdlog/spdlog.h>
 
 namespace dsdem::mesh {
 
@@ -46,6 +49,98 @@ static std::string missing_group_message(const RawMesh& mesh, const std::string&
   return fmt::format("the mesh {} has no {} group '{}'{}; its {} groups are: {}", mesh.source,
                      dim == 2 ? "surface" : "curve or point", name, near.empty() ? "" : " (did you mean '" + near + "'?)",
                      dim == 2 ? "surface" : "curve/point", list.empty() ? "(none)" : list);
+}
+
+namespace {
+
+// Mean element size sqrt(2A) of the triangles of one surface group, m.
+double mean_element_size(const RawMesh& mesh, Index group) {
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (mesh.triangle_surface_group[t] != group) continue;
+    const auto& c = mesh.triangles[t];
+    const Vec2 a = mesh.nodes[c[1]] - mesh.nodes[c[0]], b = mesh.nodes[c[2]] - mesh.nodes[c[0]];
+    sum += std::sqrt(std::abs(a.x() * b.y() - a.y() * b.x()));
+    ++n;
+  }
+  return n > 0 ? sum / n : 0.0;
+}
+
+// A property from a (merged) spec; kn from the penalty rule p*E/h when absent (DESIGN.md §3).
+JointProperties make_joint_property(const std::string& name, const io::JointSpec& spec, double E, double h,
+                                    std::vector<std::string>& errors) {
+  JointProperties p;
+  p.name = name;
+  if (spec.kn) {
+    p.kn = *spec.kn;
+  } else {
+    const double penalty = spec.penalty.value_or(10.0);
+    p.kn = penalty * E / h;
+    spdlog::info("joints '{}': kn = {:.4g} Pa/m from the penalty rule p*E/h (p = {}, E = {:.4g} Pa, h = {:.4g} m)", name,
+                 p.kn, penalty, E, h);
+  }
+  p.ks = spec.ks.value_or(p.kn);
+  p.ft = spec.ft.value_or(0.0);
+  p.c = spec.c.value_or(0.0);
+  p.phi = spec.phi_deg.value_or(0.0) * kPi / 180.0;
+  p.GI = spec.GI.value_or(0.0);
+  p.GII = spec.GII.value_or(0.0);
+  p.initially_broken = spec.broken.value_or(false);
+  const std::string problem = validate(p);
+  if (!problem.empty()) errors.push_back(spec.where.describe(fmt::format("joint properties '{}': {}", name, problem)));
+  return p;
+}
+
+}  // namespace
+
+void build_joint_properties(const io::Scenario& sc, const RawMesh& mesh,
+                            const std::vector<const io::RegionSpec*>& region_of_group,
+                            const std::map<std::string, Index>& material_index, Model& model,
+                            dsdem::JointInsertionOptions& opt, std::vector<std::string>& errors) {
+  const io::JointsSection& js = sc.joints;
+  double E_min = std::numeric_limits<double>::infinity(), h_min_group = std::numeric_limits<double>::infinity();
+  for (std::size_t g = 0; g < mesh.groups.size(); ++g) {
+    const io::RegionSpec* reg = region_of_group[g];
+    if (!reg || reg->zone != Zone::Discrete) continue;
+    opt.breakable[g] = true;
+    const Material& mat = model.materials[material_index.at(reg->material)];
+    const double h = mean_element_size(mesh, static_cast<Index>(g));
+    E_min = std::min(E_min, mat.E);
+    h_min_group = std::min(h_min_group, h);
+    io::JointSpec spec = js.defaults;
+    if (auto it = js.groups.find(mesh.groups[g].name); it != js.groups.end()) spec = spec.merged(it->second);
+    opt.group_property[g] = static_cast<Index>(model.joint_properties.size());
+    model.joint_properties.push_back(make_joint_property(mesh.groups[g].name, spec, mat.E, h, errors));
+  }
+  for (const auto& [name, spec] : js.groups) {
+    const RawPhysicalGroup* g = mesh.find(name);
+    if (!g || g->dim != 2 || !opt.breakable[static_cast<std::size_t>(g - mesh.groups.data())])
+      errors.push_back(spec.where.describe(fmt::format("'{}' is not a discrete surface group of the mesh", name)));
+  }
+  opt.default_property = 0;
+  for (Index gp : opt.group_property)
+    if (gp != kNoIndex) {
+      opt.default_property = gp;
+      break;
+    }
+  if (js.interface) {
+    opt.interface_property = static_cast<Index>(model.joint_properties.size());
+    model.joint_properties.push_back(
+        make_joint_property("interface", js.defaults.merged(*js.interface), E_min, h_min_group, errors));
+  }
+  for (const auto& [name, spec] : js.curves) {
+    const RawPhysicalGroup* g = mesh.find(name);
+    if (!g || g->dim != 1) {
+      errors.push_back(spec.where.describe(missing_group_message(mesh, name, 1)));
+      continue;
+    }
+    const Index gi = static_cast<Index>(g - mesh.groups.data());
+    opt.curve_property[gi] = static_cast<Index>(model.joint_properties.size());
+    const io::JointSpec merged = js.defaults.merged(spec);
+    model.joint_properties.push_back(make_joint_property(name, merged, E_min, h_min_group, errors));
+    if (merged.broken.value_or(false)) opt.broken_curves.insert(gi);
+  }
 }
 
 Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
@@ -93,17 +188,48 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     throw io::ScenarioError(errors);
   }
 
-  // Nodes: shared (continuous mesh). Joint insertion in breakable zones splits them.
-  model.nodes.resize(mesh.nodes.size());
-  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-    model.nodes.X[i] = mesh.nodes[i];
-    model.nodes.origin[i] = static_cast<Index>(i);
+  const bool any_discrete = std::any_of(sc.regions.begin(), sc.regions.end(),
+                                       [](const io::RegionSpec& r) { return r.zone == Zone::Discrete; });
+  std::vector<Index> copies_offset, copies;  // copies of each mesh node in the model
+  if (any_discrete) {
+    dsdem::JointInsertionOptions opt;
+    opt.breakable.assign(mesh.groups.size(), false);
+    opt.group_property.assign(mesh.groups.size(), kNoIndex);
+    build_joint_properties(sc, mesh, region_of_group, material_index, model, opt, errors);
+    if (!errors.empty()) throw io::ScenarioError(errors);
+    dsdem::JointInsertionResult ins;
+    try {
+      ins = insert_joints(mesh, opt);
+    } catch (const std::exception& e) {
+      throw io::ScenarioError({e.what()});
+    }
+    model.nodes.resize(ins.nodes.size());
+    for (std::size_t i = 0; i < ins.nodes.size(); ++i) {
+      model.nodes.X[i] = ins.nodes[i];
+      model.nodes.origin[i] = ins.origin[i];
+    }
+    model.triangles.resize(ins.triangles.size());
+    for (std::size_t t = 0; t < ins.triangles.size(); ++t) model.triangles.conn[t] = ins.triangles[t];
+    model.joints = std::move(ins.joints);
+    mark_initially_broken(model.joints, model.joint_properties, model.nodes.X);
+    copies_offset = std::move(ins.copies_offset);
+    copies = std::move(ins.copies);
+  } else {
+    // Nodes shared (continuous mesh).
+    model.nodes.resize(mesh.nodes.size());
+    model.triangles.resize(mesh.triangles.size());
+    copies_offset.resize(mesh.nodes.size() + 1);
+    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+      model.nodes.X[i] = mesh.nodes[i];
+      model.nodes.origin[i] = static_cast<Index>(i);
+      copies_offset[i + 1] = static_cast<Index>(i + 1);
+      copies.push_back(static_cast<Index>(i));
+    }
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) model.triangles.conn[t] = mesh.triangles[t];
   }
-  model.triangles.resize(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Index g = mesh.triangle_surface_group[t];
     const io::RegionSpec* reg = region_of_group[static_cast<std::size_t>(g)];
-    model.triangles.conn[t] = mesh.triangles[t];
     model.triangles.group[t] = g;
     model.triangles.material[t] = material_index.at(reg->material);
     model.triangles.zone[t] = reg->zone;
@@ -116,7 +242,11 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     mg.kind = g.dim == 2 ? GroupKind::Surface : g.dim == 1 ? GroupKind::Curve : GroupKind::Point;
     mg.gmsh_tag = g.tag;
     mg.triangles = g.triangles;
-    mg.nodes = g.nodes;
+    // Every copy of a split mesh node belongs to the curve or point it lay on.
+    for (Index n : g.nodes)
+      if (static_cast<std::size_t>(n) + 1 < copies_offset.size())
+        for (Index k = copies_offset[n]; k < copies_offset[n + 1]; ++k) mg.nodes.push_back(copies[k]);
+    std::sort(mg.nodes.begin(), mg.nodes.end());
     mg.mesh_edges = g.edges;
     model.groups.push_back(std::move(mg));
   }

@@ -3,6 +3,7 @@
 // surface group, zones, lumped masses, reference geometry. Errors that need the mesh
 // (groups it lacks, inverted elements) name the scenario's file, line and key.
 #include "io/scenario.hpp"
+#include "mesh/joint_insertion.hpp"
 #include "mesh/raw_mesh.hpp"
 #include "model/model.hpp"
 
@@ -13,6 +14,13 @@ RawMesh load_mesh(const io::Scenario& scenario, const std::string& work_dir);
 
 // Throws io::ScenarioError listing every mismatch between scenario and mesh.
 Model build_model(const io::Scenario& scenario, const RawMesh& mesh);
+
+// Joint property table (one per discrete group, the interface, each named curve) and
+// insertion options from the scenario's joints section.
+void build_joint_properties(const io::Scenario& sc, const RawMesh& mesh,
+                            const std::vector<const io::RegionSpec*>& region_of_group,
+                            const std::map<std::string, Index>& material_index, Model& model,
+                            dsdem::JointInsertionOptions& opt, std::vector<std::string>& errors);
 
 // Lumped masses rho * A * t / 3 to each node (DESIGN.md §2).
 void compute_lumped_masses(Model& model);

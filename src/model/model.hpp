@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "joint/joints.hpp"
 #include "model/types.hpp"
 
 namespace dsdem {
@@ -110,6 +111,8 @@ struct Model {
   Triangles triangles;
   std::vector<Group> groups;
   std::vector<Material> materials;
+  Joints joints;                                // cohesive joints of the discrete zones
+  std::vector<JointProperties> joint_properties;
   bool plane_stress = false;
   double thickness = 1.0;  // m
 

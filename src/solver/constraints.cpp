@@ -11,8 +11,10 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
   for (const auto& b : boundaries) {
     const Index g = model.find_group(b.group);
     if (g == kNoIndex) continue;  // validated before: cannot happen
+    const auto hx = b.x ? std::make_shared<const io::TimeHistory>(*b.x) : nullptr;
+    const auto hy = b.y ? std::make_shared<const io::TimeHistory>(*b.y) : nullptr;
     for (Index n : model.groups[g].nodes) {
-      auto set = [&](int dir, PrescribedDof::Kind kind, const io::TimeHistory* h) {
+      auto set = [&](int dir, PrescribedDof::Kind kind, std::shared_ptr<const io::TimeHistory> h) {
         PrescribedDof d;
         d.node = n;
         d.dir = dir;
@@ -33,8 +35,8 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
         case io::BoundaryType::Velocity:
         case io::BoundaryType::Displacement: {
           const auto kind = b.type == io::BoundaryType::Velocity ? PrescribedDof::Velocity : PrescribedDof::Displacement;
-          if (b.x) set(0, kind, &*b.x);
-          if (b.y) set(1, kind, &*b.y);
+          if (hx) set(0, kind, hx);
+          if (hy) set(1, kind, hy);
           break;
         }
         case io::BoundaryType::Free:

@@ -1,6 +1,7 @@
 #pragma once
 // Prescribed motions of nodes (fixed, roller, velocity or displacement histories),
 // built per stage from the scenario's boundary conditions.
+#include <memory>
 #include <vector>
 
 #include "io/scenario.hpp"
@@ -12,7 +13,8 @@ struct PrescribedDof {
   Index node = kNoIndex;
   int dir = 0;  // 0 = x, 1 = y
   enum Kind : std::uint8_t { Fixed, Velocity, Displacement } kind = Fixed;
-  const io::TimeHistory* history = nullptr;  // owned by the stage's BoundarySpec
+  // Shared by the dofs of one boundary condition; owned here so no caller's lifetime matters.
+  std::shared_ptr<const io::TimeHistory> history;
   double u_start = 0.0;    // displacement at the start of the stage (displacement histories are relative)
   double t_start = 0.0;    // stage start time: histories run on stage time
   double reaction_prev = 0.0;  // reaction force at the previous step, N (for the work it does)

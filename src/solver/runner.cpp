@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "dsdem_version.hpp"
 #include "io/atomic_file.hpp"
@@ -17,7 +18,9 @@
 #include "io/json_writer.hpp"
 #include "io/pvd.hpp"
 #include "io/vtu_writer.hpp"
+#include "io/crack_output.hpp"
 #include "mesh/model_builder.hpp"
+#include "solver/fragments.hpp"
 
 namespace dsdem::solver {
 
@@ -81,6 +84,7 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
   s.alpha = stage.damping.alpha;
   s.beta = stage.damping.beta;
   s.dt = dt;
+  s.failure = stage.failure;
   solver.set_settings(s);
   solver.set_constraints(build_constraints(solver.model(), stage.boundaries, solver.time()));
 }
@@ -156,7 +160,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   io::Scenario& sc = prepared.scenario;
   Model& model = prepared.model;
   log->info("dsdem {} ({}), {} threads", DSDEM_VERSION, DSDEM_GIT_COMMIT, threads);
-  log->info("scenario {}: {} nodes, {} triangles", sc.file, model.nodes.size(), model.triangles.size());
+  log->info("scenario {}: {} nodes, {} triangles, {} joints", sc.file, model.nodes.size(), model.triangles.size(),
+            model.joints.size());
   log->info("dt = {:.4g} s ({} x stable {:.4g} s, controlled by {})", prepared.dt, sc.dt ? 1.0 : sc.safety,
             prepared.stable.dt, prepared.stable.controlled_by);
 
@@ -172,7 +177,11 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
                                          {"gravity_potential", energy_unit},
                                          {"external_work", energy_unit},
                                          {"damping_dissipated", energy_unit},
-                                         {"energy_balance_error", ""}};
+                                         {"joint_elastic", energy_unit},
+                                         {"fracture_dissipated", energy_unit},
+                                         {"energy_balance_error", ""},
+                                         {"broken_joints", ""},
+                                         {"fragments", ""}};
   for (const auto& g : prepared.gauges)
     for (const auto& [q, unit] : std::vector<std::pair<std::string, std::string>>{
              {"displacement", "m"}, {"velocity", "m_per_s"}, {"acceleration", "m_per_s2"}})
@@ -181,6 +190,10 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   io::PvdSeries fields(out / "fields.pvd");
 
   std::vector<double> row(columns.size());
+  std::vector<Index> fragment_label;
+  const bool has_joints = model.joints.size() > 0;
+  std::optional<io::PvdSeries> cracks;
+  if (has_joints) cracks.emplace(out / "cracks.pvd");
   struct GaugeStats {
     double max_disp = 0.0, max_speed = 0.0, time_of_max_speed = 0.0;
   };
@@ -196,7 +209,11 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     row[k++] = e.gravity_potential;
     row[k++] = e.external_work;
     row[k++] = e.damping_dissipated;
+    row[k++] = e.joint_elastic;
+    row[k++] = e.fracture_dissipated;
     row[k++] = e.balance_error();
+    row[k++] = static_cast<double>(solver.broken_joints());
+    row[k++] = count_fragments(model, fragment_label);
     for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
       const auto& g = prepared.gauges[gi];
       const Vec2 u = gauge_value(model, g, model.nodes.u), v = gauge_value(model, g, model.nodes.v),
@@ -227,6 +244,11 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     vo.time_s = solver.time();
     io::write_triangles_vtu(file, model.nodes, model.triangles, model.materials, {}, {}, vo);
     fields.add(solver.time(), file);
+    if (cracks) {
+      const fs::path cfile = cracks->frame_path(cracks->size());
+      io::write_cracks_vtu(cfile, model, solver.time());
+      cracks->add(solver.time(), cfile);
+    }
   };
 
   const bool tty = !options.quiet && isatty(STDERR_FILENO);
@@ -249,8 +271,9 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
         next_history = sc.output.history_interval;
       }
       stage_end += stage.duration;
-      log->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s", si + 1, stage.name, stage.duration,
-                stage_end, stage.damping.alpha, stage.damping.beta);
+      log->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s, joints {}", si + 1, stage.name,
+                stage.duration, stage_end, stage.damping.alpha, stage.damping.beta,
+                stage.failure ? "may break" : "elastic (no failure)");
       double peak_kinetic = 0.0;
       // Stop within half a step of the stage end.
       while (solver.time() < stage_end - 0.5 * prepared.dt) {
@@ -297,6 +320,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     write_fields();
     write_history(-1);
     history.close();
+    if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
     io::Json diag = io::Json::object({{"kind", e.kind},
                                       {"message", std::string(e.what())},
                                       {"id", e.id},
@@ -320,7 +344,9 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["dsdem_version"] = std::string(DSDEM_VERSION) + " (" + DSDEM_GIT_COMMIT + ")";
   summary["elements"] = static_cast<long>(model.triangles.size());
   summary["nodes"] = static_cast<long>(model.nodes.size());
-  summary["joints"] = 0L;
+  summary["joints"] = static_cast<long>(model.joints.size());
+  summary["broken_joints"] = solver.broken_joints();
+  summary["fragments"] = count_fragments(model, fragment_label);
   summary["steps"] = solver.step_count();
   summary["dt_s"] = prepared.dt;
   summary["dt_controlled_by"] = prepared.stable.controlled_by;
@@ -338,6 +364,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   energies["gravity_potential"] = e.gravity_potential;
   energies["external_work"] = e.external_work;
   energies["damping_dissipated"] = e.damping_dissipated;
+  energies["joint_elastic"] = e.joint_elastic;
+  energies["fracture_dissipated"] = e.fracture_dissipated;
   summary["final_energies"] = energies;
   io::Json gauges = io::Json::array();
   for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
@@ -349,6 +377,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
                                        {"final_displacement_m", io::Json::array({u.x(), u.y()})}}));
   }
   summary["gauges"] = gauges;
+  if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
   io::write_json_file(out / "summary.json", summary);
   log->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(), human_time(wall),
             max_balance_error, out.string());

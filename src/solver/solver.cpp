@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "joint/joint_phase.hpp"
 #include "solver/parallel.hpp"
 
 namespace dsdem::solver {
@@ -34,6 +35,24 @@ StableStep stable_time_step(const Model& model, double beta) {
                                        t, group, mat.name, best.position.x(), best.position.y(), h, cp);
     }
   }
+  // Joints: 2 sqrt(m/k) of the two node masses across each end (DESIGN.md §6).
+  const auto& J = model.joints;
+  for (std::size_t j = 0; j < J.size(); ++j) {
+    if (J.broken[j]) continue;
+    const JointProperties& p = model.joint_properties[J.property[j]];
+    const double k = joint_end_stiffness(p, J.length0[j]) * model.thickness;
+    for (int e = 0; e < 2; ++e) {
+      const Index a = J.nodes[j][e], b = J.nodes[j][2 + e];
+      const double dt = joint_stable_dt(model.nodes.m[a], model.nodes.m[b], k);
+      if (dt < best.dt) {
+        best.dt = dt;
+        best.element = static_cast<Index>(j);
+        best.position = model.nodes.x(a);
+        best.controlled_by = fmt::format("joint {} ({}) at ({:.4g}, {:.4g}) m: k = {:.4g} N/m per end, node masses {:.4g} and {:.4g} kg",
+                                         j, p.name, best.position.x(), best.position.y(), k, model.nodes.m[a], model.nodes.m[b]);
+      }
+    }
+  }
   return best;
 }
 
@@ -48,6 +67,7 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   u_prev_.assign(nn, Vec2::Zero());
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
   build_node_incidence();
+  for (auto b : model_.joints.broken) broken_joints_ += b ? 1 : 0;
 }
 
 void Solver::build_node_incidence() {
@@ -68,6 +88,7 @@ void Solver::initialise() {
   clear_forces();
   add_gravity();
   add_internal_forces();
+  add_joint_forces();
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
@@ -83,6 +104,7 @@ void Solver::step() {
   clear_forces();
   add_gravity();
   add_internal_forces();
+  add_joint_forces();
   add_damping_forces();
   apply_constraints();
   finish_velocities();
@@ -162,6 +184,16 @@ void Solver::add_internal_forces() {
     n.f[i] += f + fd;
     damping_force_[i] += fd;
   }
+}
+
+void Solver::add_joint_forces() {
+  if (model_.joints.size() == 0) return;
+  const JointPhaseTotals t =
+      dsdem::add_joint_forces(model_.nodes, model_.joints, model_.joint_properties, time_, settings_.failure,
+                              model_.thickness);
+  energy_.joint_elastic = t.energy;
+  energy_.fracture_dissipated += t.dissipation;
+  broken_joints_ += t.broken_now;
 }
 
 void Solver::add_damping_forces() {

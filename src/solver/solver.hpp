@@ -30,6 +30,7 @@ struct StepSettings {
   double alpha = 0.0;  // Rayleigh mass coefficient, 1/s
   double beta = 0.0;   // Rayleigh stiffness coefficient, s
   double dt = 0.0;     // s
+  bool failure = true; // joints may damage and break (false in a gravity stage)
 };
 
 // What controls the stable time step.
@@ -65,6 +66,7 @@ class Solver {
   const Model& model() const { return model_; }
   // Reaction force on a group's constrained nodes (sum), N.
   Vec2 reaction_on(const std::vector<Index>& nodes) const;
+  long broken_joints() const { return broken_joints_; }
 
  private:
   // Phases of one step, in order.
@@ -72,6 +74,7 @@ class Solver {
   void clear_forces();
   void add_gravity();
   void add_internal_forces();     // triangles, objective CST (DESIGN.md §2)
+  void add_joint_forces();        // cohesive joints, breaking for good (DESIGN.md §3)
   void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
   void apply_constraints();       // reactions at prescribed dofs
   void finish_velocities();       // a(n+1) = f/m, v(n+1)
@@ -88,6 +91,7 @@ class Solver {
   EnergyLedger energy_;
   double time_ = 0.0;
   long step_ = 0;
+  long broken_joints_ = 0;
 
   // Per-element scratch (no allocation in the loop): nodal forces before the gather.
   std::vector<std::array<Vec2, 3>> element_force_;

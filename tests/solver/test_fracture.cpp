@@ -1,0 +1,135 @@
+// Fracture through the whole solver: joints inserted in a discrete zone, loaded to
+// failure (issue 3).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesh/model_builder.hpp"
+#include "mesh/structured.hpp"
+#include "solver/constraints.hpp"
+#include "solver/fragments.hpp"
+#include "solver/solver.hpp"
+
+using namespace dsdem;
+
+namespace {
+
+io::Scenario discrete_bar_scenario(double E, double ft) {
+  io::Scenario sc;
+  sc.file = "(test)";
+  Material m;
+  m.name = "rock";
+  m.E = E;
+  m.nu = 0.2;
+  m.rho = 2500;
+  sc.materials["rock"] = m;
+  sc.regions.push_back(io::RegionSpec{"bar", "rock", Zone::Discrete, {}, {}});
+  sc.joints.present = true;
+  sc.joints.defaults.ft = ft;
+  sc.joints.defaults.c = 4 * ft;
+  sc.joints.defaults.phi_deg = 30;
+  sc.joints.defaults.GI = 120;
+  sc.joints.defaults.GII = 1500;
+  sc.joints.defaults.penalty = 50;
+  sc.stages.push_back(io::StageSpec{});
+  return sc;
+}
+
+}  // namespace
+
+// A bar of triangles and joints pulled apart breaks at sigma = ft (within 2%), along
+// one crack. The mid-section is 1% weaker (a named curve) so the crack has a place to
+// start, as in a notched specimen; the rest of the bar must stay bonded.
+TEST(Fracture, DirectTensionBarBreaksAtTensileStrengthWithOneCrack) {
+  const double L = 0.2, H = 0.02, E = 21e9, ft = 2.5e6;
+  const int nx = 20, ny = 2;
+  RawMesh raw = mesh::rectangle_mesh(nx, ny, L, H, mesh::Diagonal::Alternate, 0, 0, "bar");
+  RawPhysicalGroup notch;
+  notch.name = "mid";
+  notch.dim = 1;
+  for (int i = 0; i < ny; ++i) {
+    const Index a = static_cast<Index>(i * (nx + 1) + nx / 2), b = static_cast<Index>((i + 1) * (nx + 1) + nx / 2);
+    notch.edges.push_back({a, b});
+  }
+  raw.groups.push_back(notch);
+  io::Scenario sc = discrete_bar_scenario(E, ft);
+  io::JointSpec weak;
+  weak.ft = 0.99 * ft;
+  sc.joints.curves["mid"] = weak;
+  Model model = mesh::build_model(sc, raw);
+  ASSERT_EQ(model.nodes.size(), 3 * model.triangles.size());
+
+  solver::Solver s(model);
+  io::BoundarySpec left;
+  left.group = "left";
+  left.type = io::BoundaryType::Fixed;
+  io::BoundarySpec right;
+  right.group = "right";
+  right.type = io::BoundaryType::Velocity;
+  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};  // ramp up gently, then 0.02 m/s
+  right.y = io::TimeHistory{{0.0}, {0.0}};
+  s.set_constraints(solver::build_constraints(model, {left, right}, 0.0));
+  const double dt = 0.3 * solver::stable_time_step(model, 0.0).dt;
+  // Light mass damping against the loading wave's ringing.
+  s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});
+  s.initialise();
+  const auto& left_nodes = model.groups[model.find_group("left")].nodes;
+  double peak = 0;
+  while (s.time() < 6e-3 && s.broken_joints() < ny) {
+    s.step();
+    peak = std::max(peak, -s.reaction_on(left_nodes).x());
+  }
+  const double peak_stress = peak / H;
+  EXPECT_NEAR(peak_stress / ft, 1.0, 0.02) << "peak stress " << peak_stress << " Pa";
+  // One crack: every broken joint on the mid-section, the bar in two pieces.
+  int broken = 0;
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    if (!model.joints.broken[j]) continue;
+    ++broken;
+    EXPECT_NEAR(model.joints.break_position[j].x(), L / 2, 1e-3) << "joint " << j;
+    EXPECT_EQ(model.joints.break_mode[j], BreakMode::Tension);
+  }
+  EXPECT_EQ(broken, ny);
+  std::vector<Index> label;
+  EXPECT_EQ(solver::count_fragments(model, label), 2);
+  EXPECT_LT(s.energy().balance_error(), 1e-2);
+  EXPECT_GT(s.energy().fracture_dissipated, 0.9 * 120 * H);  // at least GI over the section
+}
+
+// The joint stiffness enters the stable step: a stiff penalty makes the joints control dt.
+TEST(Fracture, StableStepAccountsForJoints) {
+  RawMesh raw = mesh::rectangle_mesh(4, 2, 0.4, 0.2, mesh::Diagonal::Alternate, 0, 0, "bar");
+  io::Scenario sc = discrete_bar_scenario(21e9, 2.5e6);
+  sc.joints.defaults.penalty = 1000;
+  Model model = mesh::build_model(sc, raw);
+  const auto st = solver::stable_time_step(model, 0.0);
+  EXPECT_NE(st.controlled_by.find("joint"), std::string::npos) << st.controlled_by;
+}
+
+// Insertion counts through the builder: every discrete triangle has its own nodes;
+// joints = interior edges of the discrete zone + edges on the interface to bedrock.
+TEST(Fracture, BuilderInsertsJointsAndKeepsBedrockContinuous) {
+  RawMesh raw = mesh::rectangle_mesh(4, 2, 0.4, 0.2, mesh::Diagonal::Right, 0, 0.2, "slide");
+  mesh::append_mesh(raw, mesh::rectangle_mesh(4, 2, 0.4, 0.2, mesh::Diagonal::Right, 0, 0, "bedrock"));
+  // Merge coincident nodes along y = 0.2 so the two meshes share the interface.
+  std::vector<Index> remap(raw.nodes.size());
+  for (std::size_t i = 0; i < raw.nodes.size(); ++i) {
+    remap[i] = static_cast<Index>(i);
+    for (std::size_t k = 0; k < i; ++k)
+      if ((raw.nodes[k] - raw.nodes[i]).norm() < 1e-12) {
+        remap[i] = remap[k];
+        break;
+      }
+  }
+  for (auto& t : raw.triangles)
+    for (auto& n : t) n = remap[n];
+  io::Scenario sc = discrete_bar_scenario(21e9, 2.5e6);
+  sc.regions = {io::RegionSpec{"slide", "rock", Zone::Discrete, {}, {}}, io::RegionSpec{"bedrock", "rock", Zone::Bedrock, {}, {}}};
+  Model model = mesh::build_model(sc, raw);
+  // slide: 16 triangles -> 48 nodes; bedrock keeps its 15 nodes.
+  std::size_t used = 0;
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) used += model.nodes.m[i] > 0 ? 1 : 0;
+  EXPECT_EQ(used, 48u + 15u);
+  // Interior edges of a 4x2 grid with diagonals: 3*2 vertical + 4*1 horizontal + 8 diagonal = 18; interface 4.
+  EXPECT_EQ(model.joints.size(), 18u + 4u);
+}
