@@ -1,6 +1,8 @@
 #include "contact/broad_phase.hpp"
 
 #include <cmath>
+
+#include "contact/buffer.hpp"
 #include <limits>
 
 namespace dsdem::contact {
@@ -24,6 +26,9 @@ void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 
   // Active triangles, their enlarged boxes, and the nodes to watch for the rebuild test.
   tris_.clear();
   boxes_.clear();
+  reserve_with_headroom(tris_, conn.size());
+  reserve_with_headroom(boxes_, conn.size());
+  reserve_with_headroom(mark_, x.size());
   mark_.assign(x.size(), 0);
   Vec2 dlo = Vec2::Constant(std::numeric_limits<double>::infinity());
   Vec2 dhi = -dlo;
@@ -43,6 +48,8 @@ void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 
   }
   tracked_.clear();
   x_build_.clear();
+  reserve_with_headroom(tracked_, x.size());
+  reserve_with_headroom(x_build_, x.size());
   for (std::size_t n = 0; n < x.size(); ++n) {
     if (mark_[n]) {
       tracked_.push_back(static_cast<Index>(n));
@@ -55,6 +62,7 @@ void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 
     nx_ = ny_ = 1;
     origin_.setZero();
     cell_size_ = inv_h_ = 1.0;
+    reserve_with_headroom(cell_start_, 2);
     cell_start_.assign(2, 0);
     cell_items_.clear();
     return;
@@ -77,6 +85,8 @@ void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 
   const std::size_t ncells = static_cast<std::size_t>(nx_) * ny_;
 
   // Counting sort of the slots into every cell their box covers.
+  reserve_with_headroom(cell_start_, ncells + 1);
+  reserve_with_headroom(fill_, ncells);
   cell_start_.assign(ncells + 1, 0);
   for (std::size_t s = 0; s < ns; ++s) {
     const Aabb& b = boxes_[s];
@@ -87,6 +97,7 @@ void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 
   }
   for (std::size_t c = 0; c < ncells; ++c) cell_start_[c + 1] += cell_start_[c];
   fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  reserve_with_headroom(cell_items_, static_cast<std::size_t>(cell_start_[ncells]));
   cell_items_.resize(static_cast<std::size_t>(cell_start_[ncells]));
   for (std::size_t s = 0; s < ns; ++s) {
     const Aabb& b = boxes_[s];

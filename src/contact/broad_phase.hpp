@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "contact/buffer.hpp"
 #include "contact/spheropolygon.hpp"
 
 namespace dsdem::contact {
@@ -109,6 +110,7 @@ void BroadPhase::build(std::span<const Vec2> x, std::span<const std::array<Index
     std::sort(pairs_.begin() + first, pairs_.end(),
               [](const ContactPair& p, const ContactPair& q) { return p.j < q.j; });
   }
+  reserve_with_headroom(pairs_, pairs_.size() + pairs_.size() / 8);  // spare for the next builds
 }
 
 }  // namespace dsdem::contact

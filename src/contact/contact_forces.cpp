@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "contact/buffer.hpp"
 #include "contact/shape_map.hpp"
 
 namespace dsdem::contact {
@@ -161,6 +162,12 @@ ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>
     }
   }
   history_.end_step();
+  // Spare room so that a slowly growing contact count does not reallocate every step.
+  for (int t = 0; t < used_threads_; ++t) {
+    reserve_with_headroom(buffers_[t], buffers_[t].size() + buffers_[t].size() / 8);
+  }
+  const std::size_t n_contacts = static_cast<std::size_t>(st.active_contacts);
+  history_.reserve(n_contacts + n_contacts / 8);
   st.elastic_energy_increment = st.elastic_energy - last_elastic_energy_;
   last_elastic_energy_ = st.elastic_energy;
   return st;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact/buffer.hpp"
 #include "model/types.hpp"
 
 namespace dsdem::contact {
@@ -46,9 +47,10 @@ class ContactHistory {
     previous_.clear();
     current_.clear();
   }
+  // Room for n contacts in both vectors (grows only, with headroom).
   void reserve(std::size_t n) {
-    previous_.reserve(n);
-    current_.reserve(n);
+    reserve_with_headroom(previous_, n);
+    reserve_with_headroom(current_, n);
   }
   // Contacts stored at the last end_step().
   const std::vector<Entry>& entries() const { return previous_; }
