@@ -59,6 +59,7 @@ bool ContactForces::prepare(const ContactInput& in) {
   check_size(in.active.size(), nt, "active");
   check_size(in.rounding_radius.size(), nt, "rounding_radius");
   check_size(in.group.size(), nt, "group");
+  if (!in.body.empty()) check_size(in.body.size(), nt, "body");
 
   if (!(skin_ > 0.0)) {
     skin_ = settings_.skin;
@@ -78,14 +79,22 @@ bool ContactForces::prepare(const ContactInput& in) {
   bool rebuilt = false;
   if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(in.x)) {
     const auto conn = in.conn;
-    broad_.build(in.x, in.conn, in.active, skin_,
-                 [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
+    const auto body = in.body;
+    if (body.empty()) {
+      broad_.build(in.x, in.conn, in.active, skin_,
+                   [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
+    } else {
+      broad_.build(in.x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
+        return (body[i] >= 0 && body[i] == body[j]) || shares_node(conn[i], conn[j]);
+      });
+    }
     invalidated_ = false;
     n_triangles_ = nt;
     rebuilt = true;
   }
 
   sp_.resize(nt);
+  edges_.resize(nt);
   box_.resize(nt);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(nt);
 #pragma omp parallel for schedule(static) if (n > 4096)
@@ -93,6 +102,7 @@ bool ContactForces::prepare(const ContactInput& in) {
     if (!in.active[t]) continue;
     const auto& c = in.conn[t];
     sp_[t] = make_spheropolygon(in.x[c[0]], in.x[c[1]], in.x[c[2]], in.rounding_radius[t]);
+    edges_[t] = core_edges(sp_[t].core);
     box_[t] = bounding_box(sp_[t]);
   }
   return rebuilt;
@@ -109,10 +119,10 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
 
 void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
                                  const ContactParamTable& params, double dt,
+                                 ContactHistory::Cursor& cursor,
                                  std::vector<ContactRecord>& out) const {
-  if (!overlaps(box_[i], box_[j])) return;  // cheap reject of the skin's extra pairs
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
-  const int n = narrow_phase(sp_[i], sp_[j], geo);
+  const int n = narrow_phase(sp_[i], edges_[i], sp_[j], edges_[j], geo);
   if (n == 0) return;
   const auto& ci = in.conn[i];
   const auto& cj = in.conn[j];
@@ -132,7 +142,7 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     const double inv_m = point_inverse_mass(r.Ni, ci, in.mass) + point_inverse_mass(r.Nj, cj, in.mass);
     const double m_eff = inv_m > 0.0 ? 1.0 / inv_m : 0.0;  // 0: both immovable, no dashpot
     const ContactLawResult law =
-        contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key), m_eff, p);
+        contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key, cursor), m_eff, p);
     r.sliding = law.sliding;
     r.fn = law.fn;
     r.ft = law.ft;

@@ -64,6 +64,10 @@ struct ContactInput {
   std::span<const std::uint8_t> active;      // != 0: the triangle takes part (zones A, C)
   std::span<const double> rounding_radius;   // per triangle, m (see rounding_radius())
   std::span<const Index> group;              // per triangle, index into ContactParamTable
+  // Optional, per triangle: two triangles with the same body id >= 0 never interact
+  // (e.g. 0 for every zone-C triangle: one continuous mesh that cannot separate), and
+  // such pairs are left out of the broad phase. Empty: only the shared-node rule.
+  std::span<const Index> body = {};
 };
 
 // One contact of the last call.
@@ -101,9 +105,11 @@ class ContactForces {
   explicit ContactForces(const ContactSettings& settings = {}) : settings_(settings) {}
 
   // Adds the contact forces to f (size = node count) and returns the step's counts
-  // and energies. Pairs of triangles sharing a node (continuous mesh) never interact.
-  // skip(i, j), i < j, is asked every step for every candidate pair (so a joint that
-  // breaks lets its pair into contact at once); it must be cheap and thread-safe.
+  // and energies. Pairs of triangles sharing a node (continuous mesh) or a body id
+  // never interact. skip(i, j), i < j, is asked every step for every candidate pair
+  // whose rounded boxes overlap (so a joint that breaks lets its pair into contact at
+  // once); it must be cheap and thread-safe. conn, active and body are read when the
+  // broad phase is rebuilt: call invalidate() after changing them.
   template <class Skip>
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
                            Skip&& skip, std::vector<Vec2>& f);
@@ -140,9 +146,10 @@ class ContactForces {
   bool prepare(const ContactInput& in);
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
-  // Narrow phase + law of one pair, appended to out.
+  // Narrow phase + law of one pair whose rounded boxes overlap, appended to out.
   void process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
-                    double dt, std::vector<ContactRecord>& out) const;
+                    double dt, ContactHistory::Cursor& cursor,
+                    std::vector<ContactRecord>& out) const;
   // Serial, in order: history, node forces, sums.
   ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
 
@@ -153,6 +160,7 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
+  std::vector<CoreEdges> edges_;  // of sp_[t].core
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
   std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
   int used_threads_ = 0;
@@ -178,10 +186,12 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     out.clear();
     // Contiguous chunks: concatenating the buffers in thread order gives pair order.
     const std::size_t b = np * t / T, e = np * (t + 1) / T;
+    ContactHistory::Cursor cursor;  // keys ascend within the chunk
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
+      if (!overlaps(box_[pr.i], box_[pr.j])) continue;  // cheap reject of the skin's extras
       if (skip(pr.i, pr.j)) continue;
-      process_pair(pr.i, pr.j, in, params, dt, out);
+      process_pair(pr.i, pr.j, in, params, dt, cursor, out);
     }
   }
   ContactStepStats st = finish(in, f);

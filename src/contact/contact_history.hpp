@@ -33,6 +33,14 @@ class ContactHistory {
   // search; thread-safe between begin_step and end_step (reads `previous` only).
   Vec2 previous(const ContactKey& key) const;
 
+  // The same for a run of ascending keys: the cursor remembers where the last key
+  // was, and the search gallops forward from there (O(1) per key for dense runs).
+  // One cursor per thread; start each run with a fresh (zero) cursor.
+  struct Cursor {
+    std::size_t pos = 0;
+  };
+  Vec2 previous(const ContactKey& key, Cursor& cursor) const;
+
   // Starts writing a new step's contacts (keeps capacity).
   void begin_step() { current_.clear(); }
   // Records a contact of this step; keys must come in strictly ascending order.

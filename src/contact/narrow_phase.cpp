@@ -2,36 +2,43 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace dsdem::contact {
 
-CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core) {
+CoreEdges core_edges(const std::array<Vec2, 3>& core) {
+  CoreEdges ce;
   const double area2 = cross(core[1] - core[0], core[2] - core[0]);
-  const double orient = area2 >= 0.0 ? 1.0 : -1.0;  // outward normal side for CW cores
-  std::array<Vec2, 3> n_out;
-  std::array<double, 3> signed_dist;
+  const double orient = area2 >= 0.0 ? 1.0 : -1.0;  // outward = right of the edge if CCW
   double max_len2 = 0.0;
   for (int k = 0; k < 3; ++k) {
     const Vec2 e = core[(k + 1) % 3] - core[k];
     const double len2 = e.squaredNorm();
     max_len2 = std::max(max_len2, len2);
-    n_out[k] = len2 > 0.0 ? Vec2(orient * Vec2(e.y(), -e.x()) / std::sqrt(len2)) : Vec2::Zero();
-    signed_dist[k] = (p - core[k]).dot(n_out[k]);
+    ce.e[k] = e;
+    ce.inv_len2[k] = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    ce.n_out[k] = len2 > 0.0 ? Vec2((orient / std::sqrt(len2)) * Vec2(e.y(), -e.x())) : Vec2::Zero();
   }
+  ce.proper = std::abs(area2) > 1e-14 * max_len2;
+  ce.lo = core[0].cwiseMin(core[1]).cwiseMin(core[2]);
+  ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
+  return ce;
+}
 
+CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
   CoreClosest c;
+  const std::array<double, 3> sd = {(p - core[0]).dot(ce.n_out[0]), (p - core[1]).dot(ce.n_out[1]),
+                                    (p - core[2]).dot(ce.n_out[2])};
   // Inside a non-degenerate core: all signed distances <= 0. Use the least deep edge.
-  const bool proper = std::abs(area2) > 1e-14 * max_len2;
-  if (proper && signed_dist[0] <= 0.0 && signed_dist[1] <= 0.0 && signed_dist[2] <= 0.0) {
+  if (ce.proper && sd[0] <= 0.0 && sd[1] <= 0.0 && sd[2] <= 0.0) {
     int k = 0;
-    if (signed_dist[1] > signed_dist[k]) k = 1;
-    if (signed_dist[2] > signed_dist[k]) k = 2;
-    const Vec2 e = core[(k + 1) % 3] - core[k];
+    if (sd[1] > sd[k]) k = 1;
+    if (sd[2] > sd[k]) k = 2;
     c.edge = k;
-    c.t = std::clamp((p - core[k]).dot(e) / e.squaredNorm(), 0.0, 1.0);
-    c.distance = signed_dist[k];
-    c.normal = n_out[k];
-    c.point = p - signed_dist[k] * n_out[k];
+    c.t = std::clamp((p - core[k]).dot(ce.e[k]) * ce.inv_len2[k], 0.0, 1.0);
+    c.distance = sd[k];
+    c.normal = ce.n_out[k];
+    c.point = p - sd[k] * ce.n_out[k];
     c.at_vertex = false;
     c.vertex = k;
     return c;
@@ -39,13 +46,10 @@ CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core) {
 
   // Outside: nearest point over the three segments; the first edge wins a tie (both
   // edges of a vertex region clamp to the same vertex, so the result is the same).
-  double best_d2 = 0.0;
+  double best_d2 = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k) {
     const Vec2& a = core[k];
-    const Vec2& b = core[(k + 1) % 3];
-    const Vec2 e = b - a;
-    const double len2 = e.squaredNorm();
-    double t = len2 > 0.0 ? (p - a).dot(e) / len2 : 0.0;
+    double t = (p - a).dot(ce.e[k]) * ce.inv_len2[k];
     Vec2 q;
     // Clamped ends are the exact vertex, so both sides see the same vertex-vertex distance.
     if (t <= 0.0) {
@@ -53,12 +57,12 @@ CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core) {
       q = a;
     } else if (t >= 1.0) {
       t = 1.0;
-      q = b;
+      q = core[(k + 1) % 3];
     } else {
-      q = a + t * e;
+      q = a + t * ce.e[k];
     }
     const double d2 = (p - q).squaredNorm();
-    if (k == 0 || d2 < best_d2) {
+    if (d2 < best_d2) {
       best_d2 = d2;
       c.edge = k;
       c.t = t;
@@ -70,21 +74,42 @@ CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core) {
   c.vertex = c.t >= 1.0 ? (c.edge + 1) % 3 : c.edge;
   if (c.distance > 0.0) {
     c.normal = (p - c.point) / c.distance;
-  } else if (n_out[c.edge].squaredNorm() > 0.0) {
-    c.normal = n_out[c.edge];  // p on the boundary: the edge's outward normal
+  } else if (ce.inv_len2[c.edge] > 0.0) {
+    c.normal = ce.n_out[c.edge];  // p on the boundary: the edge's outward normal
   } else {
     c.normal = Vec2::UnitX();  // p on a core collapsed to a point: any direction
   }
   return c;
 }
 
+namespace {
+
+// Vertices farther than `reach` from the core's box cannot touch it: skip the query.
+CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                           double reach) {
+  if (p.x() < ce.lo.x() - reach || p.x() > ce.hi.x() + reach || p.y() < ce.lo.y() - reach ||
+      p.y() > ce.hi.y() + reach) {
+    CoreClosest far;
+    far.distance = std::numeric_limits<double>::infinity();
+    return far;
+  }
+  return closest_on_core(p, core, ce);
+}
+
+}  // namespace
+
 int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
                  std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+  return narrow_phase(a, core_edges(a.core), b, core_edges(b.core), out);
+}
+
+int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
+                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
   const double rsum = a.r + b.r;
   std::array<CoreClosest, 3> ca, cb;  // vertex of a on core of b, vertex of b on core of a
   for (int v = 0; v < 3; ++v) {
-    ca[v] = closest_on_core(a.core[v], b.core);
-    cb[v] = closest_on_core(b.core[v], a.core);
+    ca[v] = closest_within(a.core[v], b.core, eb, rsum);
+    cb[v] = closest_within(b.core[v], a.core, ea, rsum);
   }
   auto mutual_vv_a = [&](int v) {  // a's vertex v and b's vertex ca[v].vertex see each other
     const CoreClosest& o = cb[ca[v].vertex];

@@ -30,10 +30,24 @@ struct CoreClosest {
   int vertex = 0;
 };
 
+// Per-core quantities shared by the six vertex queries of a pair: edge vectors, their
+// inverse squared lengths and unit outward normals (either orientation), and the box.
+struct CoreEdges {
+  std::array<Vec2, 3> e;        // core[(k+1)%3] - core[k]
+  std::array<double, 3> inv_len2;  // 0 for a zero-length edge
+  std::array<Vec2, 3> n_out;    // zero for a zero-length edge
+  bool proper = false;          // non-degenerate area (else nothing is "inside")
+  Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
+};
+CoreEdges core_edges(const std::array<Vec2, 3>& core);
+
 // Closest point on the core (either orientation) to p. Outside the core it is the
 // nearest point of the three edges; inside (deep penetration) it is the foot on the
 // nearest edge with the outward normal, so the contact pushes p out, not through.
-CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core);
+CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce);
+inline CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core) {
+  return closest_on_core(p, core, core_edges(core));
+}
 
 constexpr int kMaxContactsPerPair = 6;
 
@@ -56,5 +70,8 @@ struct ContactGeometry {
 // kMaxContactsPerPair), ordered by feature. Only contacts with overlap > 0.
 int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
                  std::array<ContactGeometry, kMaxContactsPerPair>& out);
+// Same, with the cores' edge data computed beforehand (once per triangle and step).
+int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
+                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out);
 
 }  // namespace dsdem::contact

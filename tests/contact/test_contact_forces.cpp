@@ -267,6 +267,17 @@ TEST(ContactForces, SkipIsAskedEveryStepAndSharedNodesNeverInteract) {
   EXPECT_EQ(cc.broad_phase().pairs()[0].i, 1);
   EXPECT_EQ(cc.broad_phase().pairs()[0].j, 2);
   EXPECT_EQ(st.active_contacts, 0);
+  // One body id for the whole mesh: no candidate at all; -1 opts a triangle out.
+  std::vector<Index> body = {0, 0, 0, 0};
+  ContactInput in = c.input();
+  in.body = body;
+  cc.invalidate();
+  st = cc.compute(in, params, 1e-5, fc);
+  EXPECT_EQ(st.candidate_pairs, 0);
+  body[2] = kNoIndex;
+  cc.invalidate();
+  st = cc.compute(in, params, 1e-5, fc);
+  EXPECT_EQ(st.candidate_pairs, 1);
 }
 
 TEST(ContactForces, PileConservesMomentumAndAngularMomentum) {

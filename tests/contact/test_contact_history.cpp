@@ -72,3 +72,37 @@ TEST(ContactHistory, NoAllocationOnceWarm) {
   step(100, 0);
   for (const auto& e : h.entries()) EXPECT_EQ(e.ft, Vec2(2.0, 0.0));
 }
+
+TEST(ContactHistory, CursorLookupsMatchBinarySearch) {
+  // Random stored keys; ascending runs of queries (present and absent) through a cursor
+  // give exactly what the plain binary search gives.
+  ContactHistory h;
+  h.begin_step();
+  unsigned state = 12345;
+  auto next = [&state]() { return state = state * 1103515245u + 12345u; };
+  Index i = 0;
+  for (int k = 0; k < 3000; ++k) {  // strictly ascending: 1 or 2 features per (i, j)
+    i += 1 + static_cast<Index>(next() % 2);
+    const Index j = i + 1 + static_cast<Index>(next() % 2);
+    const std::uint8_t f = static_cast<std::uint8_t>(next() % 5);
+    h.record({i, j, f}, Vec2(k, -k));
+    if (next() % 2) h.record({i, j, static_cast<std::uint8_t>(f + 1)}, Vec2(-k, k));
+  }
+  for (std::size_t k = 1; k < h.entries().size(); ++k)
+    ASSERT_LT(h.entries()[k - 1].key, h.entries()[k].key);
+  h.end_step();
+  for (int run = 0; run < 20; ++run) {
+    ContactHistory::Cursor cursor;
+    int found = 0;
+    for (Index qi = 0; qi <= i + 1; qi += 1 + static_cast<Index>(next() % (run + 1))) {
+      for (Index dj = 1; dj <= 2; ++dj)
+        for (std::uint8_t f = 0; f < 6; f += 1 + next() % 2) {
+          const ContactKey key{qi, qi + dj, f};
+          const Vec2 want = h.previous(key);
+          EXPECT_EQ(h.previous(key, cursor), want);
+          found += want != Vec2::Zero() ? 1 : 0;
+        }
+    }
+    EXPECT_GT(found, 0);
+  }
+}
