@@ -51,9 +51,10 @@ void check_size(std::size_t got, std::size_t want, const char* what) {
 
 }  // namespace
 
-bool ContactForces::prepare(const ContactInput& in) {
+bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   const std::size_t nn = in.x.size();
   const std::size_t nt = in.conn.size();
+  check_size(n_forces, nn, "f");
   check_size(in.v.size(), nn, "v");
   check_size(in.mass.size(), nn, "mass");
   check_size(in.active.size(), nt, "active");
@@ -155,7 +156,6 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
 }
 
 ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {
-  check_size(f.size(), in.x.size(), "f");
   ContactStepStats st;
   history_.begin_step();
   const std::span<Vec2> fs(f);

@@ -108,8 +108,8 @@ class ContactForces {
   // and energies. Pairs of triangles sharing a node (continuous mesh) or a body id
   // never interact. skip(i, j), i < j, is asked every step for every candidate pair
   // whose rounded boxes overlap (so a joint that breaks lets its pair into contact at
-  // once); it must be cheap and thread-safe. conn, active and body are read when the
-  // broad phase is rebuilt: call invalidate() after changing them.
+  // once); it must be cheap, thread-safe and must not throw. conn, active and body are
+  // read when the broad phase is rebuilt: call invalidate() after changing them.
   template <class Skip>
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
                            Skip&& skip, std::vector<Vec2>& f);
@@ -143,7 +143,7 @@ class ContactForces {
 
  private:
   // Checks sizes, rebuilds the broad phase if needed, updates the spheropolygons.
-  bool prepare(const ContactInput& in);
+  bool prepare(const ContactInput& in, std::size_t n_forces);
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out.
@@ -170,7 +170,7 @@ class ContactForces {
 template <class Skip>
 ContactStepStats ContactForces::compute(const ContactInput& in, const ContactParamTable& params,
                                         double dt, Skip&& skip, std::vector<Vec2>& f) {
-  const bool rebuilt = prepare(in);
+  const bool rebuilt = prepare(in, f.size());
   const std::span<const ContactPair> pairs = broad_.pairs();
   const std::size_t np = pairs.size();
   const int nt = begin_pairs(np);
