@@ -152,16 +152,22 @@ TEST(NarrowPhase, EdgeEdgeIsTwoVertexEdgeContactsAtTheEndsOfTheOverlap) {
 }
 
 TEST(NarrowPhase, VertexNearAcuteCornerCountsOnlyItsNearestEdge) {
-  // B has a 20-degree corner at the origin; A's vertex sits just outside the lower edge
-  // (the x axis) near the corner, also within reach of the upper edge's segment.
+  // B has a 20-degree corner at the origin between edge 0 (along -x) and edge 2 (at 200
+  // degrees). A's vertex (-0.15, 0.05) is 0.05 outside edge 0 and also within
+  // r_a + r_b = 0.2 of edge 2's interior (from the inner side): summing every
+  // vertex-edge pair would count it twice; it has one contact, on edge 0.
   const double th = 20.0 * kPi / 180.0;
-  const Spheropolygon b = sp(Vec2(0, 0), Vec2(-5, 0.0), Vec2(-5 * std::cos(th), -5 * std::sin(th)), 0.1);
-  // b's edges at the origin: along -x and along angle 180+20 deg. A's vertex below... use
-  // a point above the -x edge: (-0.3, 0.12): distance to the -x edge 0.12.
-  const Spheropolygon a = sp(Vec2(-0.3, 0.12), Vec2(-0.3, 3), Vec2(-2, 3), 0.1);
+  const Spheropolygon b = sp(Vec2(0, 0), Vec2(-5, 0), Vec2(-5 * std::cos(th), -5 * std::sin(th)), 0.1);
+  const Vec2 p(-0.15, 0.05);
+  const Vec2 dir2(-std::cos(th), -std::sin(th));  // edge 2 from the origin outward
+  ASSERT_GT(p.dot(dir2), 0.0);                            // projects inside edge 2
+  ASSERT_LT(std::abs(cross(dir2, p)), 0.2);              // and within reach of it
+  const Spheropolygon a = sp(p, Vec2(-0.15, 3), Vec2(-2, 3), 0.1);
   Out out;
   ASSERT_EQ(narrow_phase(a, b, out), 1);
-  EXPECT_NEAR(out[0].overlap, 0.2 - 0.12, 1e-14);
+  EXPECT_EQ(out[0].feature, 0);
+  EXPECT_EQ(out[0].other, 0);
+  EXPECT_NEAR(out[0].overlap, 0.2 - 0.05, 1e-14);
   expect_vec(out[0].normal, Vec2(0, 1), 1e-14);
 }
 
