@@ -1,0 +1,112 @@
+#include "contact/broad_phase.hpp"
+
+#include <cmath>
+
+#include "contact/buffer.hpp"
+#include <limits>
+
+namespace dsdem::contact {
+
+bool BroadPhase::needs_rebuild(std::span<const Vec2> x) const {
+  if (builds_ == 0 || x.size() != n_nodes_) return true;
+  const double lim2 = 0.25 * skin_ * skin_;
+  for (std::size_t k = 0; k < tracked_.size(); ++k) {
+    if ((x[tracked_[k]] - x_build_[k]).squaredNorm() > lim2) return true;
+  }
+  return false;
+}
+
+void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+                     std::span<const std::uint8_t> active, double skin) {
+  ++builds_;
+  skin_ = skin;
+  n_nodes_ = x.size();
+  const double half = 0.5 * skin;
+
+  // Active triangles, their enlarged boxes, and the nodes to watch for the rebuild test.
+  tris_.clear();
+  boxes_.clear();
+  reserve_with_headroom(tris_, conn.size());
+  reserve_with_headroom(boxes_, conn.size());
+  reserve_with_headroom(mark_, x.size());
+  mark_.assign(x.size(), 0);
+  Vec2 dlo = Vec2::Constant(std::numeric_limits<double>::infinity());
+  Vec2 dhi = -dlo;
+  double extent_sum = 0.0;
+  for (std::size_t t = 0; t < conn.size(); ++t) {
+    if (!active[t]) continue;
+    const auto& c = conn[t];
+    Aabb b;
+    b.lo = x[c[0]].cwiseMin(x[c[1]]).cwiseMin(x[c[2]]).array() - half;
+    b.hi = x[c[0]].cwiseMax(x[c[1]]).cwiseMax(x[c[2]]).array() + half;
+    tris_.push_back(static_cast<Index>(t));
+    boxes_.push_back(b);
+    mark_[c[0]] = mark_[c[1]] = mark_[c[2]] = 1;
+    dlo = dlo.cwiseMin(b.lo);
+    dhi = dhi.cwiseMax(b.hi);
+    extent_sum += (b.hi - b.lo).maxCoeff();
+  }
+  tracked_.clear();
+  x_build_.clear();
+  reserve_with_headroom(tracked_, x.size());
+  reserve_with_headroom(x_build_, x.size());
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    if (mark_[n]) {
+      tracked_.push_back(static_cast<Index>(n));
+      x_build_.push_back(x[n]);
+    }
+  }
+
+  const std::size_t ns = tris_.size();
+  if (ns == 0) {
+    nx_ = ny_ = 1;
+    origin_.setZero();
+    cell_size_ = inv_h_ = 1.0;
+    reserve_with_headroom(cell_start_, 2);
+    cell_start_.assign(2, 0);
+    cell_items_.clear();
+    return;
+  }
+
+  // Cell about the mean box size, but never more than ~6N cells (sparse or elongated
+  // sets), so memory and the sweep stay O(N).
+  const double W = dhi.x() - dlo.x();
+  const double H = dhi.y() - dlo.y();
+  const double n = static_cast<double>(ns);
+  double h = extent_sum / n;
+  h = std::max(h, std::sqrt(W * H / (2.0 * n)));
+  h = std::max(h, std::max(W, H) / (2.0 * n));
+  if (!(h > 0.0)) h = 1.0;
+  cell_size_ = h;
+  inv_h_ = 1.0 / h;
+  origin_ = dlo;
+  nx_ = static_cast<int>(W * inv_h_) + 1;
+  ny_ = static_cast<int>(H * inv_h_) + 1;
+  const std::size_t ncells = static_cast<std::size_t>(nx_) * ny_;
+
+  // Counting sort of the slots into every cell their box covers.
+  reserve_with_headroom(cell_start_, ncells + 1);
+  reserve_with_headroom(fill_, ncells);
+  cell_start_.assign(ncells + 1, 0);
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Aabb& b = boxes_[s];
+    const int cx0 = cell_x(b.lo.x()), cx1 = cell_x(b.hi.x());
+    const int cy0 = cell_y(b.lo.y()), cy1 = cell_y(b.hi.y());
+    for (int cy = cy0; cy <= cy1; ++cy)
+      for (int cx = cx0; cx <= cx1; ++cx) ++cell_start_[static_cast<std::size_t>(cy) * nx_ + cx + 1];
+  }
+  for (std::size_t c = 0; c < ncells; ++c) cell_start_[c + 1] += cell_start_[c];
+  fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  reserve_with_headroom(cell_items_, static_cast<std::size_t>(cell_start_[ncells]));
+  cell_items_.resize(static_cast<std::size_t>(cell_start_[ncells]));
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Aabb& b = boxes_[s];
+    const int cx0 = cell_x(b.lo.x()), cx1 = cell_x(b.hi.x());
+    const int cy0 = cell_y(b.lo.y()), cy1 = cell_y(b.hi.y());
+    for (int cy = cy0; cy <= cy1; ++cy)
+      for (int cx = cx0; cx <= cx1; ++cx)
+        cell_items_[fill_[static_cast<std::size_t>(cy) * nx_ + cx]++] = static_cast<Index>(s);
+  }
+}
+
+}  // namespace dsdem::contact

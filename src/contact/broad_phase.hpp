@@ -1,0 +1,116 @@
+#pragma once
+// Broad phase (DESIGN.md §4): candidate pairs of triangles whose bounding boxes,
+// enlarged by half the skin on every side, overlap. Uniform cell grid built by a
+// counting sort, O(N) time and memory; pairs in ascending (i, j), i < j. The list
+// stays valid until some node has moved more than half the skin since the build: then
+// every pair whose current triangles' boxes overlap is still in it, and since the
+// rounded shape lies inside its triangle, so is every contact.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "contact/buffer.hpp"
+#include "contact/spheropolygon.hpp"
+
+namespace dsdem::contact {
+
+struct ContactPair {
+  Index i = 0;
+  Index j = 0;  // i < j
+};
+
+class BroadPhase {
+ public:
+  // Builds the pair list over the triangles with active[t] != 0, from the current
+  // node positions x. skip(i, j) -> true leaves the pair out (a callable inlined in
+  // the pair loop; it must stay true until the next build, since the list is reused).
+  template <class Skip>
+  void build(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+             std::span<const std::uint8_t> active, double skin, Skip&& skip);
+
+  void build(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+             std::span<const std::uint8_t> active, double skin) {
+    build(x, conn, active, skin, [](Index, Index) { return false; });
+  }
+
+  // True when some node of an active triangle has moved more than skin/2 since the
+  // last build (or there was none, or the node count changed).
+  bool needs_rebuild(std::span<const Vec2> x) const;
+
+  std::span<const ContactPair> pairs() const { return pairs_; }
+  double skin() const { return skin_; }
+  long builds() const { return builds_; }
+  // The enlarged box of triangle active_triangles()[s] at the last build.
+  std::span<const Index> active_triangles() const { return tris_; }
+  std::span<const Aabb> boxes() const { return boxes_; }
+  // Grid of the last build: cell size and cell count.
+  double cell_size() const { return cell_size_; }
+  long cell_count() const { return static_cast<long>(nx_) * ny_; }
+
+ private:
+  // Boxes, grid, cell lists (non-template part, in the .cpp).
+  void bin(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+           std::span<const std::uint8_t> active, double skin);
+  int cell_x(double v) const {
+    return std::clamp(static_cast<int>((v - origin_.x()) * inv_h_), 0, nx_ - 1);
+  }
+  int cell_y(double v) const {
+    return std::clamp(static_cast<int>((v - origin_.y()) * inv_h_), 0, ny_ - 1);
+  }
+
+  std::vector<Index> tris_;   // active triangles, ascending; "slot" s -> triangle
+  std::vector<Aabb> boxes_;   // per slot, enlarged by skin/2
+  std::vector<Index> cell_start_;  // CSR over cells (nx*ny + 1)
+  std::vector<Index> cell_items_;  // slots, ascending within a cell
+  std::vector<Index> fill_;        // scratch: write cursor per cell
+  std::vector<std::uint8_t> mark_;  // scratch: node used by an active triangle
+  std::vector<Index> tracked_;     // nodes of active triangles
+  std::vector<Vec2> x_build_;      // their positions at the build
+  std::vector<ContactPair> pairs_;
+  Vec2 origin_ = Vec2::Zero();
+  double cell_size_ = 1.0, inv_h_ = 1.0, skin_ = 0.0;
+  int nx_ = 1, ny_ = 1;
+  std::size_t n_nodes_ = 0;
+  long builds_ = 0;
+};
+
+template <class Skip>
+void BroadPhase::build(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+                       std::span<const std::uint8_t> active, double skin, Skip&& skip) {
+  bin(x, conn, active, skin);
+  pairs_.clear();
+  const Index ns = static_cast<Index>(tris_.size());
+  for (Index s = 0; s < ns; ++s) {
+    const Aabb& a = boxes_[s];
+    const Index i = tris_[s];
+    const std::size_t first = pairs_.size();
+    const int cx0 = cell_x(a.lo.x()), cx1 = cell_x(a.hi.x());
+    const int cy0 = cell_y(a.lo.y()), cy1 = cell_y(a.hi.y());
+    for (int cy = cy0; cy <= cy1; ++cy) {
+      for (int cx = cx0; cx <= cx1; ++cx) {
+        const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+        const Index* begin = cell_items_.data() + cell_start_[c];
+        const Index* end = cell_items_.data() + cell_start_[c + 1];
+        for (const Index* it = std::upper_bound(begin, end, s); it != end; ++it) {
+          const Aabb& b = boxes_[*it];
+          if (!overlaps(a, b)) continue;
+          // Report the pair only in the cell holding the low corner of the two boxes'
+          // intersection, which both boxes cover: once, without a hash set.
+          if (cell_x(std::max(a.lo.x(), b.lo.x())) != cx ||
+              cell_y(std::max(a.lo.y(), b.lo.y())) != cy)
+            continue;
+          const Index j = tris_[*it];
+          if (skip(i, j)) continue;
+          pairs_.push_back({i, j});
+        }
+      }
+    }
+    std::sort(pairs_.begin() + first, pairs_.end(),
+              [](const ContactPair& p, const ContactPair& q) { return p.j < q.j; });
+  }
+  reserve_with_headroom(pairs_, pairs_.size() + pairs_.size() / 8);  // spare for the next builds
+}
+
+}  // namespace dsdem::contact

@@ -1,0 +1,186 @@
+#include "contact/contact_forces.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "contact/buffer.hpp"
+#include "contact/shape_map.hpp"
+
+namespace dsdem::contact {
+
+ContactParamTable::ContactParamTable(const ContactProperties& default_props) {
+  entries_.push_back(law_params(default_props));
+}
+
+void ContactParamTable::set_default(const ContactProperties& p) { entries_[0] = law_params(p); }
+
+void ContactParamTable::set(Index g1, Index g2, const ContactProperties& p) {
+  if (g1 < 0 || g2 < 0) throw std::invalid_argument("contact parameter groups must be >= 0");
+  const Index n = std::max({n_, g1 + 1, g2 + 1});
+  if (n > n_) {  // grow the table, keeping what was set
+    std::vector<Index> t(static_cast<std::size_t>(n) * n, 0);
+    for (Index a = 0; a < n_; ++a)
+      for (Index b = 0; b < n_; ++b)
+        t[static_cast<std::size_t>(a) * n + b] = table_[static_cast<std::size_t>(a) * n_ + b];
+    table_.swap(t);
+    n_ = n;
+  }
+  entries_.push_back(law_params(p));
+  const Index e = static_cast<Index>(entries_.size() - 1);
+  table_[static_cast<std::size_t>(g1) * n_ + g2] = e;
+  table_[static_cast<std::size_t>(g2) * n_ + g1] = e;
+}
+
+namespace {
+
+bool shares_node(const std::array<Index, 3>& a, const std::array<Index, 3>& b) {
+  for (Index p : a)
+    for (Index q : b)
+      if (p == q) return true;
+  return false;
+}
+
+void check_size(std::size_t got, std::size_t want, const char* what) {
+  if (got != want) {
+    throw std::invalid_argument(std::string("contact input: ") + what + " has " +
+                                std::to_string(got) + " entries, expected " +
+                                std::to_string(want));
+  }
+}
+
+}  // namespace
+
+bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
+  const std::size_t nn = in.x.size();
+  const std::size_t nt = in.conn.size();
+  check_size(n_forces, nn, "f");
+  check_size(in.v.size(), nn, "v");
+  check_size(in.mass.size(), nn, "mass");
+  check_size(in.active.size(), nt, "active");
+  check_size(in.rounding_radius.size(), nt, "rounding_radius");
+  check_size(in.group.size(), nt, "group");
+  if (!in.body.empty()) check_size(in.body.size(), nt, "body");
+
+  if (!(skin_ > 0.0)) {
+    skin_ = settings_.skin;
+    if (!(skin_ > 0.0)) {  // auto: half the mean inradius of the contact triangles
+      double sum = 0.0;
+      std::size_t n = 0;
+      for (std::size_t t = 0; t < nt; ++t) {
+        if (!in.active[t]) continue;
+        const auto& c = in.conn[t];
+        sum += incircle(in.x[c[0]], in.x[c[1]], in.x[c[2]]).radius;
+        ++n;
+      }
+      skin_ = n > 0 && sum > 0.0 ? 0.5 * sum / static_cast<double>(n) : 1.0;
+    }
+  }
+
+  bool rebuilt = false;
+  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(in.x)) {
+    const auto conn = in.conn;
+    const auto body = in.body;
+    if (body.empty()) {
+      broad_.build(in.x, in.conn, in.active, skin_,
+                   [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
+    } else {
+      broad_.build(in.x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
+        return (body[i] >= 0 && body[i] == body[j]) || shares_node(conn[i], conn[j]);
+      });
+    }
+    invalidated_ = false;
+    n_triangles_ = nt;
+    rebuilt = true;
+  }
+
+  sp_.resize(nt);
+  edges_.resize(nt);
+  box_.resize(nt);
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(nt);
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (std::ptrdiff_t t = 0; t < n; ++t) {
+    if (!in.active[t]) continue;
+    const auto& c = in.conn[t];
+    sp_[t] = make_spheropolygon(in.x[c[0]], in.x[c[1]], in.x[c[2]], in.rounding_radius[t]);
+    edges_[t] = core_edges(sp_[t].core);
+    box_[t] = bounding_box(sp_[t]);
+  }
+  return rebuilt;
+}
+
+int ContactForces::begin_pairs(std::size_t n_pairs) {
+  int nt = 1;
+#ifdef _OPENMP
+  if (n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
+#endif
+  if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
+  return nt;
+}
+
+void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
+                                 const ContactParamTable& params, double dt,
+                                 ContactHistory::Cursor& cursor,
+                                 std::vector<ContactRecord>& out) const {
+  std::array<ContactGeometry, kMaxContactsPerPair> geo;
+  const int n = narrow_phase(sp_[i], edges_[i], sp_[j], edges_[j], geo);
+  if (n == 0) return;
+  const auto& ci = in.conn[i];
+  const auto& cj = in.conn[j];
+  const ContactLawParams& p = params.get(in.group[i], in.group[j]);
+  for (int k = 0; k < n; ++k) {
+    const ContactGeometry& g = geo[k];
+    ContactRecord r;
+    r.key = {i, j, g.feature};
+    r.kind = g.kind;
+    r.other = g.other;
+    r.overlap = g.overlap;
+    r.normal = g.normal;
+    r.point = g.point;
+    r.Ni = barycentric(g.point, in.x[ci[0]], in.x[ci[1]], in.x[ci[2]]);
+    r.Nj = barycentric(g.point, in.x[cj[0]], in.x[cj[1]], in.x[cj[2]]);
+    const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
+    const double inv_m = point_inverse_mass(r.Ni, ci, in.mass) + point_inverse_mass(r.Nj, cj, in.mass);
+    const double m_eff = inv_m > 0.0 ? 1.0 / inv_m : 0.0;  // 0: both immovable, no dashpot
+    const ContactLawResult law =
+        contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key, cursor), m_eff, p);
+    r.sliding = law.sliding;
+    r.fn = law.fn;
+    r.ft = law.ft;
+    r.force = law.force;
+    r.elastic_energy = law.elastic_energy;
+    r.friction_dissipation = law.friction_dissipation;
+    r.damping_dissipation = law.damping_dissipation;
+    out.push_back(r);
+  }
+}
+
+ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {
+  ContactStepStats st;
+  history_.begin_step();
+  const std::span<Vec2> fs(f);
+  for (int t = 0; t < used_threads_; ++t) {
+    for (const ContactRecord& r : buffers_[t]) {
+      history_.record(r.key, r.ft);
+      add_point_force(r.Ni, in.conn[r.key.i], r.force, fs);
+      add_point_force(r.Nj, in.conn[r.key.j], -r.force, fs);
+      ++st.active_contacts;
+      st.sliding_contacts += r.sliding ? 1 : 0;
+      st.elastic_energy += r.elastic_energy;
+      st.friction_dissipation += r.friction_dissipation;
+      st.damping_dissipation += r.damping_dissipation;
+    }
+  }
+  history_.end_step();
+  // Spare room so that a slowly growing contact count does not reallocate every step.
+  for (int t = 0; t < used_threads_; ++t) {
+    reserve_with_headroom(buffers_[t], buffers_[t].size() + buffers_[t].size() / 8);
+  }
+  const std::size_t n_contacts = static_cast<std::size_t>(st.active_contacts);
+  history_.reserve(n_contacts + n_contacts / 8);
+  st.elastic_energy_increment = st.elastic_energy - last_elastic_energy_;
+  last_elastic_energy_ = st.elastic_energy;
+  return st;
+}
+
+}  // namespace dsdem::contact

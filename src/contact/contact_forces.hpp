@@ -1,0 +1,203 @@
+#pragma once
+// Contact phase of the time step (DESIGN.md §1 step 5, §4): broad phase, narrow
+// phase, contact law and shape-function mapping, adding the contact forces to the
+// node forces. Called once per step; keeps its buffers and the tangential history
+// between calls and allocates nothing once they have grown (warm-up).
+//
+// Determinism: candidate pairs are sorted (i < j), each pair's contacts are computed
+// independently (in parallel with OpenMP, static contiguous chunks), and the forces
+// are added to the nodes serially in pair/feature order, so the result does not
+// depend on the thread count.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "contact/broad_phase.hpp"
+#include "contact/contact_history.hpp"
+#include "contact/contact_law.hpp"
+#include "contact/narrow_phase.hpp"
+#include "contact/spheropolygon.hpp"
+
+namespace dsdem::contact {
+
+// Contact parameters per pair of groups (any per-triangle index: material, surface
+// group, ...), symmetric, with a default for pairs not set. Restitution is turned
+// into a damping ratio when an entry is set, not per contact.
+class ContactParamTable {
+ public:
+  explicit ContactParamTable(const ContactProperties& default_props = {});
+  void set_default(const ContactProperties& p);
+  void set(Index g1, Index g2, const ContactProperties& p);  // g >= 0
+  // Parameters of a pair; the default when either index is negative or was never set.
+  const ContactLawParams& get(Index g1, Index g2) const {
+    if (g1 < 0 || g2 < 0 || g1 >= n_ || g2 >= n_) return entries_[0];
+    return entries_[table_[static_cast<std::size_t>(g1) * n_ + g2]];
+  }
+
+ private:
+  Index n_ = 0;
+  std::vector<ContactLawParams> entries_;  // [0] = default
+  std::vector<Index> table_;               // n_ x n_ -> entry
+};
+
+struct ContactSettings {
+  // Broad-phase skin, m: boxes are enlarged by skin/2 per side and the pair list is
+  // rebuilt when a node has moved more than skin/2. <= 0: 0.5 * the mean inradius of
+  // the contact triangles at the first call.
+  double skin = 0.0;
+  // Below this many candidate pairs the pair loop runs on one thread.
+  std::size_t min_pairs_per_parallel_run = 512;
+};
+
+// The model arrays the contact phase reads (sizes: nodes for x, v, mass; triangles
+// for conn, active, rounding_radius, group).
+struct ContactInput {
+  std::span<const Vec2> x;       // current node positions, m
+  std::span<const Vec2> v;       // node velocities, m/s (the half-step ones in Verlet)
+  std::span<const double> mass;  // lumped node masses, kg (per unit thickness)
+  std::span<const std::array<Index, 3>> conn;
+  std::span<const std::uint8_t> active;      // != 0: the triangle takes part (zones A, C)
+  std::span<const double> rounding_radius;   // per triangle, m (see rounding_radius())
+  std::span<const Index> group;              // per triangle, index into ContactParamTable
+  // Optional, per triangle: two triangles with the same body id >= 0 never interact
+  // (e.g. 0 for every zone-C triangle: one continuous mesh that cannot separate), and
+  // such pairs are left out of the broad phase. Empty: only the shared-node rule.
+  std::span<const Index> body = {};
+};
+
+// One contact of the last call.
+struct ContactRecord {
+  ContactKey key;  // triangles i < j and feature (see ContactGeometry)
+  ContactKind kind = ContactKind::VertexEdge;
+  std::uint8_t other = 0;
+  bool sliding = false;
+  double overlap = 0.0;           // m
+  Vec2 normal = Vec2::Zero();     // from j to i
+  Vec2 point = Vec2::Zero();      // contact point, m
+  double fn = 0.0;                // normal force on i, N/m
+  Vec2 ft = Vec2::Zero();         // tangential force on i, N/m
+  Vec2 force = Vec2::Zero();      // total force on i (on j: -force)
+  Vec3 Ni = Vec3::Zero();         // shape functions of i and j at the point
+  Vec3 Nj = Vec3::Zero();
+  double elastic_energy = 0.0;        // J/m
+  double friction_dissipation = 0.0;  // J/m this step
+  double damping_dissipation = 0.0;   // J/m this step
+};
+
+struct ContactStepStats {
+  Index active_contacts = 0;
+  Index sliding_contacts = 0;
+  Index candidate_pairs = 0;
+  bool rebuilt = false;                  // the broad phase was rebuilt this call
+  double elastic_energy = 0.0;           // stored in all contacts now, J/m
+  double elastic_energy_increment = 0.0; // change since the previous call, J/m
+  double friction_dissipation = 0.0;     // Coulomb sliding this step, J/m
+  double damping_dissipation = 0.0;      // normal dashpots this step, J/m
+};
+
+class ContactForces {
+ public:
+  explicit ContactForces(const ContactSettings& settings = {}) : settings_(settings) {}
+
+  // Adds the contact forces to f (size = node count) and returns the step's counts
+  // and energies. Pairs of triangles sharing a node (continuous mesh) or a body id
+  // never interact. skip(i, j), i < j, is asked every step for every candidate pair
+  // whose rounded boxes overlap (so a joint that breaks lets its pair into contact at
+  // once); it must be cheap, thread-safe and must not throw. conn, active and body are
+  // read when the broad phase is rebuilt: call invalidate() after changing them.
+  template <class Skip>
+  ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
+                           Skip&& skip, std::vector<Vec2>& f);
+
+  ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
+                           std::vector<Vec2>& f) {
+    return compute(in, params, dt, [](Index, Index) { return false; }, f);
+  }
+
+  // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
+  void invalidate() { invalidated_ = true; }
+  // Forgets the tangential history and the elastic-energy reference.
+  void reset_history() {
+    history_.clear();
+    last_elastic_energy_ = 0.0;
+  }
+
+  // The contacts of the last call, in key order.
+  template <class Fn>
+  void for_each_contact(Fn&& fn) const {
+    for (int t = 0; t < used_threads_; ++t)
+      for (const ContactRecord& c : buffers_[t]) fn(c);
+  }
+  const ContactHistory& history() const { return history_; }
+  const BroadPhase& broad_phase() const { return broad_; }
+  double skin() const { return skin_; }
+  // OpenMP threads that ran the pair loop of the last call.
+  int threads_used() const { return used_threads_; }
+  // Spheropolygon of triangle t at the last call (contact triangles only).
+  const Spheropolygon& spheropolygon(Index t) const { return sp_[t]; }
+
+ private:
+  // Checks sizes, rebuilds the broad phase if needed, updates the spheropolygons.
+  bool prepare(const ContactInput& in, std::size_t n_forces);
+  // Thread count for this call; makes sure every thread has a buffer.
+  int begin_pairs(std::size_t n_pairs);
+  // Narrow phase + law of one pair whose rounded boxes overlap, appended to out.
+  void process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
+                    double dt, ContactHistory::Cursor& cursor,
+                    std::vector<ContactRecord>& out) const;
+  // Serial, in order: history, node forces, sums.
+  ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
+
+  ContactSettings settings_;
+  double skin_ = 0.0;
+  bool invalidated_ = true;
+  std::size_t n_triangles_ = 0;
+  BroadPhase broad_;
+  ContactHistory history_;
+  std::vector<Spheropolygon> sp_;
+  std::vector<CoreEdges> edges_;  // of sp_[t].core
+  std::vector<Aabb> box_;  // current boxes of the rounded shapes
+  std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
+  int used_threads_ = 0;
+  double last_elastic_energy_ = 0.0;
+};
+
+template <class Skip>
+ContactStepStats ContactForces::compute(const ContactInput& in, const ContactParamTable& params,
+                                        double dt, Skip&& skip, std::vector<Vec2>& f) {
+  const bool rebuilt = prepare(in, f.size());
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  const std::size_t np = pairs.size();
+  const int nt = begin_pairs(np);
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    int t = 0, T = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    T = omp_get_num_threads();
+#endif
+    if (t == 0) used_threads_ = T;
+    std::vector<ContactRecord>& out = buffers_[t];
+    out.clear();
+    // Contiguous chunks: concatenating the buffers in thread order gives pair order.
+    const std::size_t b = np * t / T, e = np * (t + 1) / T;
+    ContactHistory::Cursor cursor;  // keys ascend within the chunk
+    for (std::size_t p = b; p < e; ++p) {
+      const ContactPair pr = pairs[p];
+      if (!overlaps(box_[pr.i], box_[pr.j])) continue;  // cheap reject of the skin's extras
+      if (skip(pr.i, pr.j)) continue;
+      process_pair(pr.i, pr.j, in, params, dt, cursor, out);
+    }
+  }
+  ContactStepStats st = finish(in, f);
+  st.rebuilt = rebuilt;
+  st.candidate_pairs = static_cast<Index>(np);
+  return st;
+}
+
+}  // namespace dsdem::contact

@@ -1,0 +1,155 @@
+#include "contact/narrow_phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dsdem::contact {
+
+CoreEdges core_edges(const std::array<Vec2, 3>& core) {
+  CoreEdges ce;
+  const double area2 = cross(core[1] - core[0], core[2] - core[0]);
+  const double orient = area2 >= 0.0 ? 1.0 : -1.0;  // outward = right of the edge if CCW
+  double max_len2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 e = core[(k + 1) % 3] - core[k];
+    const double len2 = e.squaredNorm();
+    max_len2 = std::max(max_len2, len2);
+    ce.e[k] = e;
+    ce.inv_len2[k] = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    ce.n_out[k] = len2 > 0.0 ? Vec2((orient / std::sqrt(len2)) * Vec2(e.y(), -e.x())) : Vec2::Zero();
+  }
+  ce.proper = std::abs(area2) > 1e-14 * max_len2;
+  ce.lo = core[0].cwiseMin(core[1]).cwiseMin(core[2]);
+  ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
+  return ce;
+}
+
+CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+  CoreClosest c;
+  const std::array<double, 3> sd = {(p - core[0]).dot(ce.n_out[0]), (p - core[1]).dot(ce.n_out[1]),
+                                    (p - core[2]).dot(ce.n_out[2])};
+  // Inside a non-degenerate core: all signed distances <= 0. Use the least deep edge.
+  if (ce.proper && sd[0] <= 0.0 && sd[1] <= 0.0 && sd[2] <= 0.0) {
+    int k = 0;
+    if (sd[1] > sd[k]) k = 1;
+    if (sd[2] > sd[k]) k = 2;
+    c.edge = k;
+    c.t = std::clamp((p - core[k]).dot(ce.e[k]) * ce.inv_len2[k], 0.0, 1.0);
+    c.distance = sd[k];
+    c.normal = ce.n_out[k];
+    c.point = p - sd[k] * ce.n_out[k];
+    c.at_vertex = false;
+    c.vertex = k;
+    return c;
+  }
+
+  // Outside: nearest point over the three segments; the first edge wins a tie (both
+  // edges of a vertex region clamp to the same vertex, so the result is the same).
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& a = core[k];
+    double t = (p - a).dot(ce.e[k]) * ce.inv_len2[k];
+    Vec2 q;
+    // Clamped ends are the exact vertex, so both sides see the same vertex-vertex distance.
+    if (t <= 0.0) {
+      t = 0.0;
+      q = a;
+    } else if (t >= 1.0) {
+      t = 1.0;
+      q = core[(k + 1) % 3];
+    } else {
+      q = a + t * ce.e[k];
+    }
+    const double d2 = (p - q).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      c.edge = k;
+      c.t = t;
+      c.point = q;
+    }
+  }
+  c.distance = std::sqrt(best_d2);
+  c.at_vertex = c.t <= 0.0 || c.t >= 1.0;
+  c.vertex = c.t >= 1.0 ? (c.edge + 1) % 3 : c.edge;
+  if (c.distance > 0.0) {
+    c.normal = (p - c.point) / c.distance;
+  } else if (ce.inv_len2[c.edge] > 0.0) {
+    c.normal = ce.n_out[c.edge];  // p on the boundary: the edge's outward normal
+  } else {
+    c.normal = Vec2::UnitX();  // p on a core collapsed to a point: any direction
+  }
+  return c;
+}
+
+namespace {
+
+// Vertices farther than `reach` from the core's box cannot touch it: skip the query.
+CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                           double reach) {
+  if (p.x() < ce.lo.x() - reach || p.x() > ce.hi.x() + reach || p.y() < ce.lo.y() - reach ||
+      p.y() > ce.hi.y() + reach) {
+    CoreClosest far;
+    far.distance = std::numeric_limits<double>::infinity();
+    return far;
+  }
+  return closest_on_core(p, core, ce);
+}
+
+}  // namespace
+
+int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
+                 std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+  return narrow_phase(a, core_edges(a.core), b, core_edges(b.core), out);
+}
+
+int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
+                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+  const double rsum = a.r + b.r;
+  std::array<CoreClosest, 3> ca, cb;  // vertex of a on core of b, vertex of b on core of a
+  for (int v = 0; v < 3; ++v) {
+    ca[v] = closest_within(a.core[v], b.core, eb, rsum);
+    cb[v] = closest_within(b.core[v], a.core, ea, rsum);
+  }
+  auto mutual_vv_a = [&](int v) {  // a's vertex v and b's vertex ca[v].vertex see each other
+    const CoreClosest& o = cb[ca[v].vertex];
+    return ca[v].at_vertex && o.at_vertex && o.vertex == v;
+  };
+
+  int n = 0;
+  for (int v = 0; v < 3; ++v) {  // side 0: vertex of a (i) on the core of b (j)
+    const CoreClosest& c = ca[v];
+    const double overlap = rsum - c.distance;
+    if (!(overlap > 0.0)) continue;
+    if (c.at_vertex && !mutual_vv_a(v)) continue;  // one-sided vertex-vertex: see header
+    ContactGeometry& g = out[n++];
+    g.feature = static_cast<std::uint8_t>(v);
+    g.kind = c.at_vertex ? ContactKind::VertexVertex : ContactKind::VertexEdge;
+    g.other = static_cast<std::uint8_t>(c.at_vertex ? c.vertex : c.edge);
+    g.t = c.t;
+    g.distance = c.distance;
+    g.overlap = overlap;
+    g.normal = c.normal;  // from b's core toward a's vertex: j -> i
+    // Midway between b's surface (point + r_b n) and a's surface (vertex - r_a n).
+    g.point = c.point + (0.5 * (c.distance + b.r - a.r)) * c.normal;
+  }
+  for (int v = 0; v < 3; ++v) {  // side 1: vertex of b (j) on the core of a (i)
+    const CoreClosest& c = cb[v];
+    const double overlap = rsum - c.distance;
+    if (!(overlap > 0.0)) continue;
+    // Every vertex-vertex contact kept is mutual and was counted on side 0.
+    if (c.at_vertex) continue;
+    ContactGeometry& g = out[n++];
+    g.feature = static_cast<std::uint8_t>(3 + v);
+    g.kind = ContactKind::VertexEdge;
+    g.other = static_cast<std::uint8_t>(c.edge);
+    g.t = c.t;
+    g.distance = c.distance;
+    g.overlap = overlap;
+    g.normal = -c.normal;  // c.normal points from a's core to b's vertex: i -> j
+    g.point = c.point + (0.5 * (c.distance + a.r - b.r)) * c.normal;
+  }
+  return n;
+}
+
+}  // namespace dsdem::contact

@@ -1,0 +1,77 @@
+#pragma once
+// Narrow phase between two spheropolygons (DESIGN.md §4; paper eq. 1, Fig. 4): the
+// vertex-edge, edge-vertex and vertex-vertex contacts of the two cores.
+//
+// Every core vertex of one body is measured against every core edge of the other
+// (paper eq. 1), and each vertex keeps the edge or end point nearest to it: its
+// closest feature on the other core. So a vertex near an acute corner is not counted
+// against both edges of the corner, and the interaction of the vertex's disc with the
+// other rounded body is exact. A vertex-vertex contact is kept only when it is mutual
+// (each vertex is the other's closest feature) and then once; a one-sided one is
+// dropped, because the other vertex then has a closer contact of its own (this makes
+// edge-edge contact exactly two vertex-edge contacts, at the ends of the overlap).
+#include <array>
+#include <cstdint>
+
+#include "contact/spheropolygon.hpp"
+
+namespace dsdem::contact {
+
+enum class ContactKind : std::uint8_t { VertexEdge = 0, VertexVertex = 1 };
+
+// Closest point of a core triangle to a point p.
+struct CoreClosest {
+  double distance = 0.0;  // m; negative when p lies inside the core (its depth)
+  Vec2 point = Vec2::Zero();   // closest point on the core's boundary
+  Vec2 normal = Vec2::Zero();  // unit, from the core toward p (outward)
+  int edge = 0;                // core edge k = core[k] -> core[(k+1)%3]
+  double t = 0.0;              // parameter of `point` on that edge, in [0, 1]
+  bool at_vertex = false;      // the closest point is an edge end: core[vertex]
+  int vertex = 0;
+};
+
+// Per-core quantities shared by the six vertex queries of a pair: edge vectors, their
+// inverse squared lengths and unit outward normals (either orientation), and the box.
+struct CoreEdges {
+  std::array<Vec2, 3> e;        // core[(k+1)%3] - core[k]
+  std::array<double, 3> inv_len2;  // 0 for a zero-length edge
+  std::array<Vec2, 3> n_out;    // zero for a zero-length edge
+  bool proper = false;          // non-degenerate area (else nothing is "inside")
+  Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
+};
+CoreEdges core_edges(const std::array<Vec2, 3>& core);
+
+// Closest point on the core (either orientation) to p. Outside the core it is the
+// nearest point of the three edges; inside (deep penetration) it is the foot on the
+// nearest edge with the outward normal, so the contact pushes p out, not through.
+CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce);
+inline CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core) {
+  return closest_on_core(p, core, core_edges(core));
+}
+
+constexpr int kMaxContactsPerPair = 6;
+
+// One contact between spheropolygons i and j.
+struct ContactGeometry {
+  // Identifies the contact within the pair, stable while the same vertex stays in
+  // contact: 3*side + vertex, side 0 = a vertex of i on the core of j, side 1 = a
+  // vertex of j on the core of i.
+  std::uint8_t feature = 0;
+  ContactKind kind = ContactKind::VertexEdge;
+  std::uint8_t other = 0;  // edge (VertexEdge) or vertex (VertexVertex) of the other core
+  double t = 0.0;          // parameter of the closest point on that core edge
+  double distance = 0.0;   // vertex to other core, m (negative if inside it)
+  double overlap = 0.0;    // delta = r_i + r_j - distance > 0, m
+  Vec2 normal = Vec2::Zero();  // unit, from j toward i (force on i = +Fn * normal)
+  Vec2 point = Vec2::Zero();   // contact point shared by both bodies: mid-overlap
+};
+
+// All contacts of the pair (i = a, j = b), written to out[0..n), n returned (at most
+// kMaxContactsPerPair), ordered by feature. Only contacts with overlap > 0.
+int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
+                 std::array<ContactGeometry, kMaxContactsPerPair>& out);
+// Same, with the cores' edge data computed beforehand (once per triangle and step).
+int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
+                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out);
+
+}  // namespace dsdem::contact

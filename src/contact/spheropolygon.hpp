@@ -1,0 +1,58 @@
+#pragma once
+// Spheropolygon geometry of one triangle (DESIGN.md §4; paper §1.1, Fig. 1): the core
+// triangle eroded by the rounding radius r, swept by a disc of radius r, so that the
+// rounded outline lies inside the triangle and touches each of its edges.
+#include <array>
+
+#include "model/types.hpp"
+
+namespace dsdem::contact {
+
+// Paper §1.1: rounding radius = 0.05 * radius of the inscribed circle.
+constexpr double kDefaultRoundingFactor = 0.05;
+
+// z-component of the 2D cross product a x b.
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Axis-aligned box; closed intervals, so boxes that only touch do overlap.
+struct Aabb {
+  Vec2 lo = Vec2::Zero();
+  Vec2 hi = Vec2::Zero();
+};
+inline bool overlaps(const Aabb& a, const Aabb& b) {
+  return a.lo.x() <= b.hi.x() && b.lo.x() <= a.hi.x() && a.lo.y() <= b.hi.y() &&
+         b.lo.y() <= a.hi.y();
+}
+
+struct Incircle {
+  Vec2 centre = Vec2::Zero();
+  double radius = 0.0;  // m
+};
+
+// Inscribed circle of the triangle p0 p1 p2 (either orientation). A degenerate
+// triangle (zero perimeter) gives radius 0 at p0.
+Incircle incircle(const Vec2& p0, const Vec2& p1, const Vec2& p2);
+
+// r = factor * inradius (paper §1.1). Computed once per triangle, from the
+// reference configuration, and then kept fixed (the core follows the deformation).
+double rounding_radius(const Vec2& p0, const Vec2& p1, const Vec2& p2,
+                       double factor = kDefaultRoundingFactor);
+
+// A triangle's spheropolygon: core vertices in the triangle's vertex order (so core
+// edge k runs from core[k] to core[(k+1)%3]) and the rounding radius.
+struct Spheropolygon {
+  std::array<Vec2, 3> core{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  double r = 0.0;  // m
+};
+
+// Erodes the current triangle by r: every edge moved inward by r, which for a
+// triangle is the triangle scaled about its incentre by (rho - r)/rho. The core's
+// inradius is then rho - r and the rounded outline touches all three edges, so two
+// triangles sharing an edge touch with zero overlap (DESIGN.md §4). If the triangle
+// has been squashed to rho <= r the core collapses to the incentre (a disc).
+Spheropolygon make_spheropolygon(const Vec2& p0, const Vec2& p1, const Vec2& p2, double r);
+
+// Bounding box of the rounded shape (core box enlarged by r).
+Aabb bounding_box(const Spheropolygon& s);
+
+}  // namespace dsdem::contact

@@ -1,0 +1,385 @@
+// The contact phase driver: analytic single contact, conservation, per-step skip,
+// group parameters, tangential history, no allocation after warm-up, and identical
+// results with 1 and 2 OpenMP threads (DESIGN.md §4, §9).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "alloc_counter.hpp"
+#include "contact/contact_forces.hpp"
+#include "contact/shape_map.hpp"
+
+using namespace dsdem;
+using namespace dsdem::contact;
+
+namespace {
+
+struct Mesh {
+  std::vector<Vec2> x, v;
+  std::vector<double> m;
+  std::vector<std::array<Index, 3>> conn;
+  std::vector<std::uint8_t> active;
+  std::vector<double> r;
+  std::vector<Index> group;
+
+  Index add_node(const Vec2& p, double mass = 1.0) {
+    x.push_back(p);
+    v.push_back(Vec2::Zero());
+    m.push_back(mass);
+    return static_cast<Index>(x.size() - 1);
+  }
+  // Nodes created in the order given (function arguments have no evaluation order).
+  void add_triangle(const Vec2& pa, const Vec2& pb, const Vec2& pc, Index g = 0) {
+    const Index a = add_node(pa);
+    const Index b = add_node(pb);
+    const Index c = add_node(pc);
+    add_triangle(a, b, c, g);
+  }
+  void add_triangle(Index a, Index b, Index c, Index g = 0) {
+    conn.push_back({a, b, c});
+    active.push_back(1);
+    r.push_back(rounding_radius(x[a], x[b], x[c]));
+    group.push_back(g);
+  }
+  ContactInput input() const { return {x, v, m, conn, active, r, group}; }
+};
+
+// B: base triangle, top edge y = 0 from x = 0 to 4. A: tip down at (1.5, h).
+Mesh tip_on_edge(double h, Index group_a = 0, Index group_b = 0) {
+  Mesh s;
+  s.add_triangle(Vec2(1.5, h), Vec2(2.5, 2.0), Vec2(0.5, 2.0), group_a);  // nodes 0, 1, 2
+  s.add_triangle(Vec2(0, 0), Vec2(2, -3), Vec2(4, 0), group_b);          // nodes 3, 4, 5
+  return s;
+}
+
+// Overlap of tip_on_edge(h): A's core tip sits r_A / sin(alpha/2) above the tip on its
+// vertical bisector, B's core edge r_B below y = 0.
+double tip_overlap(const Mesh& s, double h) {
+  const double half_angle = std::atan(1.0 / (2.0 - h));
+  const double core_tip = h + s.r[0] / std::sin(half_angle);
+  return s.r[0] + s.r[1] - (core_tip + s.r[1]);
+}
+
+Vec2 sum_forces(const std::vector<Vec2>& f, const std::array<Index, 3>& c) {
+  return f[c[0]] + f[c[1]] + f[c[2]];
+}
+
+// A continuous base (shared nodes, 2 rows of unit squares) under two rows of separate
+// triangles (own nodes) that wobble: every block triangle moves rigidly with
+// displacement A sin(w t + phi) and rotation Th sin(w t + phi) about its centroid,
+// period 50 steps, amplitudes up to 3 cm and 1 degree, so contacts come and go and
+// the broad phase is rebuilt now and then.
+struct Pile {
+  Mesh mesh;
+  std::vector<Vec2> X0;  // positions at t = 0
+  struct Block {
+    std::array<Index, 3> nodes;
+    Vec2 centre, amp;
+    double rot, phase;
+  };
+  std::vector<Block> blocks;
+  double dt = 1e-3, omega = 2.0 * kPi / (50 * 1e-3);
+
+  void set_time(double t) {
+    for (const Block& b : blocks) {
+      const double s = std::sin(omega * t + b.phase), c = std::cos(omega * t + b.phase);
+      const double th = b.rot * s, w = b.rot * omega * c;
+      const Mat2 R = Eigen::Rotation2Dd(th).toRotationMatrix();
+      for (Index n : b.nodes) {
+        const Vec2 rel = R * (X0[n] - b.centre);
+        mesh.x[n] = b.centre + b.amp * s + rel;
+        mesh.v[n] = b.amp * (omega * c) + w * Vec2(-rel.y(), rel.x());
+      }
+    }
+  }
+};
+
+Pile make_pile(unsigned seed, int nx) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Pile p;
+  Mesh& s = p.mesh;
+  // Base: (nx+1) x 3 shared nodes, y = -2..0, heavy.
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i <= nx; ++i) s.add_node(Vec2(i, j - 2.0), 1e3);
+  auto id = [nx](int i, int j) { return static_cast<Index>(j * (nx + 1) + i); };
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < nx; ++i) {
+      s.add_triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1), 0);
+      s.add_triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1), 0);
+    }
+  // Blocks: two rows of unit squares split in two, each triangle with its own nodes.
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < nx; ++i)
+      for (int half = 0; half < 2; ++half) {
+        const Vec2 a(i, j), b(i + 1, j), c(i + 1, j + 1), d(i, j + 1);
+        const std::array<Vec2, 3> pts = half == 0 ? std::array<Vec2, 3>{a, b, c}
+                                                  : std::array<Vec2, 3>{a, c, d};
+        Pile::Block blk;
+        for (int k = 0; k < 3; ++k) blk.nodes[k] = s.add_node(pts[k], 100.0 + 10.0 * k);
+        s.add_triangle(blk.nodes[0], blk.nodes[1], blk.nodes[2], 1);
+        blk.centre = (pts[0] + pts[1] + pts[2]) / 3.0;
+        blk.amp = Vec2(0.01 * u(rng), 0.03 * u(rng));
+        blk.rot = (kPi / 180.0) * u(rng);
+        blk.phase = kPi * u(rng);
+        p.blocks.push_back(blk);
+      }
+  p.X0 = s.x;
+  return p;
+}
+
+ContactParamTable pile_params() {
+  ContactParamTable t({1e9, 5e8, 0.5, 0.4});
+  t.set(0, 1, {2e9, 1e9, 0.3, 0.2});
+  return t;
+}
+
+}  // namespace
+
+TEST(ContactForces, SingleVertexEdgeContactMatchesTheAnalyticForce) {
+  const double h = -0.05, kn = 1e9;
+  Mesh s = tip_on_edge(h);
+  const double delta = tip_overlap(s, h);
+  ASSERT_GT(delta, 0.005);
+  ContactParamTable params({kn, kn, 0.5, 1.0});
+  ContactForces cf;
+  std::vector<Vec2> f(s.x.size(), Vec2::Zero());
+  const ContactStepStats st = cf.compute(s.input(), params, 1e-5, f);
+  EXPECT_EQ(st.active_contacts, 1);
+  EXPECT_EQ(st.candidate_pairs, 1);
+  EXPECT_TRUE(st.rebuilt);
+  // Total force on A: kn*delta upward; on B the opposite.
+  const Vec2 fa = sum_forces(f, s.conn[0]), fb = sum_forces(f, s.conn[1]);
+  EXPECT_NEAR(fa.x(), 0.0, 1e-12 * kn * delta);
+  EXPECT_NEAR(fa.y(), kn * delta, 1e-12 * kn * delta);
+  EXPECT_NEAR((fa + fb).norm(), 0.0, 1e-12 * kn * delta);
+  EXPECT_NEAR(st.elastic_energy, 0.5 * kn * delta * delta, 1e-12 * kn * delta * delta);
+  EXPECT_NEAR(st.elastic_energy_increment, st.elastic_energy, 1e-15);
+  // The contact record: vertex 0 of A on edge 2 of B, point mid-overlap on x = 1.5.
+  int n = 0;
+  cf.for_each_contact([&](const ContactRecord& c) {
+    ++n;
+    EXPECT_EQ(c.key, (ContactKey{0, 1, 0}));
+    EXPECT_EQ(c.kind, ContactKind::VertexEdge);
+    EXPECT_EQ(c.other, 2);
+    EXPECT_NEAR(c.overlap, delta, 1e-15);
+    EXPECT_NEAR(c.point.x(), 1.5, 1e-15);
+    // Midway between B's surface y = 0 and A's rounded tip at y = -delta.
+    EXPECT_NEAR(c.point.y(), -0.5 * delta, 1e-15);
+    // Nodal forces are N_k F for each triangle.
+    EXPECT_NEAR((f[s.conn[0][0]] - c.Ni[0] * c.force).norm(), 0.0, 1e-9);
+    EXPECT_NEAR((f[s.conn[1][2]] + c.Nj[2] * c.force).norm(), 0.0, 1e-9);
+  });
+  EXPECT_EQ(n, 1);
+  // Away from each other: no contact, and the ended contact's energy goes to zero.
+  for (Index n : s.conn[0]) s.x[n].y() += 0.1;
+  std::fill(f.begin(), f.end(), Vec2::Zero());
+  const ContactStepStats st2 = cf.compute(s.input(), params, 1e-5, f);
+  EXPECT_EQ(st2.active_contacts, 0);
+  EXPECT_NEAR(st2.elastic_energy_increment, -st.elastic_energy, 1e-15);
+}
+
+TEST(ContactForces, TangentialHistoryCarriesBetweenSteps) {
+  // A slides along B's top edge at 0.1 m/s: Ft grows by ks*v*dt per step (below the cap).
+  const double h = -0.05, kn = 1e9, ks = 5e8, dt = 1e-5, vs = 0.1;
+  Mesh s = tip_on_edge(h);
+  const double delta = tip_overlap(s, h);
+  ContactParamTable params({kn, ks, 0.5, 1.0});
+  ContactForces cf;
+  std::vector<Vec2> f(s.x.size());
+  for (Index n : s.conn[0]) s.v[n] = Vec2(vs, 0.0);
+  double work = 0.0;
+  for (int step = 1; step <= 5; ++step) {
+    std::fill(f.begin(), f.end(), Vec2::Zero());
+    const ContactStepStats st = cf.compute(s.input(), params, dt, f);
+    ASSERT_EQ(st.active_contacts, 1);
+    const Vec2 fa = sum_forces(f, s.conn[0]);
+    EXPECT_NEAR(fa.x(), -ks * vs * dt * step, 1e-9 * ks * vs * dt);
+    EXPECT_NEAR(fa.y(), kn * delta, 1e-12 * kn * delta);
+    EXPECT_EQ(st.friction_dissipation, 0.0);
+    work += st.elastic_energy_increment;
+    for (Index n : s.conn[0]) s.x[n] += dt * s.v[n];
+  }
+  // Elastic increments add up to the stored energy.
+  const double ft = ks * vs * dt * 5;
+  EXPECT_NEAR(work, 0.5 * kn * delta * delta + 0.5 * ft * ft / ks, 1e-12 * kn * delta * delta);
+}
+
+TEST(ContactForces, PairParametersComeFromTheGroupTable) {
+  const double h = -0.05;
+  for (auto [ga, gb, kn] : {std::tuple<Index, Index, double>{0, 1, 3e9}, {1, 0, 3e9},
+                            {0, 0, 1e9}, {2, 1, 1e9}, {kNoIndex, 1, 1e9}}) {
+    Mesh s = tip_on_edge(h, ga, gb);
+    const double delta = tip_overlap(s, h);
+    ContactParamTable params({1e9, 1e9, 0.5, 1.0});
+    params.set(0, 1, {3e9, 3e9, 0.5, 1.0});
+    ContactForces cf;
+    std::vector<Vec2> f(s.x.size(), Vec2::Zero());
+    cf.compute(s.input(), params, 1e-5, f);
+    EXPECT_NEAR(sum_forces(f, s.conn[0]).y(), kn * delta, 1e-12 * kn * delta) << ga << " " << gb;
+  }
+}
+
+TEST(ContactForces, SkipIsAskedEveryStepAndSharedNodesNeverInteract) {
+  // Two separate triangles on either side of the edge (1,0)-(1,1), pressed 1 mm together:
+  // bonded (skipped) there is no contact; the step the bond breaks, contact acts, with
+  // no broad-phase rebuild in between.
+  Mesh s;
+  s.add_triangle(Vec2(0, 0), Vec2(1.001, 0), Vec2(1.001, 1));
+  s.add_triangle(Vec2(1, 0), Vec2(2, 0), Vec2(1, 1));
+  ContactParamTable params({1e9, 1e9, 0.5, 1.0});
+  ContactForces cf;
+  std::vector<Vec2> f(s.x.size(), Vec2::Zero());
+  bool bonded = true;
+  auto skip = [&bonded](Index, Index) { return bonded; };
+  ContactStepStats st = cf.compute(s.input(), params, 1e-5, skip, f);
+  EXPECT_EQ(st.active_contacts, 0);
+  EXPECT_EQ(st.candidate_pairs, 1);
+  EXPECT_EQ(f[0], Vec2::Zero());
+  bonded = false;
+  st = cf.compute(s.input(), params, 1e-5, skip, f);
+  EXPECT_FALSE(st.rebuilt);
+  EXPECT_EQ(st.active_contacts, 2);  // edge-edge: two vertex-edge contacts
+  // Overlap 1 mm at both ends (the cores are r_i + r_j apart before the push).
+  EXPECT_NEAR(sum_forces(f, s.conn[1]).x(), 2.0 * 1e9 * 1e-3, 1e-6 * 2e6);
+
+  // A continuous mesh (shared nodes) squashed to 1 cm: of its 6 pairs only triangles 1
+  // and 2 share no node, and only they are a candidate.
+  Mesh c;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i) c.add_node(Vec2(i, 0.01 * j));
+  c.add_triangle(0, 1, 4);
+  c.add_triangle(0, 4, 3);
+  c.add_triangle(1, 2, 5);
+  c.add_triangle(1, 5, 4);
+  ContactForces cc;
+  std::vector<Vec2> fc(c.x.size(), Vec2::Zero());
+  st = cc.compute(c.input(), params, 1e-5, fc);
+  ASSERT_EQ(cc.broad_phase().pairs().size(), 1u);
+  EXPECT_EQ(cc.broad_phase().pairs()[0].i, 1);
+  EXPECT_EQ(cc.broad_phase().pairs()[0].j, 2);
+  EXPECT_EQ(st.active_contacts, 0);
+  // One body id for the whole mesh: no candidate at all; -1 opts a triangle out.
+  std::vector<Index> body = {0, 0, 0, 0};
+  ContactInput in = c.input();
+  in.body = body;
+  cc.invalidate();
+  st = cc.compute(in, params, 1e-5, fc);
+  EXPECT_EQ(st.candidate_pairs, 0);
+  body[2] = kNoIndex;
+  cc.invalidate();
+  st = cc.compute(in, params, 1e-5, fc);
+  EXPECT_EQ(st.candidate_pairs, 1);
+}
+
+TEST(ContactForces, PileConservesMomentumAndAngularMomentum) {
+  Pile p = make_pile(21, 20);
+  const ContactParamTable params = pile_params();
+  ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = SIZE_MAX});  // serial
+  std::vector<Vec2> f(p.mesh.x.size());
+  Index max_contacts = 0;
+  for (int step = 0; step < 100; ++step) {
+    p.set_time(step * p.dt);
+    std::fill(f.begin(), f.end(), Vec2::Zero());
+    const ContactStepStats st = cf.compute(p.mesh.input(), params, p.dt, f);
+    max_contacts = std::max(max_contacts, st.active_contacts);
+    Vec2 total = Vec2::Zero();
+    double moment = 0.0, scale_f = 0.0, scale_m = 0.0;
+    for (std::size_t n = 0; n < f.size(); ++n) {
+      total += f[n];
+      moment += cross(p.mesh.x[n], f[n]);
+      scale_f += f[n].norm();
+      scale_m += p.mesh.x[n].norm() * f[n].norm();
+    }
+    EXPECT_LE(total.norm(), 1e-12 * scale_f);
+    EXPECT_LE(std::abs(moment), 1e-12 * scale_m);
+    EXPECT_GE(st.friction_dissipation, 0.0);
+    EXPECT_GE(st.damping_dissipation, 0.0);
+  }
+  EXPECT_GT(max_contacts, 50);
+}
+
+TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
+  // Serial, and (with OpenMP) the parallel pair loop on 2 threads.
+  for (const bool parallel : {false, true}) {
+#ifdef _OPENMP
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(parallel ? 2 : 1);
+#else
+    if (parallel) continue;
+#endif
+    Pile p = make_pile(22, 30);
+    const ContactParamTable params = pile_params();
+    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = parallel ? 0 : SIZE_MAX});
+    std::vector<Vec2> f(p.mesh.x.size());
+    const ContactInput in = p.mesh.input();  // spans over the mesh arrays
+    int step = 0;
+    auto run = [&](int n) {
+      long contacts = 0;
+      for (int k = 0; k < n; ++k, ++step) {
+        p.set_time(step * p.dt);
+        std::fill(f.begin(), f.end(), Vec2::Zero());
+        contacts += cf.compute(in, params, p.dt, f).active_contacts;
+      }
+      return contacts;
+    };
+    run(50);  // warm-up: one wobble period
+    const long builds0 = cf.broad_phase().builds();
+    dsdem::test::AllocationScope scope;
+    const long contacts = run(100);
+    const long allocations = scope.count();
+    EXPECT_EQ(allocations, 0) << "parallel " << parallel;
+    EXPECT_GE(cf.broad_phase().builds() - builds0, 2);  // rebuilds happened in the window
+    EXPECT_GT(contacts, 100 * 50);
+    EXPECT_EQ(cf.threads_used(), parallel ? 2 : 1);
+#ifdef _OPENMP
+    omp_set_num_threads(saved);
+#endif
+  }
+}
+
+#ifdef _OPENMP
+TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
+  const int saved = omp_get_max_threads();
+  auto run = [](int threads, std::vector<std::vector<Vec2>>& forces,
+                std::vector<ContactStepStats>& stats) {
+    omp_set_num_threads(threads);
+    Pile p = make_pile(23, 30);
+    const ContactParamTable params = pile_params();
+    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = 0});
+    std::vector<Vec2> f(p.mesh.x.size());
+    for (int step = 0; step < 100; ++step) {
+      p.set_time(step * p.dt);
+      std::fill(f.begin(), f.end(), Vec2::Zero());
+      stats.push_back(cf.compute(p.mesh.input(), params, p.dt, f));
+      forces.push_back(f);
+    }
+    return cf.threads_used();
+  };
+  std::vector<std::vector<Vec2>> f1, f2;
+  std::vector<ContactStepStats> s1, s2;
+  EXPECT_EQ(run(1, f1, s1), 1);
+  EXPECT_EQ(run(2, f2, s2), 2);
+  omp_set_num_threads(saved);
+  ASSERT_EQ(f1.size(), f2.size());
+  long active = 0;
+  for (std::size_t k = 0; k < f1.size(); ++k) {
+    // Bit for bit.
+    ASSERT_EQ(std::memcmp(f1[k].data(), f2[k].data(), f1[k].size() * sizeof(Vec2)), 0) << "step " << k;
+    EXPECT_EQ(s1[k].active_contacts, s2[k].active_contacts);
+    EXPECT_EQ(s1[k].elastic_energy, s2[k].elastic_energy);
+    EXPECT_EQ(s1[k].friction_dissipation, s2[k].friction_dissipation);
+    EXPECT_EQ(s1[k].damping_dissipation, s2[k].damping_dissipation);
+    active += s1[k].active_contacts;
+  }
+  EXPECT_GT(active, 100 * 50);
+}
+#endif

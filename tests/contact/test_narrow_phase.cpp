@@ -1,0 +1,236 @@
+// Narrow phase: vertex-edge, vertex-vertex and edge-edge contacts against analytic
+// overlap, normal and contact point (DESIGN.md §4, paper eq. 1 and Fig. 4).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "contact/narrow_phase.hpp"
+
+using namespace dsdem;
+using namespace dsdem::contact;
+
+namespace {
+
+Spheropolygon sp(Vec2 a, Vec2 b, Vec2 c, double r) { return Spheropolygon{{a, b, c}, r}; }
+
+using Out = std::array<ContactGeometry, kMaxContactsPerPair>;
+
+void expect_vec(const Vec2& got, const Vec2& want, double tol) {
+  EXPECT_NEAR(got.x(), want.x(), tol);
+  EXPECT_NEAR(got.y(), want.y(), tol);
+}
+
+// Core B: CCW, top edge (edge 2) from (4,0) to (0,0), apex below.
+const Spheropolygon kBelow = sp(Vec2(0, 0), Vec2(2, -3), Vec2(4, 0), 0.1);
+
+}  // namespace
+
+TEST(ClosestOnCore, EdgeVertexAndInsideRegions) {
+  const std::array<Vec2, 3> core = kBelow.core;
+  // Above the top edge: edge interior, t measured from (4,0).
+  CoreClosest c = closest_on_core(Vec2(1.5, 0.3), core);
+  EXPECT_FALSE(c.at_vertex);
+  EXPECT_EQ(c.edge, 2);
+  EXPECT_NEAR(c.t, 0.625, 1e-14);
+  EXPECT_NEAR(c.distance, 0.3, 1e-14);
+  expect_vec(c.point, Vec2(1.5, 0.0), 1e-14);
+  expect_vec(c.normal, Vec2(0, 1), 1e-14);
+  // Beyond the corner (4,0): vertex 2.
+  c = closest_on_core(Vec2(5, 1), core);
+  EXPECT_TRUE(c.at_vertex);
+  EXPECT_EQ(c.vertex, 2);
+  EXPECT_NEAR(c.distance, std::sqrt(2.0), 1e-14);
+  expect_vec(c.normal, Vec2(1, 1) / std::sqrt(2.0), 1e-14);
+  // Inside, 0.2 below the top edge and far from the others: depth -0.2, outward normal.
+  c = closest_on_core(Vec2(2, -0.2), core);
+  EXPECT_FALSE(c.at_vertex);
+  EXPECT_EQ(c.edge, 2);
+  EXPECT_NEAR(c.distance, -0.2, 1e-14);
+  expect_vec(c.point, Vec2(2, 0), 1e-14);
+  expect_vec(c.normal, Vec2(0, 1), 1e-14);
+  // Same core listed clockwise: same answer.
+  c = closest_on_core(Vec2(2, -0.2), {core[0], core[2], core[1]});
+  EXPECT_NEAR(c.distance, -0.2, 1e-14);
+  expect_vec(c.normal, Vec2(0, 1), 1e-14);
+}
+
+TEST(NarrowPhase, VertexOnEdgeGivesAnalyticOverlapNormalAndPoint) {
+  // A's core vertex 0 at (1.5, 0.15) above B's top edge y = 0; radii 0.1 + 0.1.
+  const Spheropolygon a = sp(Vec2(1.5, 0.15), Vec2(2.5, 2), Vec2(0.5, 2), 0.1);
+  Out out;
+  ASSERT_EQ(narrow_phase(a, kBelow, out), 1);
+  const ContactGeometry& g = out[0];
+  EXPECT_EQ(g.kind, ContactKind::VertexEdge);
+  EXPECT_EQ(g.feature, 0);  // vertex 0 of i
+  EXPECT_EQ(g.other, 2);    // edge 2 of j
+  EXPECT_NEAR(g.t, 0.625, 1e-14);
+  EXPECT_NEAR(g.overlap, 0.05, 1e-14);
+  expect_vec(g.normal, Vec2(0, 1), 1e-14);  // from j (below) to i
+  // B's surface at y = 0.1, A's at 0.15 - 0.1 = 0.05: midway 0.075.
+  expect_vec(g.point, Vec2(1.5, 0.075), 1e-14);
+
+  // Same pair listed the other way round: side 1, normal reversed, same point.
+  ASSERT_EQ(narrow_phase(kBelow, a, out), 1);
+  EXPECT_EQ(out[0].feature, 3);
+  EXPECT_NEAR(out[0].overlap, 0.05, 1e-14);
+  expect_vec(out[0].normal, Vec2(0, -1), 1e-14);
+  expect_vec(out[0].point, Vec2(1.5, 0.075), 1e-14);
+
+  // Unequal radii: r_i = 0.04, r_j = 0.2 -> overlap 0.09; surfaces at 0.2 and 0.11.
+  Spheropolygon a2 = a, b2 = kBelow;
+  a2.r = 0.04;
+  b2.r = 0.2;
+  ASSERT_EQ(narrow_phase(a2, b2, out), 1);
+  EXPECT_NEAR(out[0].overlap, 0.09, 1e-14);
+  expect_vec(out[0].point, Vec2(1.5, 0.155), 1e-14);
+}
+
+TEST(NarrowPhase, VertexVertexCountedOnceInEveryOrder) {
+  // Tips on the diagonal, 0.15 apart, both in each other's vertex region.
+  const double d = 0.15;
+  const Vec2 tip = Vec2(1, 1) * (d / std::sqrt(2.0));
+  const std::array<Vec2, 3> ta = {tip, tip + Vec2(2, 1), tip + Vec2(1, 2)};
+  const std::array<Vec2, 3> tb = {Vec2(0, 0), Vec2(-1, -2), Vec2(-2, -1)};
+  const Vec2 n = Vec2(1, 1) / std::sqrt(2.0);
+  for (int rot_a = 0; rot_a < 3; ++rot_a) {
+    for (int rot_b = 0; rot_b < 3; ++rot_b) {
+      const Spheropolygon a = sp(ta[rot_a], ta[(rot_a + 1) % 3], ta[(rot_a + 2) % 3], 0.05);
+      const Spheropolygon b = sp(tb[rot_b], tb[(rot_b + 1) % 3], tb[(rot_b + 2) % 3], 0.15);
+      const int tip_a = (3 - rot_a) % 3, tip_b = (3 - rot_b) % 3;  // where the tips went
+      Out out;
+      ASSERT_EQ(narrow_phase(a, b, out), 1);
+      EXPECT_EQ(out[0].kind, ContactKind::VertexVertex);
+      EXPECT_EQ(out[0].feature, tip_a);
+      EXPECT_EQ(out[0].other, tip_b);
+      EXPECT_NEAR(out[0].overlap, 0.2 - d, 1e-14);
+      expect_vec(out[0].normal, n, 1e-14);
+      // B's surface 0.15 from its tip, A's at d - 0.05 = 0.10: midway 0.125 along n.
+      expect_vec(out[0].point, 0.125 * n, 1e-14);
+      ASSERT_EQ(narrow_phase(b, a, out), 1);
+      EXPECT_EQ(out[0].feature, tip_b);
+      EXPECT_NEAR(out[0].overlap, 0.2 - d, 1e-14);
+      expect_vec(out[0].normal, -n, 1e-14);
+      expect_vec(out[0].point, 0.125 * n, 1e-14);
+    }
+  }
+}
+
+TEST(NarrowPhase, EdgeEdgeIsTwoVertexEdgeContactsAtTheEndsOfTheOverlap) {
+  // A's bottom edge y = 0.15 from x = 0.05 to 4.05 over B's top edge y = 0, x in [0, 4].
+  // The ends are offset by only 0.05, so A's corner (4.05, 0.15) is within reach of B's
+  // corner (4, 0) (distance 0.158 < 0.2) but not mutually closest: not counted.
+  const Spheropolygon a = sp(Vec2(0.05, 0.15), Vec2(4.05, 0.15), Vec2(2.05, 3), 0.1);
+  Out out;
+  ASSERT_EQ(narrow_phase(a, kBelow, out), 2);
+  // A's vertex 0 on B's top edge, then B's vertex 2 (4, 0) on A's bottom edge 0.
+  EXPECT_EQ(out[0].feature, 0);
+  EXPECT_EQ(out[0].kind, ContactKind::VertexEdge);
+  EXPECT_EQ(out[0].other, 2);
+  EXPECT_NEAR(out[0].overlap, 0.05, 1e-14);
+  expect_vec(out[0].normal, Vec2(0, 1), 1e-14);
+  expect_vec(out[0].point, Vec2(0.05, 0.075), 1e-14);
+  EXPECT_EQ(out[1].feature, 3 + 2);
+  EXPECT_EQ(out[1].kind, ContactKind::VertexEdge);
+  EXPECT_EQ(out[1].other, 0);
+  EXPECT_NEAR(out[1].overlap, 0.05, 1e-14);
+  expect_vec(out[1].normal, Vec2(0, 1), 1e-14);
+  expect_vec(out[1].point, Vec2(4.0, 0.075), 1e-14);
+
+  // Edges exactly aligned end to end: two (mutual) vertex-vertex contacts, one per end.
+  const Spheropolygon c = sp(Vec2(0, 0.15), Vec2(4, 0.15), Vec2(2, 3), 0.1);
+  ASSERT_EQ(narrow_phase(c, kBelow, out), 2);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(out[k].kind, ContactKind::VertexVertex);
+    EXPECT_NEAR(out[k].overlap, 0.05, 1e-14);
+    expect_vec(out[k].normal, Vec2(0, 1), 1e-14);
+  }
+  expect_vec(out[0].point, Vec2(0, 0.075), 1e-14);
+  expect_vec(out[1].point, Vec2(4, 0.075), 1e-14);
+}
+
+TEST(NarrowPhase, VertexNearAcuteCornerCountsOnlyItsNearestEdge) {
+  // B has a 20-degree corner at the origin between edge 0 (along -x) and edge 2 (at 200
+  // degrees). A's vertex (-0.15, 0.05) is 0.05 outside edge 0 and also within
+  // r_a + r_b = 0.2 of edge 2's interior (from the inner side): summing every
+  // vertex-edge pair would count it twice; it has one contact, on edge 0.
+  const double th = 20.0 * kPi / 180.0;
+  const Spheropolygon b = sp(Vec2(0, 0), Vec2(-5, 0), Vec2(-5 * std::cos(th), -5 * std::sin(th)), 0.1);
+  const Vec2 p(-0.15, 0.05);
+  const Vec2 dir2(-std::cos(th), -std::sin(th));  // edge 2 from the origin outward
+  ASSERT_GT(p.dot(dir2), 0.0);                            // projects inside edge 2
+  ASSERT_LT(std::abs(cross(dir2, p)), 0.2);              // and within reach of it
+  const Spheropolygon a = sp(p, Vec2(-0.15, 3), Vec2(-2, 3), 0.1);
+  Out out;
+  ASSERT_EQ(narrow_phase(a, b, out), 1);
+  EXPECT_EQ(out[0].feature, 0);
+  EXPECT_EQ(out[0].other, 0);
+  EXPECT_NEAR(out[0].overlap, 0.2 - 0.05, 1e-14);
+  expect_vec(out[0].normal, Vec2(0, 1), 1e-14);
+}
+
+TEST(NarrowPhase, VertexInsideTheOtherCoreIsPushedOut) {
+  // A's vertex 0.05 below B's top edge, i.e. inside B's core: overlap 0.2 + 0.05, and the
+  // normal is still B's outward normal (so the force pushes it back, not through).
+  const Spheropolygon a = sp(Vec2(2, -0.05), Vec2(3, 2), Vec2(1, 2), 0.1);
+  Out out;
+  const int n = narrow_phase(a, kBelow, out);
+  ASSERT_GE(n, 1);
+  EXPECT_EQ(out[0].feature, 0);
+  EXPECT_NEAR(out[0].overlap, 0.25, 1e-14);
+  EXPECT_NEAR(out[0].distance, -0.05, 1e-14);
+  expect_vec(out[0].normal, Vec2(0, 1), 1e-14);
+}
+
+TEST(NarrowPhase, SwappingTheBodiesGivesTheSameContactsReversed) {
+  // Random overlapping pairs: contact set (point, overlap) is the same in both orders,
+  // normals are opposite; every overlap matches the vertex's brute-force distance to
+  // the other core's three edges.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto seg_dist = [](const Vec2& p, const Vec2& a, const Vec2& b) {
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    return (p - (a + t * (b - a))).norm();
+  };
+  int total = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    auto tri = [&](const Vec2& c) {
+      std::array<Vec2, 3> p;
+      do {
+        for (auto& q : p) q = c + Vec2(u(rng), u(rng));
+      } while (std::abs(cross(p[1] - p[0], p[2] - p[0])) < 0.3);
+      return sp(p[0], p[1], p[2], 0.05 + 0.1 * std::abs(u(rng)));
+    };
+    const Spheropolygon a = tri(Vec2(0, 0));
+    const Spheropolygon b = tri(Vec2(1.3 + 0.3 * u(rng), 0.3 * u(rng)));
+    Out ab, ba;
+    const int nab = narrow_phase(a, b, ab);
+    const int nba = narrow_phase(b, a, ba);
+    ASSERT_EQ(nab, nba);
+    total += nab;
+    for (int k = 0; k < nab; ++k) {
+      const ContactGeometry& g = ab[k];
+      EXPECT_NEAR(g.normal.norm(), 1.0, 1e-14);
+      // The same contact in the other order: same point and overlap, opposite normal.
+      int match = -1;
+      for (int m = 0; m < nba; ++m)
+        if ((ba[m].point - g.point).norm() < 1e-12) match = m;
+      ASSERT_GE(match, 0);
+      EXPECT_NEAR(ba[match].overlap, g.overlap, 1e-14);
+      EXPECT_NEAR((ba[match].normal + g.normal).norm(), 0.0, 1e-14);
+      // Overlap against brute force (vertices outside the other core).
+      const bool side0 = g.feature < 3;
+      const Spheropolygon& owner = side0 ? a : b;
+      const Spheropolygon& other = side0 ? b : a;
+      const Vec2& v = owner.core[g.feature % 3];
+      if (g.distance > 0.0) {
+        double dmin = 1e300;
+        for (int e = 0; e < 3; ++e) dmin = std::min(dmin, seg_dist(v, other.core[e], other.core[(e + 1) % 3]));
+        EXPECT_NEAR(g.overlap, a.r + b.r - dmin, 1e-14);
+      }
+    }
+  }
+  EXPECT_GT(total, 500);  // the trials did produce contacts
+}
