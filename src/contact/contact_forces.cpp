@@ -140,8 +140,18 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.Ni = barycentric(g.point, in.x[ci[0]], in.x[ci[1]], in.x[ci[2]]);
     r.Nj = barycentric(g.point, in.x[cj[0]], in.x[cj[1]], in.x[cj[2]]);
     const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
+    // Dashpot mass: the two triangles' masses (a contact softer than the elements moves
+    // each element as a whole, so the set restitution holds for element impacts), capped
+    // so the dashpot on the contact point's own mass stays explicit-stable (c dt <= m_pt).
     const double inv_m = point_inverse_mass(r.Ni, ci, in.mass) + point_inverse_mass(r.Nj, cj, in.mass);
-    const double m_eff = inv_m > 0.0 ? 1.0 / inv_m : 0.0;  // 0: both immovable, no dashpot
+    const double m_point = inv_m > 0.0 ? 1.0 / inv_m : 0.0;
+    const double mi = in.mass[ci[0]] + in.mass[ci[1]] + in.mass[ci[2]];
+    const double mj = in.mass[cj[0]] + in.mass[cj[1]] + in.mass[cj[2]];
+    double m_eff = mi > 0.0 && mj > 0.0 ? mi * mj / (mi + mj) : 0.0;  // 0: no dashpot
+    if (p.damping_ratio > 0.0 && p.kn > 0.0) {
+      const double c_max = m_point / dt;
+      m_eff = std::min(m_eff, c_max * c_max / (4.0 * p.damping_ratio * p.damping_ratio * p.kn));
+    }
     const ContactLawResult law =
         contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key, cursor), m_eff, p);
     r.sliding = law.sliding;

@@ -396,6 +396,42 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
       for (auto it = c.begin(); it != c.end(); ++it)
         sc.joints.curves[it->first.Scalar()] = read_joint_spec(r, it->second, p.child("curves").item(it->first.Scalar()));
   }
+  if (YAML::Node c = r.section(root, top, "contact", YAML::NodeType::Map); c.IsDefined()) {
+    const KeyPath p = top.child("contact");
+    r.check_keys(c, p);
+    ContactSpec& cs = sc.contact;
+    cs.penalty = r.number(c, p, "penalty").value_or(1.0);
+    cs.kn = c["kn"].IsDefined() ? r.number(c, p, "kn") : std::nullopt;
+    cs.ks_ratio = r.number(c, p, "ks_ratio").value_or(1.0);
+    cs.friction = r.number(c, p, "friction").value_or(0.5);
+    cs.restitution = r.number(c, p, "restitution").value_or(1.0);
+    cs.rounding = r.number(c, p, "rounding").value_or(0.05);
+    cs.skin = c["skin"].IsDefined() ? r.number(c, p, "skin") : std::nullopt;
+    cs.output = r.boolean(c, p, "output").value_or(false);
+    if (YAML::Node pl = r.section(c, p, "pairs", YAML::NodeType::Sequence); pl.IsDefined()) {
+      for (std::size_t i = 0; i < pl.size(); ++i) {
+        const KeyPath ip = p.child("pairs").index(i);
+        if (!pl[i].IsMap()) {
+          r.error(pl[i], ip.actual, "expected a map with groups and friction / restitution / kn");
+          continue;
+        }
+        r.check_keys(pl[i], ip);
+        ContactPairSpec ps;
+        const YAML::Node g = pl[i]["groups"];
+        if (!g.IsSequence() || g.size() != 2 || !g[0].IsScalar() || !g[1].IsScalar())
+          r.error(g.IsDefined() ? g : pl[i], ip.child("groups").actual, "expected two surface group names [a, b]");
+        else {
+          ps.group_a = g[0].Scalar();
+          ps.group_b = g[1].Scalar();
+        }
+        ps.where = location(r, g.IsDefined() ? g : pl[i], ip.child("groups").actual);
+        ps.friction = pl[i]["friction"].IsDefined() ? r.number(pl[i], ip, "friction") : std::nullopt;
+        ps.restitution = pl[i]["restitution"].IsDefined() ? r.number(pl[i], ip, "restitution") : std::nullopt;
+        ps.kn = pl[i]["kn"].IsDefined() ? r.number(pl[i], ip, "kn") : std::nullopt;
+        cs.pairs.push_back(ps);
+      }
+    }
+  }
   bool any_discrete = false;
   for (const auto& reg : sc.regions) any_discrete = any_discrete || reg.zone == Zone::Discrete;
   if (any_discrete && !sc.joints.present)

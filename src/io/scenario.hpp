@@ -80,6 +80,24 @@ struct JointsSection {
   SourceLocation where;
 };
 
+struct ContactPairSpec {
+  std::string group_a, group_b;
+  std::optional<double> friction, restitution, kn;
+  SourceLocation where;
+};
+
+struct ContactSpec {
+  double penalty = 1.0;
+  std::optional<double> kn;
+  double ks_ratio = 1.0;
+  double friction = 0.5;
+  double restitution = 1.0;
+  double rounding = 0.05;
+  std::optional<double> skin;
+  bool output = false;
+  std::vector<ContactPairSpec> pairs;
+};
+
 struct StageSpec {
   std::string name;
   double duration = 0.0;
@@ -118,6 +136,7 @@ struct Scenario {
   std::vector<StageSpec> stages;  // at least one after parsing
   OutputSpec output;
   JointsSection joints;
+  ContactSpec contact;
   SourceLocation where_mesh;
 
   double end_time() const;

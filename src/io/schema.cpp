@@ -72,7 +72,8 @@ std::vector<KeySpec> build_schema() {
 
   s.push_back(of("boundaries", KeyType::List, "", "Boundary conditions on curve or point groups."));
   s.push_back(of("boundaries[]", KeyType::Map, "", "One boundary condition."));
-  s.push_back(of("boundaries[].group", KeyType::String, "required", "Name of a physical curve or point group."));
+  s.push_back(of("boundaries[].group", KeyType::String, "required",
+                 "Name of a physical curve or point group, or a surface group (a driven body: all its nodes)."));
   s.push_back(choice("boundaries[].type", {"fixed", "roller", "velocity", "displacement", "free"}, "required",
                      "fixed: both directions held; roller: `direction` held; velocity / displacement: the given "
                      "components prescribed (constant or history); free: nothing (overrides an earlier stage)."));
@@ -133,6 +134,23 @@ std::vector<KeySpec> build_schema() {
     s.push_back(num(prefix + ".GII", "N/m", prefix == "joints.default" ? "required" : "", 0, kInf, "Mode II fracture energy.", true));
     s.push_back(of(prefix + ".broken", KeyType::Boolean, "false", "Start broken (a pre-existing crack: contact only)."));
   }
+  // Spheropolygon contact (DESIGN.md §4; paper eqs. 1-5).
+  s.push_back(of("contact", KeyType::Map, "", "Contact between spheropolygons of the discrete and contact zones."));
+  s.push_back(num("contact.penalty", "", "1", 0, kInf, "p_c in kn = p_c * E (E of the softer side) when kn is absent.", true));
+  s.push_back(num("contact.kn", "Pa", "p_c*E", 0, kInf, "Normal contact stiffness, force per unit thickness per unit overlap.", true));
+  s.push_back(num("contact.ks_ratio", "", "1", 0, kInf, "Tangential stiffness as a fraction of kn.", true));
+  s.push_back(num("contact.friction", "", "0.5", 0, kInf, "Coulomb friction coefficient mu (default for every pair of groups)."));
+  s.push_back(num("contact.restitution", "", "1", 0, 1, "Normal coefficient of restitution (1: no contact damping).", true));
+  s.push_back(num("contact.rounding", "", "0.05", 0, 0.5, "Rounding radius as a fraction of each triangle's inscribed radius.", true, true));
+  s.push_back(num("contact.skin", "m", "auto", 0, kInf, "Broad-phase skin (default: half the mean inscribed radius).", true));
+  s.push_back(of("contact.output", KeyType::Boolean, "false", "Write contact points and forces as a VTU series (contacts.pvd)."));
+  s.push_back(of("contact.pairs", KeyType::List, "", "Friction / restitution / stiffness for particular pairs of surface groups."));
+  s.push_back(of("contact.pairs[]", KeyType::Map, "", "One pair of groups."));
+  s.push_back(of("contact.pairs[].groups", KeyType::List, "required", "Two surface group names (the same name twice: within one group)."));
+  s.push_back(num("contact.pairs[].friction", "", "contact.friction", 0, kInf, "Coulomb friction coefficient."));
+  s.push_back(num("contact.pairs[].restitution", "", "contact.restitution", 0, 1, "Coefficient of restitution.", true));
+  s.push_back(num("contact.pairs[].kn", "Pa", "contact.kn", 0, kInf, "Normal stiffness.", true));
+
   s.push_back(of("stages[].failure", KeyType::Boolean, "true",
                  "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));
 

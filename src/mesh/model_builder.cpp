@@ -7,6 +7,7 @@
 #include "fem/cst.hpp"
 #include "io/schema.hpp"
 #include "mesh/gmsh_reader.hpp"
+#include "contact/spheropolygon.hpp"
 #include "mesh/joint_insertion.hpp"
 
 #include <spdlog/spdlog.h>
@@ -143,6 +144,97 @@ void build_joint_properties(const io::Scenario& sc, const RawMesh& mesh,
   }
 }
 
+void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string>& errors) {
+  ContactSetup& c = model.contact;
+  const std::size_t nt = model.triangles.size();
+  c.active.assign(nt, 0);
+  c.radius.assign(nt, 0.0);
+  c.body.assign(nt, -1);
+  for (std::size_t t = 0; t < nt; ++t) c.active[t] = model.triangles.zone[t] != Zone::Bedrock ? 1 : 0;
+  c.enabled = std::count(c.active.begin(), c.active.end(), 1) > 0;
+  if (!c.enabled) return;
+  const io::ContactSpec& cs = sc.contact;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!c.active[t]) continue;
+    const auto& n = model.triangles.conn[t];
+    c.radius[t] = contact::rounding_radius(model.nodes.X[n[0]], model.nodes.X[n[1]], model.nodes.X[n[2]], cs.rounding);
+  }
+  // Zone-C triangles of one connected continuous mesh are one body: they never collide
+  // with each other (their elements cannot separate).
+  {
+    std::vector<Index> parent(nt);
+    for (std::size_t t = 0; t < nt; ++t) parent[t] = static_cast<Index>(t);
+    auto root = [&](Index i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    std::vector<Index> first(model.nodes.size(), kNoIndex);
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (model.triangles.zone[t] != Zone::ContactBedrock) continue;
+      for (Index n : model.triangles.conn[t]) {
+        if (first[n] == kNoIndex) first[n] = static_cast<Index>(t);
+        else {
+          const Index a = root(first[n]), b = root(static_cast<Index>(t));
+          if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+      }
+    }
+    for (std::size_t t = 0; t < nt; ++t)
+      if (model.triangles.zone[t] == Zone::ContactBedrock) c.body[t] = root(static_cast<Index>(t));
+  }
+  // Stiffness: given, or p_c * E of the softer side (DESIGN.md §4); times the thickness
+  // (plane stress) so forces are those of the slab.
+  auto group_E = [&](Index g) {
+    double E = std::numeric_limits<double>::infinity();
+    for (Index t : model.groups[g].triangles) E = std::min(E, model.materials[model.triangles.material[t]].E);
+    return E;
+  };
+  std::vector<Index> active_groups;
+  for (std::size_t g = 0; g < model.groups.size(); ++g) {
+    if (model.groups[g].kind != GroupKind::Surface || model.groups[g].triangles.empty()) continue;
+    if (c.active[model.groups[g].triangles.front()]) active_groups.push_back(static_cast<Index>(g));
+  }
+  double E_min = std::numeric_limits<double>::infinity();
+  for (Index g : active_groups) E_min = std::min(E_min, group_E(g));
+  auto props = [&](double E, std::optional<double> kn, std::optional<double> mu, std::optional<double> e) {
+    contact::ContactProperties p;
+    p.kn = kn.value_or(cs.kn.value_or(cs.penalty * E)) * model.thickness;
+    p.ks = cs.ks_ratio * p.kn;
+    p.mu = mu.value_or(cs.friction);
+    p.restitution = e.value_or(cs.restitution);
+    return p;
+  };
+  c.defaults = props(E_min, std::nullopt, std::nullopt, std::nullopt);
+  c.max_kn = c.defaults.kn;
+  for (std::size_t a = 0; a < active_groups.size(); ++a)
+    for (std::size_t b = a; b < active_groups.size(); ++b) {
+      const double E = std::min(group_E(active_groups[a]), group_E(active_groups[b]));
+      c.pairs.push_back({active_groups[a], active_groups[b], props(E, std::nullopt, std::nullopt, std::nullopt)});
+    }
+  for (const auto& ps : cs.pairs) {
+    const Index ga = model.find_group(ps.group_a), gb = model.find_group(ps.group_b);
+    bool ok = true;
+    for (auto [name, g] : {std::pair{ps.group_a, ga}, std::pair{ps.group_b, gb}}) {
+      if (g == kNoIndex || model.groups[g].kind != GroupKind::Surface ||
+          std::find(active_groups.begin(), active_groups.end(), g) == active_groups.end()) {
+        errors.push_back(ps.where.describe(
+            fmt::format("'{}' is not a surface group of the discrete or contact zone", name)));
+        ok = false;
+      }
+    }
+    if (!ok) continue;
+    const double E = std::min(group_E(ga), group_E(gb));
+    c.pairs.push_back({std::min(ga, gb), std::max(ga, gb), props(E, ps.kn, ps.friction, ps.restitution)});
+  }
+  for (const auto& p : c.pairs) c.max_kn = std::max(c.max_kn, p.props.kn);
+  c.skin = cs.skin.value_or(0.0);
+  c.output = cs.output;
+  spdlog::info("contact: {} spheropolygons, default kn = {:.4g} N/m per m of overlap ({}), friction {}, restitution {}",
+               std::count(c.active.begin(), c.active.end(), 1), c.defaults.kn,
+               cs.kn ? "given" : fmt::format("p_c*E with p_c = {}, E = {:.4g} Pa", cs.penalty, E_min), cs.friction,
+               cs.restitution);
+}
+
 Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
   std::vector<std::string> errors;
   Model model;
@@ -180,7 +272,7 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
   for (const auto& stage : sc.stages)
     for (const auto& b : stage.boundaries) {
       const RawPhysicalGroup* g = mesh.find(b.group);
-      if (!g || g->dim == 2) errors.push_back(b.where.describe(missing_group_message(mesh, b.group, 1)));
+      if (!g) errors.push_back(b.where.describe(missing_group_message(mesh, b.group, 1)));
     }
   if (!errors.empty()) {
     std::sort(errors.begin(), errors.end());
@@ -242,11 +334,16 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     mg.kind = g.dim == 2 ? GroupKind::Surface : g.dim == 1 ? GroupKind::Curve : GroupKind::Point;
     mg.gmsh_tag = g.tag;
     mg.triangles = g.triangles;
+    // A surface's nodes are those of its triangles (a driven body moves all of them).
+    if (g.dim == 2)
+      for (Index t : g.triangles)
+        for (Index n : model.triangles.conn[t]) mg.nodes.push_back(n);
     // Every copy of a split mesh node belongs to the curve or point it lay on.
     for (Index n : g.nodes)
       if (static_cast<std::size_t>(n) + 1 < copies_offset.size())
         for (Index k = copies_offset[n]; k < copies_offset[n + 1]; ++k) mg.nodes.push_back(copies[k]);
     std::sort(mg.nodes.begin(), mg.nodes.end());
+    mg.nodes.erase(std::unique(mg.nodes.begin(), mg.nodes.end()), mg.nodes.end());
     mg.mesh_edges = g.edges;
     model.groups.push_back(std::move(mg));
   }
@@ -266,6 +363,8 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
   }
   if (!errors.empty()) throw io::ScenarioError(errors);
   compute_lumped_masses(model);
+  setup_contact(sc, model, errors);
+  if (!errors.empty()) throw io::ScenarioError(errors);
   return model;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_law.hpp"
 #include "joint/joints.hpp"
 #include "model/types.hpp"
 
@@ -104,6 +105,24 @@ struct Material {
 
 namespace dsdem {
 
+// Contact set-up of a model (DESIGN.md §4): which triangles are spheropolygons, their
+// rounding radii, which continuous body they belong to, and the pair parameters.
+struct ContactSetup {
+  bool enabled = false;
+  std::vector<std::uint8_t> active;  // per triangle: zones A and C
+  std::vector<double> radius;        // per triangle: rounding radius, m
+  std::vector<Index> body;           // per triangle: continuous body id (zone C), -1 for discrete
+  contact::ContactProperties defaults;  // kn, ks already times the thickness
+  struct Pair {
+    Index group_a, group_b;
+    contact::ContactProperties props;
+  };
+  std::vector<Pair> pairs;
+  double max_kn = 0.0;  // stiffest pair, for the stable time step
+  double skin = 0.0;    // 0 = automatic
+  bool output = false;
+};
+
 // Everything the solver advances. Joints and contact state live in their own modules'
 // arrays, owned here too once those modules are wired in.
 struct Model {
@@ -113,6 +132,7 @@ struct Model {
   std::vector<Material> materials;
   Joints joints;                                // cohesive joints of the discrete zones
   std::vector<JointProperties> joint_properties;
+  ContactSetup contact;
   bool plane_stress = false;
   double thickness = 1.0;  // m
 

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -180,8 +181,23 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
                                          {"joint_elastic", energy_unit},
                                          {"fracture_dissipated", energy_unit},
                                          {"energy_balance_error", ""},
+                                         {"contact_elastic", energy_unit},
+                                         {"friction_dissipated", energy_unit},
                                          {"broken_joints", ""},
-                                         {"fragments", ""}};
+                                         {"fragments", ""},
+                                         {"contacts", ""}};
+  // Reaction on every group that carries a prescribed motion (loading plates, supports).
+  std::vector<std::pair<std::string, const std::vector<Index>*>> reaction_groups;
+  for (const auto& stage : sc.stages)
+    for (const auto& b : stage.boundaries) {
+      if (b.type == io::BoundaryType::Free) continue;
+      if (std::any_of(reaction_groups.begin(), reaction_groups.end(), [&](const auto& r) { return r.first == b.group; }))
+        continue;
+      reaction_groups.emplace_back(b.group, &model.groups[model.find_group(b.group)].nodes);
+    }
+  const std::string force_unit = plane_strain ? "N_per_m" : "N";
+  for (const auto& [name, nodes] : reaction_groups)
+    for (const char* c : {"x", "y"}) columns.push_back({fmt::format("{}_reaction_{}", name, c), force_unit});
   for (const auto& g : prepared.gauges)
     for (const auto& [q, unit] : std::vector<std::pair<std::string, std::string>>{
              {"displacement", "m"}, {"velocity", "m_per_s"}, {"acceleration", "m_per_s2"}})
@@ -212,8 +228,16 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     row[k++] = e.joint_elastic;
     row[k++] = e.fracture_dissipated;
     row[k++] = e.balance_error();
+    row[k++] = e.contact_elastic;
+    row[k++] = e.friction_dissipated;
     row[k++] = static_cast<double>(solver.broken_joints());
     row[k++] = count_fragments(model, fragment_label);
+    row[k++] = static_cast<double>(solver.active_contacts());
+    for (const auto& [name, nodes] : reaction_groups) {
+      const Vec2 r = solver.reaction_on(*nodes);
+      row[k++] = r.x();
+      row[k++] = r.y();
+    }
     for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
       const auto& g = prepared.gauges[gi];
       const Vec2 u = gauge_value(model, g, model.nodes.u), v = gauge_value(model, g, model.nodes.v),
@@ -366,6 +390,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   energies["damping_dissipated"] = e.damping_dissipated;
   energies["joint_elastic"] = e.joint_elastic;
   energies["fracture_dissipated"] = e.fracture_dissipated;
+  energies["contact_elastic"] = e.contact_elastic;
+  energies["friction_dissipated"] = e.friction_dissipated;
   summary["final_energies"] = energies;
   io::Json gauges = io::Json::array();
   for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {

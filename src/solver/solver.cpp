@@ -53,6 +53,22 @@ StableStep stable_time_step(const Model& model, double beta) {
       }
     }
   }
+  // Contact springs: 2 sqrt(m/k) with the reduced mass of two of the lightest nodes.
+  if (model.contact.enabled && model.contact.max_kn > 0.0) {
+    for (std::size_t t = 0; t < tri.size(); ++t) {
+      if (!model.contact.active[t]) continue;
+      double m = std::numeric_limits<double>::infinity();
+      for (Index nd : tri.conn[t]) m = std::min(m, model.nodes.m[nd]);
+      const double dt = 2.0 * std::sqrt(0.5 * m / model.contact.max_kn);
+      if (dt < best.dt) {
+        best.dt = dt;
+        best.element = static_cast<Index>(t);
+        best.position = model.nodes.x(tri.conn[t][0]);
+        best.controlled_by = fmt::format("contact at triangle {} ({:.4g}, {:.4g}) m: kn = {:.4g} Pa, node mass {:.4g} kg",
+                                         t, best.position.x(), best.position.y(), model.contact.max_kn, m);
+      }
+    }
+  }
   return best;
 }
 
@@ -68,6 +84,23 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
   build_node_incidence();
   for (auto b : model_.joints.broken) broken_joints_ += b ? 1 : 0;
+  if (model_.contact.enabled) {
+    contact::ContactSettings cs;
+    cs.skin = model_.contact.skin;
+    contact_ = std::make_unique<contact::ContactForces>(cs);
+    contact_params_.set_default(model_.contact.defaults);
+    for (const auto& p : model_.contact.pairs) contact_params_.set(p.group_a, p.group_b, p.props);
+    positions_.assign(nn, Vec2::Zero());
+    triangle_joints_.assign(ne, {kNoIndex, kNoIndex, kNoIndex});
+    const auto& J = model_.joints;
+    for (std::size_t j = 0; j < J.size(); ++j)
+      for (Index t : {J.tri_a[j], J.tri_b[j]})
+        for (auto& slot : triangle_joints_[t])
+          if (slot == kNoIndex) {
+            slot = static_cast<Index>(j);
+            break;
+          }
+  }
 }
 
 void Solver::build_node_incidence() {
@@ -89,6 +122,7 @@ void Solver::initialise() {
   add_gravity();
   add_internal_forces();
   add_joint_forces();
+  add_contact_forces();
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
@@ -105,6 +139,7 @@ void Solver::step() {
   add_gravity();
   add_internal_forces();
   add_joint_forces();
+  add_contact_forces();
   add_damping_forces();
   apply_constraints();
   finish_velocities();
@@ -194,6 +229,29 @@ void Solver::add_joint_forces() {
   energy_.joint_elastic = t.energy;
   energy_.fracture_dissipated += t.dissipation;
   broken_joints_ += t.broken_now;
+}
+
+bool Solver::bonded(Index i, Index j) const {
+  const auto& J = model_.joints;
+  for (Index jt : triangle_joints_[i]) {
+    if (jt == kNoIndex) break;
+    if (!J.broken[jt] && (J.tri_a[jt] == j || J.tri_b[jt] == j)) return true;
+  }
+  return false;
+}
+
+void Solver::add_contact_forces() {
+  if (!contact_) return;
+  auto& n = model_.nodes;
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) positions_[i] = n.X[i] + n.u[i];
+  const ContactSetup& cs = model_.contact;
+  const contact::ContactInput in{positions_, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
+                                 model_.triangles.group, cs.body};
+  contact_stats_ = contact_->compute(in, contact_params_, settings_.dt,
+                                     [this](Index i, Index j) { return bonded(i, j); }, n.f);
+  energy_.contact_elastic = contact_stats_.elastic_energy;
+  energy_.friction_dissipated += contact_stats_.friction_dissipation + contact_stats_.damping_dissipation;
 }
 
 void Solver::add_damping_forces() {

@@ -4,6 +4,9 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "contact/contact_forces.hpp"
 #include "fem/cst.hpp"
 #include "model/model.hpp"
 #include "solver/constraints.hpp"
@@ -67,6 +70,10 @@ class Solver {
   // Reaction force on a group's constrained nodes (sum), N.
   Vec2 reaction_on(const std::vector<Index>& nodes) const;
   long broken_joints() const { return broken_joints_; }
+  long active_contacts() const { return contact_stats_.active_contacts; }
+  const contact::ContactForces* contact() const { return contact_.get(); }
+  // True when triangles i and j are still glued by an intact joint (no contact between them).
+  bool bonded(Index i, Index j) const;
 
  private:
   // Phases of one step, in order.
@@ -75,6 +82,7 @@ class Solver {
   void add_gravity();
   void add_internal_forces();     // triangles, objective CST (DESIGN.md §2)
   void add_joint_forces();        // cohesive joints, breaking for good (DESIGN.md §3)
+  void add_contact_forces();      // spheropolygons of zones A and C (DESIGN.md §4)
   void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
   void apply_constraints();       // reactions at prescribed dofs
   void finish_velocities();       // a(n+1) = f/m, v(n+1)
@@ -92,6 +100,13 @@ class Solver {
   double time_ = 0.0;
   long step_ = 0;
   long broken_joints_ = 0;
+
+  // Contact: driver, pair parameters, current positions (contiguous), joints per triangle.
+  std::unique_ptr<contact::ContactForces> contact_;
+  contact::ContactParamTable contact_params_;
+  contact::ContactStepStats contact_stats_;
+  std::vector<Vec2> positions_;
+  std::vector<std::array<Index, 3>> triangle_joints_;
 
   // Per-element scratch (no allocation in the loop): nodal forces before the gather.
   std::vector<std::array<Vec2, 3>> element_force_;
