@@ -1,0 +1,64 @@
+#pragma once
+// Spectrum-compatible artificial accelerograms by the method of GB 17741-2005 (DESIGN.md
+// §5, paper §2.2): target spectrum -> power spectral density -> sum of cosines with
+// seeded random phases -> intensity envelope -> iterative correction of the Fourier
+// amplitudes by the ratio target / computed response spectrum -> baseline correction ->
+// scaling to the PGA. Deterministic: the same parameters give the same wave, bit for bit.
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "seismic/accelerogram.hpp"
+#include "seismic/design_spectrum.hpp"
+
+namespace dsdem::seismic {
+
+struct ArtificialWaveParams {
+  DesignSpectrum spectrum;  // kind, beta_max, PGA, Tg, damping; default = the paper's case
+  double dt = 0.02;         // s
+  double duration = 10.0;   // s
+  // Intensity envelope f(t): (t/t1)^2 before t1, 1 to t2, exp(-c (t - t2)) after. The
+  // paper gives none; these suit a 10 s record (strong phase 1.5-6.5 s, f(10) = 0.03).
+  double t1 = 1.5;   // s
+  double t2 = 6.5;   // s
+  double c = 1.0;    // 1/s
+  std::uint64_t seed = 1;
+  int iterations = 60;            // maximum number of spectral corrections
+  double tolerance = 0.05;        // stop when every control period is within this of the target...
+  double short_tolerance = 0.10;  // ...and those below 0.1 s within this (dt limits them)
+  int control_periods = 120;      // log-spaced control periods from 2 dt to period_max
+  double period_max = 6.0;        // s
+  double exceedance = 0.15;       // probability p in the spectrum -> PSD conversion
+  int baseline_degree = 3;        // see BaselineOptions
+
+  // Throws std::runtime_error naming the bad parameter.
+  void validate() const;
+};
+
+struct ArtificialWave {
+  Accelerogram wave;                   // baseline-corrected, max |a| = PGA exactly
+  std::vector<double> control_period;  // s
+  std::vector<double> target_sa;       // m/s^2 at control_period
+  std::vector<double> sa;              // m/s^2 of the wave at control_period
+  double max_misfit = 0.0;             // max |sa/target - 1| over control periods >= 0.1 s
+  double max_short_misfit = 0.0;       // the same below 0.1 s
+  int iterations = 0;                  // corrections done
+};
+
+ArtificialWave generate_artificial_wave(const ArtificialWaveParams& params);
+
+// The intensity envelope of ArtificialWaveParams at time t.
+double intensity_envelope(double t, double t1, double t2, double c);
+
+// Uniform number in [0, 1) from the top 53 bits of one raw mt19937_64 output: does not
+// depend on the standard library's distribution implementation.
+double uniform01(std::mt19937_64& rng);
+
+// One-sided power spectral density (m^2/s^3) compatible with a target Sa (m/s^2) at
+// circular frequency omega, for a stationary motion of duration Td and non-exceedance
+// 1 - p (the conversion used with GB 17741):
+//   S(w) = zeta / (pi w) * Sa^2 / (-ln(-pi/(w Td) ln(1 - p))).
+double spectrum_to_psd(double sa, double omega, double zeta, double Td, double p);
+
+}  // namespace dsdem::seismic
