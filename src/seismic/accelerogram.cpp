@@ -169,7 +169,7 @@ MotionSample Accelerogram::at(double t) const {
     return {a[0], v[0], d[0]};
   }
   const double T = duration();
-  if (t >= T) {
+  if (t > T) {
     const double vl = v.back();
     return {0.0, vl, d.back() + vl * (t - T)};
   }
@@ -310,7 +310,10 @@ Accelerogram read_accelerogram_at2(std::istream& in, const std::string& name, co
     if (dp == std::string::npos) fail(name, 4, fmt::format("no DT in '{}'", trim(header[3])));
     value_after(dp + 2, "DT", dt);
   } else {
-    auto tok = split_fields(trim(header[3]));
+    std::string l = header[3];
+    for (char& ch : l)
+      if (ch == ',') ch = ' ';
+    auto tok = split_whitespace(l);
     if (tok.size() < 2 || !parse_double(tok[0], npts_d) || !parse_double(tok[1], dt))
       fail(name, 4, fmt::format("expected NPTS and DT, as 'NPTS= 5000, DT= .005 SEC' or '5000 0.005', got '{}'",
                                 trim(header[3])));
