@@ -8,7 +8,8 @@
 // Beyond the textbook method, because a plain ratio iteration stalls at 15-40% misfit
 // on a 10 s record (the peak at one period also depends on the neighbouring bands):
 // - the band gains are solved together from the linearised peak responses,
-//   regularised towards the classical ratios;
+//   regularised towards the classical ratios, and the change is windowed by the
+//   intensity envelope so that the wave keeps its shape in time;
 // - after `fourier_iterations`, tapered-cosine wavelets refine the wave in time
 //   (after Abrahamson 1992, RspMatch), baseline-corrected before use;
 // - every iterate is peak-adjusted (half cycles above the PGA scaled down),
@@ -56,8 +57,8 @@ struct ArtificialWave {
   std::vector<double> control_period;  // s
   std::vector<double> target_sa;       // m/s^2 at control_period
   std::vector<double> sa;              // m/s^2 of the wave at control_period
-  double max_misfit = 0.0;             // max |sa/target - 1| over control periods >= 0.1 s
-  double max_short_misfit = 0.0;       // the same below 0.1 s
+  double max_misfit = 0.0;        // max |Sa/target - 1| for periods >= 0.1 s, on a grid 3x denser
+  double max_short_misfit = 0.0;  // the same below 0.1 s       than the control periods
   int iterations = 0;                  // corrections done in the kept attempt
   int attempts = 0;                    // phase sets drawn
 };

@@ -5,6 +5,8 @@
 #include <random>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "model/types.hpp"
 #include "seismic/response_spectrum.hpp"
 
@@ -91,7 +93,7 @@ TEST(ResponseSpectrum, NigamJenningsMatchesSubSteppedRk4) {
       EXPECT_GE(sv.Sa, r.max_acc_fine * (1 - 1 + std::cos(kPi / 50) - 1e-6)) << "T = " << T;
     }
   }
-  RecordProperty("worst_relative_error", std::to_string(worst));
+  RecordProperty("worst_relative_error", fmt::format("{:.3e}", worst));
 }
 
 // Harmonic ground motion a_g = A sin(W t) started on the steady state: the response
