@@ -79,7 +79,8 @@ void add_wave_commands(CLI::App& app) {
       seismic::ArtificialWaveParams p = g->p;
       p.spectrum.kind = seismic::parse_design_spectrum_kind(g->spectrum);
       p.spectrum.pga = g->pga * seismic::to_si_factor(seismic::parse_accel_units(g->pga_units));
-      const auto periods = seismic::log_spaced(std::max(0.02, 2.0 * p.dt), std::max(10.0, p.period_max), 200);
+      // The spectrum is shown over the controlled range, 2 dt to period_max.
+      const auto periods = seismic::log_spaced(2.0 * p.dt, p.period_max, 200);
       const auto r = seismic::run_wave_generate(p, g->out, periods, g->no_plot ? "" : seismic::default_plot_script());
       fmt::print("wrote {} ({} samples, dt {} s, PGA {:.6g} m/s2)\n", r.files.csv, r.wave.wave.size(),
                  r.wave.wave.dt, r.wave.wave.pga());
