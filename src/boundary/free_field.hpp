@@ -1,0 +1,66 @@
+#pragma once
+// Free field of a 1D column for vertically incident SV and P waves and the equivalent
+// nodal forces that feed it through a viscous-spring boundary (DESIGN.md §5):
+//   u_ff(y,t) = u0(t - y/c) + u0(t - (2H - y)/c),   F = K u_ff + C v_ff + A sigma_ff.n
+// y is the height of the node above the column base, H the height of the column (base
+// to the free surface above that boundary point). Pure per-node kernels, no allocation.
+#include "boundary/viscous_spring.hpp"
+#include "model/types.hpp"
+#include "seismic/accelerogram.hpp"
+
+namespace dsdem::boundary {
+
+// SV: horizontal motion (x), travels at cs. P: vertical motion (y), travels at cp.
+enum class IncidentWave { SV, P };
+
+// The incident wave u0 is half the design (outcrop) motion for a uniform half-space.
+constexpr double kIncidentFraction = 0.5;
+
+// The incident motion: u0(t) = scale * record(t), with record(t) interpolated linearly
+// and zero before t = 0 (seismic::Accelerogram::at). Holds a pointer: the record must
+// outlive it.
+struct IncidentMotion {
+  const seismic::Accelerogram* record = nullptr;
+  double scale = kIncidentFraction;
+  seismic::MotionSample at(double t) const {
+    seismic::MotionSample s = record->at(t);
+    return {scale * s.a, scale * s.v, scale * s.d};
+  }
+};
+
+// Displacement, velocity (m, m/s) and stress (xx, yy, xy; Pa, tension positive) of the
+// free field at one point. Free fields of an SV and a P wave add (linear elasticity).
+struct FreeFieldState {
+  Vec2 u = Vec2::Zero();
+  Vec2 v = Vec2::Zero();
+  Vec3 stress = Vec3::Zero();
+  FreeFieldState& operator+=(const FreeFieldState& o) {
+    u += o.u;
+    v += o.v;
+    stress += o.stress;
+    return *this;
+  }
+};
+
+// Free field at height y in [0, H] at time t. SV: u_x as above, sigma_xy =
+// rho cs (v0(t - (2H - y)/cs) - v0(t - y/cs)). P: u_y likewise with cp, sigma_yy =
+// rho cp (...), sigma_xx = lambda/cp (...). Throws std::runtime_error on H <= 0 or y
+// outside [0, H] (beyond a 1e-9 H rounding allowance).
+FreeFieldState free_field_column(IncidentWave wave, const IncidentMotion& motion, const ElasticMedium& medium,
+                                 double y, double H, double t);
+
+// Equivalent nodal input force F = K u_ff + C v_ff + A sigma_ff.n for a boundary node
+// with coefficients c (viscous_spring_coefficients with the same A), unit outward
+// normal n and tributary area A. The node's total boundary force is then
+// F + viscous_spring_force(c, n, u, v).
+inline Vec2 free_field_input_force(const ViscousSpringCoefficients& c, double A, const Vec2& n,
+                                   const FreeFieldState& ff) {
+  const Vec2 t(-n.y(), n.x());
+  const double fn = c.kn * ff.u.dot(n) + c.cn * ff.v.dot(n);
+  const double ft = c.kt * ff.u.dot(t) + c.ct * ff.v.dot(t);
+  const Vec3& s = ff.stress;
+  const Vec2 traction(s[0] * n.x() + s[2] * n.y(), s[2] * n.x() + s[1] * n.y());
+  return fn * n + ft * t + A * traction;
+}
+
+}  // namespace dsdem::boundary
