@@ -67,12 +67,22 @@ std::vector<BoundarySpec> read_boundaries(SchemaReader& r, const YAML::Node& lis
       spec.type = BoundaryType::Roller;
       if (!dir) r.error(b, p.child("direction").actual, "a roller needs the direction it holds: x or y");
       spec.direction = dir && *dir == "y" ? 1 : 0;
+    } else if (type == "viscous_spring") {
+      spec.type = BoundaryType::ViscousSpring;
+      spec.R = r.number(b, p, "R");
+      if (auto c = r.vector2(b, p, "scattering_centre")) spec.scattering_centre = Vec2((*c)[0], (*c)[1]);
+      spec.free_field = r.boolean(b, p, "free_field").value_or(true);
+      if (!spec.R && !spec.scattering_centre)
+        r.error(b, p.actual, "a viscous_spring boundary needs R (m) or scattering_centre ([x, y] m)");
     } else if (type == "velocity" || type == "displacement") {
       spec.type = type == "velocity" ? BoundaryType::Velocity : BoundaryType::Displacement;
       if (!spec.x && !spec.y)
         r.error(b, p.actual, fmt::format("a {} condition needs x and/or y (a number or [[t, value], ...])", type));
     }
-    if ((spec.type == BoundaryType::Fixed || spec.type == BoundaryType::Roller || spec.type == BoundaryType::Free) &&
+    if (spec.type != BoundaryType::ViscousSpring && (b["R"].IsDefined() || b["scattering_centre"].IsDefined()))
+      r.error(b, p.actual, "R and scattering_centre belong to type viscous_spring");
+    if ((spec.type == BoundaryType::Fixed || spec.type == BoundaryType::Roller || spec.type == BoundaryType::Free ||
+         spec.type == BoundaryType::ViscousSpring) &&
         (spec.x || spec.y))
       r.error(b, p.actual, fmt::format("'{}' takes no x/y values; use type velocity or displacement", type));
     out.push_back(std::move(spec));
@@ -364,6 +374,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
         stage.boundaries = boundaries;
       stage.stop_kinetic_ratio = r.number(s, sp, "stop_kinetic_ratio").value_or(0.0);
       stage.failure = r.boolean(s, sp, "failure").value_or(true);
+      stage.earthquake = r.boolean(s, sp, "earthquake").value_or(false);
       sc.stages.push_back(std::move(stage));
     }
     if (end && st.size() > 0)
@@ -430,6 +441,45 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
         ps.kn = pl[i]["kn"].IsDefined() ? r.number(pl[i], ip, "kn") : std::nullopt;
         cs.pairs.push_back(ps);
       }
+    }
+  }
+  if (YAML::Node q = r.section(root, top, "earthquake", YAML::NodeType::Map); q.IsDefined()) {
+    const KeyPath p = top.child("earthquake");
+    r.check_keys(q, p);
+    sc.earthquake.present = true;
+    sc.earthquake.incident_factor = r.number(q, p, "incident_factor").value_or(0.5);
+    for (auto [name, spec] : {std::pair<std::string, MotionSpec*>{"horizontal", &sc.earthquake.horizontal},
+                              {"vertical", &sc.earthquake.vertical}}) {
+      YAML::Node m = r.section(q, p, name, YAML::NodeType::Map);
+      if (!m.IsDefined()) continue;
+      const KeyPath mp = p.child(name);
+      r.check_keys(m, mp);
+      spec->present = true;
+      spec->where = location(r, m, mp.actual);
+      spec->scale = r.number(m, mp, "scale").value_or(1.0);
+      spec->units = r.string(m, mp, "units").value_or("g");
+      if (auto f = r.string(m, mp, "file")) {
+        spec->file = sc.resolve(*f);
+        if (!std::filesystem::exists(spec->file)) r.error(m["file"], mp.child("file").actual, "file not found: " + spec->file);
+      }
+      if (YAML::Node g = r.section(m, mp, "generate", YAML::NodeType::Map); g.IsDefined()) {
+        const KeyPath gp = mp.child("generate");
+        r.check_keys(g, gp);
+        spec->generate = true;
+        spec->spectrum = r.string(g, gp, "spectrum").value_or("hydraulic");
+        spec->pga_g = r.number(g, gp, "pga").value_or(0.05);
+        spec->Tg = r.number(g, gp, "Tg").value_or(0.35);
+        spec->beta_max = r.number(g, gp, "beta_max").value_or(2.25);
+        spec->damping = r.number(g, gp, "damping").value_or(0.05);
+        spec->duration = r.number(g, gp, "duration").value_or(10.0);
+        spec->dt = r.number(g, gp, "dt").value_or(0.02);
+        spec->seed = static_cast<std::uint64_t>(r.integer(g, gp, "seed").value_or(1));
+        spec->t1 = r.number(g, gp, "t1").value_or(1.5);
+        spec->t2 = r.number(g, gp, "t2").value_or(6.5);
+        spec->c = r.number(g, gp, "c").value_or(1.0);
+      }
+      if (spec->generate == !spec->file.empty() && (spec->generate || m["file"].IsDefined() == false))
+        r.error(m, mp.actual, "give either file or generate");
     }
   }
   bool any_discrete = false;

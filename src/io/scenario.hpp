@@ -40,14 +40,38 @@ struct TimeHistory {
   bool empty() const { return t.empty(); }
 };
 
-enum class BoundaryType { Fixed, Roller, Velocity, Displacement, Free };
+enum class BoundaryType { Fixed, Roller, Velocity, Displacement, Free, ViscousSpring };
 
 struct BoundarySpec {
   std::string group;
   BoundaryType type = BoundaryType::Fixed;
   int direction = 0;  // roller: 0 = x held, 1 = y held
   std::optional<TimeHistory> x, y;
+  // viscous_spring (DESIGN.md §5)
+  std::optional<double> R;
+  std::optional<Vec2> scattering_centre;
+  bool free_field = true;
   SourceLocation where;
+};
+
+// One component of the earthquake: a record file or a generated artificial wave.
+struct MotionSpec {
+  bool present = false;
+  std::string file;  // resolved path; empty when generated
+  std::string units = "g";
+  double scale = 1.0;
+  bool generate = false;
+  std::string spectrum = "hydraulic";
+  double pga_g = 0.05, Tg = 0.35, beta_max = 2.25, damping = 0.05, duration = 10.0, dt = 0.02;
+  double t1 = 1.5, t2 = 6.5, c = 1.0;
+  std::uint64_t seed = 1;
+  SourceLocation where;
+};
+
+struct EarthquakeSpec {
+  bool present = false;
+  double incident_factor = 0.5;
+  MotionSpec horizontal, vertical;
 };
 
 struct RegionSpec {
@@ -105,6 +129,7 @@ struct StageSpec {
   std::vector<BoundarySpec> boundaries;
   double stop_kinetic_ratio = 0.0;  // 0 = run the full duration
   bool failure = true;              // joints may damage and break
+  bool earthquake = false;          // the earthquake acts (time zero = stage start)
 };
 
 struct GaugeSpec {
@@ -137,6 +162,7 @@ struct Scenario {
   OutputSpec output;
   JointsSection joints;
   ContactSpec contact;
+  EarthquakeSpec earthquake;
   SourceLocation where_mesh;
 
   double end_time() const;

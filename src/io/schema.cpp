@@ -74,9 +74,15 @@ std::vector<KeySpec> build_schema() {
   s.push_back(of("boundaries[]", KeyType::Map, "", "One boundary condition."));
   s.push_back(of("boundaries[].group", KeyType::String, "required",
                  "Name of a physical curve or point group, or a surface group (a driven body: all its nodes)."));
-  s.push_back(choice("boundaries[].type", {"fixed", "roller", "velocity", "displacement", "free"}, "required",
+  s.push_back(choice("boundaries[].type", {"fixed", "roller", "velocity", "displacement", "free", "viscous_spring"}, "required",
                      "fixed: both directions held; roller: `direction` held; velocity / displacement: the given "
-                     "components prescribed (constant or history); free: nothing (overrides an earlier stage)."));
+                     "components prescribed (constant or history); free: nothing (overrides an earlier stage); "
+                     "viscous_spring: absorbing boundary with the free-field earthquake input (DESIGN.md §5)."));
+  s.push_back(num("boundaries[].R", "m", "", 0, kInf, "viscous_spring: distance from the scattering source to the boundary.", true));
+  s.push_back(of("boundaries[].scattering_centre", KeyType::Vector2, "",
+                 "viscous_spring: point of the scattering source; R is then each node's distance to it.", "m"));
+  s.push_back(of("boundaries[].free_field", KeyType::Boolean, "true",
+                 "viscous_spring: apply the free-field seismic input forces on this boundary."));
   s.push_back(choice("boundaries[].direction", {"x", "y"}, "",
                      "For a roller: the direction that is held (x for a vertical side, y for a base)."));
   s.push_back(of("boundaries[].x", KeyType::NumberOrTable, "",
@@ -105,7 +111,7 @@ std::vector<KeySpec> build_schema() {
   s.push_back(of("stages[].boundaries", KeyType::List, "",
                  "Boundary conditions during this stage (else the top-level ones)."));
   s.push_back(of("stages[].boundaries[]", KeyType::Map, "", "One boundary condition."));
-  for (const char* k : {"group", "type", "direction", "x", "y"}) {
+  for (const char* k : {"group", "type", "direction", "x", "y", "R", "scattering_centre", "free_field"}) {
     KeySpec copy = *std::find_if(s.begin(), s.end(), [&](const KeySpec& q) { return q.pattern == std::string("boundaries[].") + k; });
     copy.pattern = std::string("stages[].boundaries[].") + k;
     s.push_back(copy);
@@ -150,6 +156,33 @@ std::vector<KeySpec> build_schema() {
   s.push_back(num("contact.pairs[].friction", "", "contact.friction", 0, kInf, "Coulomb friction coefficient."));
   s.push_back(num("contact.pairs[].restitution", "", "contact.restitution", 0, 1, "Coefficient of restitution.", true));
   s.push_back(num("contact.pairs[].kn", "Pa", "contact.kn", 0, kInf, "Normal stiffness.", true));
+
+  // Earthquake input (DESIGN.md §5; paper §2.2).
+  s.push_back(of("earthquake", KeyType::Map, "", "Design ground motion fed through viscous-spring boundaries."));
+  s.push_back(num("earthquake.incident_factor", "", "0.5", 0, kInf,
+                  "Incident wave = this factor x the design (outcrop) motion (0.5 for a uniform half-space).", true));
+  for (const std::string comp : {"horizontal", "vertical"}) {
+    const std::string base = "earthquake." + comp;
+    s.push_back(of(base, KeyType::Map, "", comp == "horizontal" ? "Horizontal component: vertically incident SV wave."
+                                                                  : "Vertical component: vertically incident P wave."));
+    s.push_back(of(base + ".file", KeyType::String, "", "Accelerogram: CSV (t, a) or PEER .AT2, relative to the scenario."));
+    s.push_back(choice(base + ".units", {"g", "m/s2"}, "g", "Units of a CSV accelerogram (AT2 is always g)."));
+    s.push_back(num(base + ".scale", "", "1", -kInf, kInf, "Factor applied to the record (e.g. to scale it to a PGA)."));
+    s.push_back(of(base + ".generate", KeyType::Map, "", "Generate an artificial accelerogram (GB 17741 method) instead of a file."));
+    s.push_back(choice(base + ".generate.spectrum", {"hydraulic", "gb50011"}, "hydraulic", "Target spectrum."));
+    s.push_back(num(base + ".generate.pga", "g", "0.05", 0, kInf, "Peak ground acceleration.", true));
+    s.push_back(num(base + ".generate.Tg", "s", "0.35", 0.1, 10, "Characteristic period.", true));
+    s.push_back(num(base + ".generate.beta_max", "", "2.25", 1, kInf, "Peak of the hydraulic beta spectrum."));
+    s.push_back(num(base + ".generate.damping", "", "0.05", 0, 1, "Damping ratio of the target spectrum.", true, true));
+    s.push_back(num(base + ".generate.duration", "s", "10", 0, kInf, "Duration.", true));
+    s.push_back(num(base + ".generate.dt", "s", "0.02", 0, kInf, "Sampling step.", true));
+    s.push_back(num(base + ".generate.seed", "", "1", 0, kInf, "Random seed (same seed, same wave)."));
+    s.push_back(num(base + ".generate.t1", "s", "1.5", 0, kInf, "End of the rising part of the intensity envelope."));
+    s.push_back(num(base + ".generate.t2", "s", "6.5", 0, kInf, "Start of the decay of the intensity envelope."));
+    s.push_back(num(base + ".generate.c", "1/s", "1", 0, kInf, "Decay rate of the envelope."));
+  }
+  s.push_back(of("stages[].earthquake", KeyType::Boolean, "false",
+                 "The earthquake acts during this stage (its time zero is the stage start)."));
 
   s.push_back(of("stages[].failure", KeyType::Boolean, "true",
                  "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));

@@ -40,6 +40,7 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
           break;
         }
         case io::BoundaryType::Free:
+        case io::BoundaryType::ViscousSpring:  // released: the boundary module acts on it
           dofs.erase({n, 0});
           dofs.erase({n, 1});
           break;

@@ -21,6 +21,7 @@
 #include "io/vtu_writer.hpp"
 #include "io/crack_output.hpp"
 #include "mesh/model_builder.hpp"
+#include "seismic/artificial_wave.hpp"
 #include "solver/fragments.hpp"
 
 namespace dsdem::solver {
@@ -58,7 +59,57 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
     throw io::ScenarioError({fmt::format("{}: time.dt: {} s exceeds the stable time step {:.4g} s set by {}",
                                          scenario.file, *scenario.dt, run.stable.dt, run.stable.controlled_by)});
   run.estimated_steps = static_cast<long>(std::ceil(scenario.end_time() / run.dt));
+
+  // Earthquake: records, and stages that can carry it.
+  const io::EarthquakeSpec& q = scenario.earthquake;
+  try {
+    if (q.horizontal.present) run.quake_horizontal = load_motion(q.horizontal, run.dt);
+    if (q.vertical.present) run.quake_vertical = load_motion(q.vertical, run.dt);
+  } catch (const io::ScenarioError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({fmt::format("{}: earthquake: {}", scenario.file, e.what())});
+  }
+  for (const auto& st : scenario.stages) {
+    if (!st.earthquake) continue;
+    if (!run.quake_horizontal && !run.quake_vertical)
+      errors.push_back(fmt::format("{}: stage '{}' has earthquake: true but the scenario has no earthquake section",
+                                   scenario.file, st.name));
+    const bool input = std::any_of(st.boundaries.begin(), st.boundaries.end(), [](const io::BoundarySpec& b) {
+      return b.type == io::BoundaryType::ViscousSpring && b.free_field;
+    });
+    if (!input)
+      errors.push_back(fmt::format("{}: stage '{}' has earthquake: true but no viscous_spring boundary with free_field "
+                                   "to bring it in",
+                                   scenario.file, st.name));
+    // The boundary must be buildable (curves on the outline).
+    boundary::build_viscous_boundary(run.model, st.boundaries);
+  }
+  if (!errors.empty()) throw io::ScenarioError(errors);
   return run;
+}
+
+seismic::Accelerogram load_motion(const io::MotionSpec& spec, double dt) {
+  seismic::Accelerogram rec;
+  if (spec.generate) {
+    seismic::ArtificialWaveParams p;
+    p.spectrum.kind = seismic::parse_design_spectrum_kind(spec.spectrum);
+    p.spectrum.pga = spec.pga_g * kStandardGravity;
+    p.spectrum.Tg = spec.Tg;
+    p.spectrum.beta_max = spec.beta_max;
+    p.spectrum.damping = spec.damping;
+    p.dt = spec.dt;
+    p.duration = spec.duration;
+    p.t1 = spec.t1;
+    p.t2 = spec.t2;
+    p.c = spec.c;
+    p.seed = spec.seed;
+    rec = seismic::generate_artificial_wave(p).wave;
+  } else {
+    rec = seismic::read_accelerogram(spec.file, seismic::parse_accel_units(spec.units));
+  }
+  if (spec.scale != 1.0) seismic::scale(rec, spec.scale);
+  return seismic::resample(rec, dt);
 }
 
 namespace {
@@ -79,7 +130,8 @@ std::string human_time(double s) {
   return fmt::format("{:.1f} h", s / 3600);
 }
 
-void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario& sc, double dt) {
+void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario& sc, double dt,
+                 const PreparedRun* prepared = nullptr) {
   StepSettings s;
   s.gravity = sc.gravity;
   s.alpha = stage.damping.alpha;
@@ -87,7 +139,15 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
   s.dt = dt;
   s.failure = stage.failure;
   solver.set_settings(s);
+  const std::vector<PrescribedDof> previous = solver.constraints();
   solver.set_constraints(build_constraints(solver.model(), stage.boundaries, solver.time()));
+  solver.set_viscous_boundary(boundary::build_viscous_boundary(solver.model(), stage.boundaries), previous);
+  if (stage.earthquake && prepared)
+    solver.set_earthquake(prepared->quake_horizontal ? &*prepared->quake_horizontal : nullptr,
+                          prepared->quake_vertical ? &*prepared->quake_vertical : nullptr,
+                          sc.earthquake.incident_factor, solver.time());
+  else
+    solver.set_earthquake(nullptr, nullptr, 0.5, 0.0);
 }
 
 }  // namespace
@@ -286,7 +346,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   try {
     for (std::size_t si = 0; si < sc.stages.size(); ++si) {
       const io::StageSpec& stage = sc.stages[si];
-      apply_stage(solver, stage, sc, prepared.dt);
+      apply_stage(solver, stage, sc, prepared.dt, &prepared);
       if (si == 0) {
         solver.initialise();
         write_fields();

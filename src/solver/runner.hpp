@@ -1,11 +1,13 @@
 #pragma once
 // Runs a scenario end to end: mesh, model, stages, output, summary (DESIGN.md §10).
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/scenario.hpp"
 #include "model/model.hpp"
+#include "seismic/accelerogram.hpp"
 #include "solver/gauges.hpp"
 #include "solver/solver.hpp"
 
@@ -27,7 +29,12 @@ struct PreparedRun {
   double dt = 0.0;
   long estimated_steps = 0;
   std::string mesh_file;  // the .msh the model came from (meshed from the .geo when one was given)
+  // Earthquake records resampled to dt (DESIGN.md §5), when the scenario has them.
+  std::optional<seismic::Accelerogram> quake_horizontal, quake_vertical;
 };
+
+// Loads or generates one earthquake component and resamples it to dt.
+seismic::Accelerogram load_motion(const io::MotionSpec& spec, double dt);
 
 // Loads the mesh, builds and validates the model against the scenario (throws
 // io::ScenarioError with file, line and key for every mismatch).

@@ -123,6 +123,7 @@ void Solver::initialise() {
   add_internal_forces();
   add_joint_forces();
   add_contact_forces();
+  add_boundary_forces();
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
@@ -140,6 +141,7 @@ void Solver::step() {
   add_internal_forces();
   add_joint_forces();
   add_contact_forces();
+  add_boundary_forces();
   add_damping_forces();
   apply_constraints();
   finish_velocities();
@@ -252,6 +254,50 @@ void Solver::add_contact_forces() {
                                      [this](Index i, Index j) { return bonded(i, j); }, n.f);
   energy_.contact_elastic = contact_stats_.elastic_energy;
   energy_.friction_dissipated += contact_stats_.friction_dissipation + contact_stats_.damping_dissipation;
+}
+
+void Solver::set_viscous_boundary(std::vector<boundary::BoundaryNode> nodes,
+                                  const std::vector<PrescribedDof>& previous_constraints) {
+  for (auto& bn : nodes) {
+    bn.u_ref = model_.nodes.u[bn.node];
+    bn.static_force.setZero();
+    for (const auto& d : previous_constraints)
+      if (d.node == bn.node) bn.static_force[d.dir] += d.reaction_prev;
+  }
+  boundary_ = std::move(nodes);
+  boundary_force_prev_.assign(boundary_.size(), Vec2::Zero());
+  for (std::size_t k = 0; k < boundary_.size(); ++k) boundary_force_prev_[k] = boundary_[k].static_force;
+}
+
+void Solver::set_earthquake(const seismic::Accelerogram* horizontal, const seismic::Accelerogram* vertical,
+                            double incident_factor, double start_time) {
+  quake_h_ = {horizontal, incident_factor};
+  quake_v_ = {vertical, incident_factor};
+  quake_start_ = start_time;
+}
+
+void Solver::add_boundary_forces() {
+  if (boundary_.empty()) return;
+  auto& n = model_.nodes;
+  const double tq = time_ - quake_start_;
+  const bool quake = quake_h_.record || quake_v_.record;
+  double work = 0.0;
+  for (std::size_t k = 0; k < boundary_.size(); ++k) {
+    const boundary::BoundaryNode& bn = boundary_[k];
+    const Index i = bn.node;
+    Vec2 F = bn.static_force + boundary::viscous_spring_force(bn.coef, bn.normal, n.u[i] - bn.u_ref, n.v[i]);
+    if (quake && bn.free_field) {
+      boundary::FreeFieldState ff;
+      if (quake_h_.record) ff += boundary::free_field_column(boundary::IncidentWave::SV, quake_h_, bn.medium, bn.y, bn.H, tq);
+      if (quake_v_.record) ff += boundary::free_field_column(boundary::IncidentWave::P, quake_v_, bn.medium, bn.y, bn.H, tq);
+      F += boundary::free_field_input_force(bn.coef, bn.area, bn.normal, ff);
+    }
+    n.f[i] += F;
+    // Everything the boundary does (springs, dashpots, input) is booked as external work.
+    work += 0.5 * (boundary_force_prev_[k] + F).dot(n.u[i] - u_prev_[i]);
+    boundary_force_prev_[k] = F;
+  }
+  energy_.external_work += work;
 }
 
 void Solver::add_damping_forces() {

@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "boundary/boundary_setup.hpp"
 #include "contact/contact_forces.hpp"
 #include "fem/cst.hpp"
 #include "model/model.hpp"
@@ -54,6 +55,16 @@ class Solver {
   // Replaces the prescribed motions (a new stage); keeps the state.
   void set_constraints(std::vector<PrescribedDof> dofs);
   const std::vector<PrescribedDof>& constraints() const { return constraints_; }
+  // Viscous-spring boundary nodes for the coming stage. Nodes that were supported in the
+  // previous stage keep that support's reaction as a constant load, and their springs
+  // start from the current displacement (DESIGN.md §6, stage 2).
+  void set_viscous_boundary(std::vector<boundary::BoundaryNode> nodes,
+                            const std::vector<PrescribedDof>& previous_constraints);
+  const std::vector<boundary::BoundaryNode>& viscous_boundary() const { return boundary_; }
+  // Earthquake input through the viscous-spring boundary (DESIGN.md §5); records may be
+  // null; time zero of the records is `start_time`. Call with both null to switch it off.
+  void set_earthquake(const seismic::Accelerogram* horizontal, const seismic::Accelerogram* vertical,
+                      double incident_factor, double start_time);
 
   // Computes forces and accelerations at the current state without advancing, and sets
   // the energy reference. Call once before the first step.
@@ -83,6 +94,7 @@ class Solver {
   void add_internal_forces();     // triangles, objective CST (DESIGN.md §2)
   void add_joint_forces();        // cohesive joints, breaking for good (DESIGN.md §3)
   void add_contact_forces();      // spheropolygons of zones A and C (DESIGN.md §4)
+  void add_boundary_forces();     // viscous-spring boundary and free-field seismic input (DESIGN.md §5)
   void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
   void apply_constraints();       // reactions at prescribed dofs
   void finish_velocities();       // a(n+1) = f/m, v(n+1)
@@ -107,6 +119,12 @@ class Solver {
   contact::ContactStepStats contact_stats_;
   std::vector<Vec2> positions_;
   std::vector<std::array<Index, 3>> triangle_joints_;
+
+  // Viscous-spring boundary and earthquake.
+  std::vector<boundary::BoundaryNode> boundary_;
+  std::vector<Vec2> boundary_force_prev_;
+  boundary::IncidentMotion quake_h_, quake_v_;
+  double quake_start_ = 0.0;
 
   // Per-element scratch (no allocation in the loop): nodal forces before the gather.
   std::vector<std::array<Vec2, 3>> element_force_;

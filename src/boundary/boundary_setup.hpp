@@ -1,0 +1,31 @@
+#pragma once
+// Viscous-spring boundary nodes of a model (DESIGN.md §5): tributary length, outward
+// normal, the medium behind them, the free-field column each one sees, and the static
+// reaction kept as a load when the boundary replaces the supports of a gravity stage.
+#include <vector>
+
+#include "boundary/free_field.hpp"
+#include "boundary/viscous_spring.hpp"
+#include "io/scenario.hpp"
+#include "model/model.hpp"
+
+namespace dsdem::boundary {
+
+struct BoundaryNode {
+  Index node = kNoIndex;
+  Vec2 normal = Vec2::Zero();  // unit outward normal
+  double area = 0.0;           // tributary length x thickness, m^2 (per unit thickness: m)
+  ViscousSpringCoefficients coef;
+  ElasticMedium medium;
+  double y = 0.0;  // height above the model base, m
+  double H = 0.0;  // height of the free-field column above this point's base, m
+  bool free_field = true;
+  Vec2 static_force = Vec2::Zero();  // reaction of the previous stage's supports, kept as a load, N
+  Vec2 u_ref = Vec2::Zero();         // displacement when the boundary was attached, m
+};
+
+// All nodes of the viscous-spring curve groups in `boundaries`. Throws io::ScenarioError
+// (naming the scenario key) when a group is not a curve on the model's outline.
+std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::vector<io::BoundarySpec>& boundaries);
+
+}  // namespace dsdem::boundary
