@@ -13,11 +13,10 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 import sys
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
@@ -149,7 +148,12 @@ def fmt_num(v, digits: int = 4) -> str:
             return "0"
         a = abs(v)
         if 1e-3 <= a < 1e6:
-            s = f"{v:.{digits}g}"
+            # Fixed point with `digits` significant digits, but never rounding away integer
+            # digits: 15277.18 -> "15277", 1.0233 -> "1.023", 0.0010883 -> "0.001088".
+            decimals = max(0, digits - 1 - math.floor(math.log10(a)))
+            s = f"{v:.{decimals}f}"
+            if "." in s:
+                s = s.rstrip("0").rstrip(".")
             return s
         return f"{v:.{digits - 1}e}"
     if isinstance(v, (list, tuple)):

@@ -71,8 +71,8 @@ PRETTY = {
     "displacement_m": "Displacement magnitude",
     "acceleration_m_per_s2": "Acceleration magnitude",
     "von_mises_stress_Pa": "Von Mises stress",
-    "max_principal_stress_Pa": "Max principal stress (tension +)",
-    "min_principal_stress_Pa": "Min principal stress (tension +)",
+    "max_principal_stress_Pa": "Max in-plane principal stress",
+    "min_principal_stress_Pa": "Min in-plane principal stress",
     "material_id": "Material",
     "group_id": "Physical group",
     "zone": "Zone",
@@ -239,7 +239,9 @@ def read_cracks(path: Path | None):
         damage.append(get("damage", 0.0))
     if not segs:
         return None
-    return np.concatenate(segs), np.concatenate(state), np.concatenate(damage)
+    segs, state, damage = np.concatenate(segs), np.concatenate(state), np.concatenate(damage)
+    keep = (state >= 0.5) | (damage > 1e-3)  # only what is drawn: intact, undamaged joints are not
+    return segs[keep].astype(np.float32), state[keep], damage[keep].astype(np.float32)
 
 
 def select_frames(frames: list[lib.Frame], spec: str) -> list[lib.Frame]:
@@ -367,9 +369,9 @@ class Renderer:
         lo, hi = math.inf, -math.inf
         cats: set[int] = set()
         bb = [math.inf, -math.inf, math.inf, -math.inf]
-        crack_dmax = 0.0
         data: list[FrameData] = []
         self.all_times: list[float] = []
+        prev_tri = None
         # Every frame contributes to colour limits and view box; only selected ones are kept.
         for fr in frames:
             m = first if fr is selected[0] else read_mesh(fr.path)
@@ -394,10 +396,12 @@ class Renderer:
                     cpath = near
             if cpath is not None and not self.a.no_cracks and fr.number in selected_nums:
                 cr = read_cracks(cpath.path)
-                if cr is not None:
-                    crack_dmax = max(crack_dmax, float(np.nanmax(cr[2])) if cr[2].size else 0.0)
             if fr.number in selected_nums:
-                data.append(FrameData(fr.number, mesh_time(m, fr.time), xy, tri, vals, cr))
+                if prev_tri is not None and prev_tri.shape == tri.shape and np.array_equal(prev_tri, tri):
+                    tri = prev_tri  # same connectivity as the previous frame: share it
+                prev_tri = tri
+                data.append(FrameData(fr.number, mesh_time(m, fr.time), xy.astype(np.float32), tri,
+                                      None if vals is None else vals.astype(np.float32), cr))
             self.all_times.append(mesh_time(m, fr.time))
         self.has_cracks = bool(cracks) and not self.a.no_cracks
         self.frames = data
@@ -463,9 +467,16 @@ class Renderer:
         spec = self.spec
         self.factor = 1.0
         if spec.array is None:  # damage without triangle damage: grey mesh, cracks carry colour
-            self.cmap, self.norm = matplotlib.colormaps["YlOrRd"], Normalize(0.0, 1.0)
-            face = "0.82"
-            self.poly = PolyCollection([], facecolors=face, edgecolors="0.7", linewidths=0.15, zorder=1)
+            ylorrd = matplotlib.colormaps["YlOrRd"]  # from its 25%: slight damage still shows on grey
+            self.cmap = ListedColormap(ylorrd(np.linspace(0.25, 1.0, 256)), name="damage")
+            self.norm = Normalize(0.0, 1.0)
+            face = "0.88"
+            ntri = max((f.tri.shape[0] for f in self.frames), default=0)
+            if ntri <= 3000:  # small meshes: show the elements
+                self.poly = PolyCollection([], facecolors=face, edgecolors="0.75", linewidths=0.2, zorder=1)
+            else:  # fine meshes: edges would only darken the picture
+                self.poly = PolyCollection([], facecolors=face, edgecolors="face", linewidths=0.5,
+                                           antialiaseds=False, zorder=1)
             sm = matplotlib.cm.ScalarMappable(norm=self.norm, cmap=self.cmap)
             cb = self.fig.colorbar(sm, cax=self.cax)
             cb.set_label("Joint damage (–)")
@@ -492,7 +503,12 @@ class Renderer:
             cb.formatter.set_useMathText(True)
         ax.add_collection(self.poly)
 
-        self.crack_cmap = matplotlib.colormaps["YlOrRd"]
+        if spec.array is None:  # the damage view: joints carry the colour scale of the bar
+            self.crack_cmap = self.cmap
+            self.crack_range = (0.0, 1.0)
+        else:  # over a coloured field: damage as a grey ramp, light (slight) to dark (near failure)
+            self.crack_cmap = matplotlib.colormaps["Greys"]
+            self.crack_range = (0.35, 0.85)
         self.cracks_damaged = LineCollection([], linewidths=1.3, zorder=3)
         self.cracks_broken = LineCollection([], colors="0.05", linewidths=1.6, zorder=4)
         ax.add_collection(self.cracks_damaged)
@@ -500,7 +516,7 @@ class Renderer:
         if self.has_cracks:
             handles = [
                 Line2D([], [], color="0.05", lw=1.8, label="broken joint"),
-                Line2D([], [], color=self.crack_cmap(0.6), lw=1.8, label="damaged joint"),
+                Line2D([], [], color=self.crack_cmap(sum(self.crack_range) / 2), lw=1.8, label="damaged joint"),
             ]
             ax.legend(handles=handles, loc="lower left", fontsize=9, framealpha=0.85)
 
@@ -540,7 +556,8 @@ class Renderer:
             dmg_mask = (~broken) & (dmg > 1e-3)
             self.cracks_broken.set_segments(segs[broken])
             self.cracks_damaged.set_segments(segs[dmg_mask])
-            self.cracks_damaged.set_color(self.crack_cmap(0.25 + 0.75 * np.clip(dmg[dmg_mask], 0, 1)))
+            lo, hi = self.crack_range
+            self.cracks_damaged.set_color(self.crack_cmap(lo + (hi - lo) * np.clip(dmg[dmg_mask], 0, 1)))
         else:
             self.cracks_broken.set_segments([])
             self.cracks_damaged.set_segments([])

@@ -169,7 +169,7 @@ def key_cards(summary: dict) -> str:
     if disp:
         v, n = max(disp)
         card(scaled(v, "m"), f"largest gauge displacement ({n})")
-        card(scaled(sum(d for d, _ in disp) / len(disp), "m"), f"mean of the gauges' max displacement")
+        card(scaled(sum(d for d, _ in disp) / len(disp), "m"), "mean of the gauges' max displacement")
     vel = [(g.get("peak_velocity_mps"), g.get("name", "?"), g.get("time_of_peak_velocity_s")) for g in gauges
            if isinstance(g.get("peak_velocity_mps"), (int, float))]
     if vel:
