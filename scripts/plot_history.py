@@ -1,0 +1,392 @@
+#!/usr/bin/env python3
+"""dsdem plot: PNG plots of a run's histories (OUT/history.csv) into OUT/plots/.
+
+    plot_history.py OUT [--no-show-stages] [--quiet]
+
+Figures (each only when its columns exist):
+  gauge_displacement.png             |u| of every gauge vs time (max marked)
+  gauge_displacement_components.png  u_x and u_y of every gauge
+  gauge_velocity.png                 |v| of every gauge (peak marked)
+  gauge_acceleration.png             |a| of every gauge
+  energies.png                       every *_J_per_m column, energy balance error on a 2nd axis
+  fracture.png                       broken joints, damaged joints, fragments vs time
+  contacts.png                       contact counts vs time
+  loads.png                          reactions / loads / forces vs time
+  load_displacement.png              reaction vs the matching displacement column
+  other.png                          any remaining column, so nothing new goes unseen
+Columns are discovered by name pattern, never by position.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import dsdem_plotlib as lib  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+_BASE = {"time_s", "step", "stage"}
+_COUNT_FRACTURE = re.compile(r"(^|_)(broken|damaged|fragments?|cracks?)(_|$)")
+_COUNT_CONTACT = re.compile(r"(^|_)contacts?(_|$)")
+_LOAD = re.compile(r"(^|_)(reaction|load|force|plate)(_|$)")
+
+
+def _fig(height: float = 5.0):
+    fig, ax = plt.subplots(figsize=(9.5, height), layout="constrained")
+    return fig, ax
+
+
+class Plotter:
+    def __init__(self, out: Path, show_stages: bool, quiet: bool):
+        self.out = out
+        self.plots = out / "plots"
+        self.show_stages = show_stages
+        self.quiet = quiet
+        self.h = lib.read_history(out / "history.csv")
+        if self.h.data.shape[0] == 0:
+            raise lib.InputError(f"{out / 'history.csv'}: no data rows yet")
+        self.t = self.h.time
+        self.summary = lib.read_summary(out)
+        self.run_title = self.summary.get("title") or out.name
+        self.used: set[str] = set(_BASE)
+        self.written: list[Path] = []
+        self.stage_changes = self._stage_changes()
+
+    # ---------------------------------------------------------------- helpers
+    def _stage_changes(self) -> list[tuple[float, str]]:
+        if not self.h.has("stage"):
+            return []
+        s = self.h.col("stage")
+        names = lib.stage_names(self.out)
+        changes = []
+        for i in np.nonzero(np.diff(s) != 0)[0]:
+            k = int(s[i + 1])
+            changes.append((float(self.t[i + 1]), names.get(k, f"stage {k + 1}")))
+        if changes:  # name the first stage too, at t0
+            k0 = int(s[0])
+            changes.insert(0, (float(self.t[0]), names.get(k0, f"stage {k0 + 1}")))
+        return changes
+
+    def _stages(self, ax, labels: bool = True) -> None:
+        """Dashed lines at stage changes; the stage names as ticks on a top axis (outside the
+        data area, so legends never hide them)."""
+        if not self.show_stages or not self.stage_changes:
+            return
+        for t, _ in self.stage_changes[1:]:
+            ax.axvline(t, color="0.35", ls="--", lw=1.0, zorder=0.5)
+        if labels:
+            top = ax.secondary_xaxis("top")
+            top.set_xticks([t for t, _ in self.stage_changes], [n for _, n in self.stage_changes])
+            top.tick_params(axis="x", length=4, labelsize=9.5, labelcolor="0.3", direction="out")
+            for lbl in top.get_xticklabels():
+                lbl.set_fontstyle("italic")
+                lbl.set_horizontalalignment("left")
+            top.spines["top"].set_visible(False)
+
+    def _time_axis(self, ax) -> None:
+        ax.set_xlabel("Time (s)")
+        t0, t1 = float(np.nanmin(self.t)), float(np.nanmax(self.t))
+        if t1 > t0:
+            ax.set_xlim(t0, t1)
+
+    def _save(self, fig, name: str) -> None:
+        self.plots.mkdir(parents=True, exist_ok=True)
+        path = self.plots / name
+        tmp = path.with_suffix(".tmp.png")
+        fig.savefig(tmp)
+        plt.close(fig)
+        tmp.replace(path)
+        self.written.append(path)
+
+    def _scaled(self, cols: list[np.ndarray], unit: str) -> tuple[float, str]:
+        m = max((float(np.nanmax(np.abs(c))) if c.size and np.isfinite(c).any() else 0.0) for c in cols)
+        return lib.autoscale(m, unit)
+
+    def _legend(self, ax, n: int) -> None:
+        if n == 0:
+            return
+        if n > 8:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), ncols=1 + n // 20)
+        else:
+            ax.legend(loc="best")
+
+    # ---------------------------------------------------------------- gauges
+    def gauges(self) -> list[str]:
+        names = []
+        for n in self.h.names:
+            m = re.match(r"^(.+)_displacement_x_m$", n)
+            if m and self.h.has(f"{m.group(1)}_displacement_y_m"):
+                names.append(m.group(1))
+        return names
+
+    def _gauge_vector(self, g: str, what: str, unit_suffix: str):
+        cx, cy = f"{g}_{what}_x_{unit_suffix}", f"{g}_{what}_y_{unit_suffix}"
+        if not (self.h.has(cx) and self.h.has(cy)):
+            return None
+        self.used.update({cx, cy})
+        x, y = self.h.col(cx), self.h.col(cy)
+        return x, y, np.hypot(x, y)
+
+    def gauge_magnitude(self, what: str, unit_suffix: str, unit: str, fname: str, title: str, mark: str):
+        series = []
+        for g in self.gauges():
+            v = self._gauge_vector(g, what, unit_suffix)
+            if v is not None:
+                series.append((g, v[2]))
+        if not series:
+            return
+        fig, ax = _fig()
+        f, u = self._scaled([s for _, s in series], unit)
+        for g, s in series:
+            label = g
+            if s.size and np.isfinite(s).any():
+                i = int(np.nanargmax(s))
+                fu = lib.autoscale(float(s[i]), unit)
+                val = f"{s[i] * fu[0]:.3g} {fu[1]}"
+                label = f"{g} ({mark} {val} at {self.t[i]:.3g} s)" if mark == "peak" else f"{g} ({mark} {val})"
+                (line,) = ax.plot(self.t, s * f, label=label)
+                ax.plot(self.t[i], s[i] * f, "o", color=line.get_color(), ms=5, zorder=3)
+        self._time_axis(ax)
+        ax.set_ylabel(lib.axis_label(f"{what.capitalize()} magnitude", u))
+        ax.set_ylim(bottom=0)
+        lib.title_pair(ax, title, self.run_title)
+        self._legend(ax, len(series))
+        self._stages(ax)
+        self._save(fig, fname)
+
+    def gauge_components(self):
+        series = []
+        for g in self.gauges():
+            v = self._gauge_vector(g, "displacement", "m")
+            if v is not None:
+                series.append((g, v[0], v[1]))
+        if not series:
+            return
+        fig, axes = plt.subplots(2, 1, figsize=(9.5, 7.0), sharex=True, layout="constrained")
+        f, u = self._scaled([s[k] for s in series for k in (1, 2)], "m")  # one unit for both panels
+        for ax, k, comp in ((axes[0], 1, "Horizontal displacement $u_x$"), (axes[1], 2, "Vertical displacement $u_y$")):
+            for s in series:
+                ax.plot(self.t, s[k] * f, label=s[0])
+            ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
+            ax.set_ylabel(lib.axis_label(comp, u))
+            self._stages(ax, labels=k == 1)
+        self._time_axis(axes[1])
+        lib.title_pair(axes[0], "Gauge displacement components", self.run_title)
+        self._legend(axes[0], len(series))
+        self._save(fig, "gauge_displacement_components.png")
+
+    # ---------------------------------------------------------------- energies
+    def energies(self):
+        cols = [n for n in self.h.names if lib.split_unit(n)[1] == "J/m" and n not in self.used]
+        if not cols:
+            return
+        fig, ax = _fig(5.5)
+        f, u = self._scaled([self.h.col(c) for c in cols], "J/m")
+        styles = {"kinetic": "-", "strain": "-", "gravity_potential": "-", "external_work": "-."}
+        lines = []
+        for c in cols:
+            q = lib.split_unit(c)[0]
+            ls = styles.get(q, "--" if ("dissipat" in q) else "-")
+            lines += ax.plot(self.t, self.h.col(c) * f, ls=ls, label=lib.humanize(q))
+            self.used.add(c)
+        ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
+        self._time_axis(ax)
+        ax.set_ylabel(lib.axis_label("Energy per unit thickness", u))
+        lib.title_pair(ax, "Energies", self.run_title)
+        err_cols = [n for n in self.h.names if "balance_error" in n]
+        if err_cols:
+            ax2 = ax.twinx()
+            ax2.grid(False)
+            ax2.spines["right"].set_visible(True)
+            emax = max(float(np.nanmax(np.abs(self.h.col(c)))) if np.isfinite(self.h.col(c)).any() else 0.0
+                       for c in err_cols)
+            ex = math.floor(math.log10(emax)) if emax > 0 else 0
+            ef = 10.0 ** (-ex) if -2 > ex or ex > 2 else 1.0
+            for c in err_cols:
+                lines += ax2.plot(self.t, self.h.col(c) * ef, color="0.15", lw=1.1, ls=":",
+                                  label=lib.humanize(c) + " (right axis)")
+                self.used.add(c)
+            ax2.set_ylabel("Energy balance error" + (f" ($\\times 10^{{{ex}}}$)" if ef != 1.0 else " (–)"))
+            lo, hi = ax2.get_ylim()
+            ax2.set_ylim(min(0.0, lo), max(hi, 1e-12))
+        if len(lines) > 4:  # many curves: legend under the plot, never over the data
+            ax.legend(lines, [ln.get_label() for ln in lines], loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                      ncols=min(4, len(lines)), frameon=False)
+        else:
+            ax.legend(lines, [ln.get_label() for ln in lines], loc="best")
+        self._stages(ax)
+        self._save(fig, "energies.png")
+
+    # ---------------------------------------------------------------- counts
+    def counts(self, pattern: re.Pattern, fname: str, title: str):
+        cols = [
+            n
+            for n in self.h.names
+            if n not in self.used and pattern.search(n) and lib.split_unit(n)[1] == ""
+        ]
+        if not cols:
+            return
+        fig, axes = plt.subplots(len(cols), 1, figsize=(9.5, 2.2 + 2.3 * len(cols)), sharex=True,
+                                 layout="constrained", squeeze=False)
+        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        for i, (ax, c) in enumerate(zip(axes[:, 0], cols)):
+            y = self.h.col(c)
+            label = lib.humanize(c)
+            if np.isfinite(y).any():
+                label += f": final {y[-1]:.0f}, max {np.nanmax(y):.0f}"
+            ax.step(self.t, y, where="post", color=colors[i % len(colors)], label=label)
+            ax.legend(loc="best")
+            ax.set_ylabel(lib.humanize(c).capitalize())
+            ax.set_ylim(bottom=0, top=max(1.0, float(np.nanmax(y)) * 1.08 if np.isfinite(y).any() else 1.0))
+            ax.yaxis.get_major_locator().set_params(integer=True)
+            self._stages(ax, labels=i == 0)
+            self.used.add(c)
+        self._time_axis(axes[-1, 0])
+        lib.title_pair(axes[0, 0], title, self.run_title)
+        self._save(fig, fname)
+
+    # ---------------------------------------------------------------- loads
+    def loads(self):
+        cols = [
+            n
+            for n in self.h.names
+            if n not in self.used and lib.split_unit(n)[1] in ("N/m", "N", "kN", "N/m²", "Pa")
+            and (_LOAD.search(lib.split_unit(n)[0]) or lib.split_unit(n)[1] in ("N/m", "N"))
+        ]
+        if not cols:
+            return
+        by_unit: dict[str, list[str]] = {}
+        for c in cols:
+            by_unit.setdefault(lib.split_unit(c)[1], []).append(c)
+        fig, axes = plt.subplots(len(by_unit), 1, figsize=(9.5, 1.5 + 3.5 * len(by_unit)), sharex=True,
+                                 layout="constrained", squeeze=False)
+        for i, (ax, (unit, cs)) in enumerate(zip(axes[:, 0], by_unit.items())):
+            f, u = self._scaled([self.h.col(c) for c in cs], unit)
+            for c in cs:
+                y = self.h.col(c)
+                label = lib.humanize(lib.split_unit(c)[0])
+                if np.isfinite(y).any():
+                    i = int(np.nanargmax(np.abs(y)))
+                    label += f" (peak {y[i] * f:.4g} {u} at {self.t[i]:.3g} s)"
+                ax.plot(self.t, y * f, label=label)
+                self.used.add(c)
+            ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
+            ax.set_ylabel(lib.axis_label("Force per unit thickness" if unit == "N/m" else "Load", u))
+            self._legend(ax, len(cs))
+            self._stages(ax, labels=i == 0)
+        self._time_axis(axes[-1, 0])
+        lib.title_pair(axes[0, 0], "Loads and reactions", self.run_title)
+        self._save(fig, "loads.png")
+        self.load_displacement([c for cs in by_unit.values() for c in cs])
+
+    def load_displacement(self, load_cols: list[str]):
+        pairs = []
+        for c in load_cols:
+            q, unit = lib.split_unit(c)
+            m = re.match(r"^(.*?)_(reaction|load|force)(?:_([xy]))?$", q)
+            if not m:
+                continue
+            prefix, comp = m.group(1), m.group(3)
+            cands = [f"{prefix}_displacement_{comp}_m"] if comp else []
+            cands += [f"{prefix}_displacement_m"]
+            for d in cands:
+                if self.h.has(d):
+                    pairs.append((c, d, unit))
+                    self.used.add(d)
+                    break
+        if not pairs:
+            return
+        fig, ax = _fig(5.5)
+        for c, d, unit in pairs:
+            x, y = self.h.col(d), self.h.col(c)
+            fx, ux = lib.autoscale(float(np.nanmax(np.abs(x))) if np.isfinite(x).any() else 0, "m")
+            fy, uy = lib.autoscale(float(np.nanmax(np.abs(y))) if np.isfinite(y).any() else 0, unit)
+            ax.plot(x * fx, y * fy, label=lib.humanize(lib.split_unit(c)[0]))
+            ax.set_xlabel(lib.axis_label(lib.humanize(lib.split_unit(d)[0]).capitalize(), ux))
+            ax.set_ylabel(lib.axis_label("Load", uy))
+        ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
+        lib.title_pair(ax, "Load–displacement", self.run_title)
+        self._legend(ax, len(pairs))
+        self._save(fig, "load_displacement.png")
+
+    # ---------------------------------------------------------------- the rest
+    def other(self):
+        gauges = self.gauges()
+        rest = []
+        for n in self.h.names:
+            if n in self.used:
+                continue
+            if any(n.startswith(g + "_acceleration_") for g in gauges):
+                continue
+            y = self.h.col(n)
+            if not np.isfinite(y).any():
+                continue
+            rest.append(n)
+        if not rest:
+            return
+        rest = rest[:12]
+        ncols = 2 if len(rest) > 4 else 1
+        nrows = math.ceil(len(rest) / ncols)
+        fig, axes = plt.subplots(nrows, ncols, figsize=(9.5 if ncols == 1 else 12, 1.2 + 2.4 * nrows),
+                                 sharex=True, layout="constrained", squeeze=False)
+        for i, (ax, n) in enumerate(zip(axes.flat, rest)):
+            q, unit = lib.split_unit(n)
+            y = self.h.col(n)
+            f, u = self._scaled([y], unit)
+            ax.plot(self.t, y * f)
+            ax.set_title(lib.axis_label(lib.humanize(q), u), fontsize=11, loc="left")
+            self._stages(ax, labels=False)
+        for ax in list(axes.flat)[len(rest):]:
+            ax.set_visible(False)
+        for ax in axes[-1, :]:
+            self._time_axis(ax)
+        fig.suptitle(f"Other histories — {self.run_title}", fontsize=13, fontweight="bold")
+        self._save(fig, "other.png")
+
+    def run(self) -> list[Path]:
+        lib.setup_style()
+        self.gauge_magnitude("displacement", "m", "m", "gauge_displacement.png", "Gauge displacement magnitude", "max")
+        self.gauge_components()
+        self.gauge_magnitude("velocity", "m_per_s", "m/s", "gauge_velocity.png", "Gauge velocity magnitude", "peak")
+        self.gauge_magnitude("acceleration", "m_per_s2", "m/s²", "gauge_acceleration.png",
+                             "Gauge acceleration magnitude", "peak")
+        self.energies()
+        self.counts(_COUNT_FRACTURE, "fracture.png", "Fracture")
+        self.counts(_COUNT_CONTACT, "contacts.png", "Contacts")
+        self.loads()
+        self.other()
+        return self.written
+
+
+def make_plots(out: Path, show_stages: bool = True, quiet: bool = False) -> list[Path]:
+    out = Path(out)
+    if not out.is_dir():
+        raise lib.InputError(f"{out}: no such output folder")
+    return Plotter(out, show_stages, quiet).run()
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Plot the histories of a dsdem run into OUT/plots/.")
+    ap.add_argument("out", help="output folder of a dsdem run")
+    ap.add_argument("--no-show-stages", action="store_true", help="do not mark stage changes")
+    ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    a = ap.parse_args(argv)
+    written = make_plots(Path(a.out), show_stages=not a.no_show_stages, quiet=a.quiet)
+    if not a.quiet:
+        if written:
+            print(f"wrote {len(written)} plot(s):")
+            for p in written:
+                print(f"  {p}")
+        else:
+            print("no plots written: history.csv has no plottable columns")
+    return 0
+
+
+if __name__ == "__main__":
+    lib.run_main(main)

@@ -1,0 +1,373 @@
+#!/usr/bin/env python3
+"""dsdem report: one self-contained HTML page OUT/report.html summarising a run.
+
+    report.py OUT [--no-render] [--quiet]
+
+Contents: title and scenario, key results, model, gauge table, history plots (made with
+plot_history first if OUT/plots is missing or older than history.csv), the last field
+snapshot (rendered with render_fields if none exists, unless --no-render), every scalar of
+summary.json with its unit, the scenario YAML, run information and the log. Images are
+embedded as base64: the file can be mailed or archived on its own, no external links.
+"""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import datetime as _dt
+import html
+import re
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import dsdem_plotlib as lib  # noqa: E402
+
+PLOT_ORDER = [
+    ("gauge_displacement.png", "Gauge displacement magnitude"),
+    ("gauge_velocity.png", "Gauge velocity magnitude"),
+    ("gauge_displacement_components.png", "Gauge displacement components"),
+    ("gauge_acceleration.png", "Gauge acceleration magnitude"),
+    ("energies.png", "Energies and energy balance"),
+    ("fracture.png", "Fracture: broken joints and fragments"),
+    ("contacts.png", "Contacts"),
+    ("loads.png", "Loads and reactions"),
+    ("load_displacement.png", "Load–displacement"),
+    ("other.png", "Other histories"),
+]
+MODEL_KEYS = ["elements", "nodes", "joints", "steps", "dt_s", "dt_controlled_by", "end_time_s"]
+RUN_KEYS = ["dsdem_version", "threads", "wall_time_s", "element_steps_per_s"]
+
+CSS = """
+:root { --fg:#1d2327; --muted:#5f6b73; --line:#dde3e8; --accent:#1f5f99; --bg:#ffffff; --soft:#f5f7f9; }
+* { box-sizing: border-box; }
+body { margin:0; background:var(--soft); color:var(--fg);
+  font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial, sans-serif; }
+main { max-width: 1180px; margin: 0 auto; padding: 28px 32px 48px; background: var(--bg);
+  box-shadow: 0 0 0 1px var(--line); min-height: 100vh; }
+header { border-bottom: 3px solid var(--accent); padding-bottom: 14px; margin-bottom: 22px; }
+h1 { margin: 0 0 6px; font-size: 28px; }
+h2 { margin: 34px 0 12px; font-size: 20px; color: var(--accent); border-bottom: 1px solid var(--line);
+  padding-bottom: 4px; }
+.sub { color: var(--muted); font-size: 14px; }
+.sub code { background: var(--soft); padding: 1px 5px; border-radius: 3px; }
+nav { font-size: 14px; margin-top: 10px; }
+nav a { color: var(--accent); margin-right: 14px; text-decoration: none; }
+.cards { display: grid; grid-template-columns: repeat(auto-fill, minmax(200px, 1fr)); gap: 12px; }
+.card { border: 1px solid var(--line); border-radius: 6px; padding: 10px 14px; background: var(--soft); }
+.card .v { font-size: 22px; font-weight: 600; }
+.card .k { color: var(--muted); font-size: 13px; }
+table { border-collapse: collapse; width: 100%; margin: 6px 0 10px; font-size: 14px; }
+th, td { text-align: left; padding: 6px 10px; border-bottom: 1px solid var(--line); vertical-align: top; }
+th { background: var(--soft); font-weight: 600; }
+td.num { font-variant-numeric: tabular-nums; text-align: right; white-space: nowrap; }
+th.num { text-align: right; }
+table.kv td:first-child { color: var(--muted); width: 38%; }
+tr:hover td { background: #fafbfc; }
+figure { margin: 16px 0 26px; }
+figure img { max-width: 100%; height: auto; border: 1px solid var(--line); border-radius: 4px; display: block; }
+figcaption { color: var(--muted); font-size: 13.5px; margin-top: 6px; }
+pre { background: #f7f8fa; border: 1px solid var(--line); border-radius: 4px; padding: 12px 14px;
+  overflow-x: auto; font: 13px/1.45 ui-monospace, "SF Mono", Menlo, Consolas, monospace; }
+details summary { cursor: pointer; color: var(--accent); margin: 6px 0; }
+.note { color: var(--muted); font-style: italic; }
+footer { margin-top: 40px; color: var(--muted); font-size: 12.5px; border-top: 1px solid var(--line);
+  padding-top: 10px; }
+@media print { body { background: white; } main { box-shadow: none; } details { display: none; } }
+"""
+
+
+def esc(x) -> str:
+    return html.escape(str(x), quote=True)
+
+
+def key_label(key: str) -> tuple[str, str]:
+    q, unit = lib.split_unit(key)
+    return lib.humanize(q), unit
+
+
+def img_tag(path: Path, alt: str) -> str:
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return f'<img src="data:image/png;base64,{data}" alt="{esc(alt)}">'
+
+
+def value_cell(v) -> str:
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return f'<td class="num">{esc(lib.fmt_num(v))}</td>'
+    if isinstance(v, list) and all(isinstance(x, (int, float)) for x in v):
+        return f'<td class="num">{esc(lib.fmt_num(v))}</td>'
+    return f"<td>{esc(lib.fmt_num(v) if not isinstance(v, str) else v)}</td>"
+
+
+def kv_table(rows: list[tuple[str, str, object]]) -> str:
+    out = ['<table class="kv"><tbody>']
+    for label, unit, v in rows:
+        out.append(f"<tr><td>{esc(label)}{(' (' + esc(unit) + ')') if unit else ''}</td>{value_cell(v)}</tr>")
+    out.append("</tbody></table>")
+    return "\n".join(out)
+
+
+def flatten_scalars(d: dict, prefix: str = "", unit_hint: str = "") -> list[tuple[str, str, object]]:
+    """All scalar (and short numeric list) values of summary.json with their units.
+    A nested object with a "unit" key gives that unit to its members (final_energies)."""
+    rows = []
+    for k, v in d.items():
+        if isinstance(v, dict):
+            hint = lib.split_unit("x_" + v["unit"])[1] if isinstance(v.get("unit"), str) else ""
+            if not hint and isinstance(v.get("unit"), str):
+                hint = v["unit"]
+            rows += flatten_scalars({kk: vv for kk, vv in v.items() if kk != "unit"},
+                                    f"{prefix}{lib.humanize(k)}: ", hint)
+        elif isinstance(v, list):
+            if v and all(isinstance(x, (int, float)) for x in v) and len(v) <= 6:
+                label, unit = key_label(k)
+                rows.append((prefix + label, unit or unit_hint, v))
+        else:
+            label, unit = key_label(k)
+            rows.append((prefix + label, unit or unit_hint, v))
+    return rows
+
+
+def dict_list_table(items: list[dict], first: str = "name") -> str:
+    keys: list[str] = []
+    for it in items:
+        for k in it:
+            if k not in keys:
+                keys.append(k)
+    if first in keys:
+        keys.remove(first)
+        keys.insert(0, first)
+    head = []
+    for k in keys:
+        label, unit = key_label(k)
+        cls = "" if k == first else ' class="num"'
+        head.append(f"<th{cls}>{esc(label)}{(' (' + esc(unit) + ')') if unit else ''}</th>")
+    rows = []
+    for it in items:
+        cells = []
+        for k in keys:
+            v = it.get(k, "")
+            cells.append(value_cell(v) if k != first else f"<td><b>{esc(v)}</b></td>")
+        rows.append("<tr>" + "".join(cells) + "</tr>")
+    return f"<table><thead><tr>{''.join(head)}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
+
+
+def key_cards(summary: dict) -> str:
+    cards = []
+
+    def card(value: str, label: str):
+        cards.append(f'<div class="card"><div class="v">{esc(value)}</div><div class="k">{esc(label)}</div></div>')
+
+    def scaled(v: float, unit: str) -> str:
+        f, u = lib.autoscale(abs(v), unit)
+        return f"{v * f:.3g} {u}"
+
+    gauges = [g for g in summary.get("gauges", []) if isinstance(g, dict)]
+    disp = [(g.get("max_displacement_m"), g.get("name", "?")) for g in gauges
+            if isinstance(g.get("max_displacement_m"), (int, float))]
+    if disp:
+        v, n = max(disp)
+        card(scaled(v, "m"), f"largest gauge displacement ({n})")
+        card(scaled(sum(d for d, _ in disp) / len(disp), "m"), "mean of the gauges' max displacement")
+    vel = [(g.get("peak_velocity_mps"), g.get("name", "?"), g.get("time_of_peak_velocity_s")) for g in gauges
+           if isinstance(g.get("peak_velocity_mps"), (int, float))]
+    if vel:
+        v, n, t = max(vel, key=lambda x: x[0])
+        when = f" at {t:.3g} s" if isinstance(t, (int, float)) else ""
+        card(scaled(v, "m/s"), f"peak gauge velocity ({n}{when})")
+    for k in ("broken_joints", "fragments"):
+        if isinstance(summary.get(k), (int, float)):
+            card(lib.fmt_num(summary[k]), lib.humanize(k))
+    for k, v in summary.items():
+        if re.search(r"(blocked|blockage|runout|run_out|travel)", k) and isinstance(v, (int, float)):
+            label, unit = key_label(k)
+            card(f"{lib.fmt_num(v, 3)} {unit}".strip(), label)
+    if isinstance(summary.get("end_time_s"), (int, float)):
+        card(f"{summary['end_time_s']:.4g} s", "simulated time")
+    if isinstance(summary.get("energy_balance_error"), (int, float)):
+        card(f"{summary['energy_balance_error']:.2e}", "energy balance error")
+    return f'<div class="cards">{"".join(cards)}</div>' if cards else ""
+
+
+def ensure_plots(out: Path, quiet: bool) -> list[Path]:
+    hist = out / "history.csv"
+    plots = out / "plots"
+    pngs = sorted(plots.glob("*.png")) if plots.is_dir() else []
+    stale = hist.is_file() and pngs and min(p.stat().st_mtime for p in pngs) < hist.stat().st_mtime
+    if hist.is_file() and (not pngs or stale):
+        import plot_history
+
+        try:
+            plot_history.make_plots(out, quiet=True)
+        except lib.InputError as e:
+            print(f"warning: no plots: {e}", file=sys.stderr)
+        pngs = sorted(plots.glob("*.png")) if plots.is_dir() else []
+    pngs = [p for p in pngs if not p.name.endswith(".tmp.png")]
+    order = {name: i for i, (name, _) in enumerate(PLOT_ORDER)}
+    return sorted(pngs, key=lambda p: (order.get(p.name, len(order)), p.name))
+
+
+def latest_snapshot(out: Path, allow_render: bool, quiet: bool) -> Path | None:
+    def find():
+        best = None
+        for p in (out / "render").glob("*_[0-9][0-9][0-9][0-9][0-9][0-9].png") if (out / "render").is_dir() else []:
+            m = re.match(r"^(.*)_(\d{6})\.png$", p.name)
+            if not m or p.name.endswith(".tmp.png"):
+                continue
+            rank = (int(m.group(2)), m.group(1) == "velocity", p.stat().st_mtime)
+            if best is None or rank > best[0]:
+                best = (rank, p)
+        return best[1] if best else None
+
+    snap = find()
+    if snap is None and allow_render and ((out / "fields.pvd").is_file() or (out / "fields").is_dir()):
+        import render_fields
+
+        try:
+            render_fields.main([str(out), "--frames", "last", "--quiet", "--jobs", "1"])
+        except (lib.InputError, SystemExit, Exception) as e:  # noqa: BLE001 - the report goes on without it
+            print(f"warning: no snapshot rendered: {e}", file=sys.stderr)
+        snap = find()
+    return snap
+
+
+def build(out: Path, allow_render: bool, quiet: bool) -> Path:
+    summary = lib.read_summary(out)
+    if not summary:
+        raise lib.InputError(f"{out / 'summary.json'}: not found or unreadable")
+    title = str(summary.get("title") or out.name)
+    scen_path = lib.find_scenario(out, summary)
+    scenario_name = str(summary.get("scenario", "")) or (str(scen_path) if scen_path else "")
+    plots = ensure_plots(out, quiet)
+    snap = latest_snapshot(out, allow_render, quiet)
+    now = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
+
+    sec: list[str] = []
+    nav: list[tuple[str, str]] = []
+
+    def section(anchor: str, heading: str, body: str):
+        if body:
+            nav.append((anchor, heading))
+            sec.append(f'<section id="{anchor}"><h2>{esc(heading)}</h2>\n{body}\n</section>')
+
+    section("key", "Key results", key_cards(summary))
+
+    model_rows = []
+    for k in MODEL_KEYS:
+        if k in summary:
+            label, unit = key_label(k)
+            model_rows.append((label, unit, summary[k]))
+    section("model", "Model", kv_table(model_rows) if model_rows else "")
+
+    gauges = [g for g in summary.get("gauges", []) if isinstance(g, dict)]
+    section("gauges", "Gauges", dict_list_table(gauges) if gauges else "")
+
+    if plots:
+        figs = []
+        captions = dict(PLOT_ORDER)
+        for p in plots:
+            cap = captions.get(p.name, lib.humanize(p.stem).capitalize())
+            figs.append(f"<figure>{img_tag(p, cap)}<figcaption>{esc(cap)} (<code>plots/{esc(p.name)}</code>)"
+                        f"</figcaption></figure>")
+        section("plots", "Histories", "\n".join(figs))
+    else:
+        section("plots", "Histories", '<p class="note">No history plots (history.csv missing or empty).</p>')
+
+    if snap is not None:
+        m = re.match(r"^(.*)_(\d{6})\.png$", snap.name)
+        cap = f"{lib.humanize(m.group(1)).capitalize()} field, frame {int(m.group(2))}" if m else snap.name
+        section("snapshot", "Snapshot",
+                f"<figure>{img_tag(snap, cap)}<figcaption>{esc(cap)} (<code>render/{esc(snap.name)}</code>). "
+                f"More: <code>dsdem render {esc(out)} --movie</code></figcaption></figure>")
+
+    # Every scalar of summary.json (minus what the sections above show as tables).
+    scalars = flatten_scalars({k: v for k, v in summary.items() if k not in ("gauges", "title", "scenario")})
+    section("summary", "All results (summary.json)", kv_table(scalars))
+    for k, v in summary.items():
+        if k != "gauges" and isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+            section(f"list-{esc(k)}", lib.humanize(k).capitalize(), dict_list_table(v))
+
+    if scen_path is not None:
+        try:
+            text = scen_path.read_text(encoding="utf-8", errors="replace")
+            section("parameters", "Parameters (scenario)",
+                    f'<p class="sub">From <code>{esc(scen_path)}</code></p><pre>{esc(text)}</pre>')
+        except OSError:
+            pass
+    else:
+        section("parameters", "Parameters (scenario)",
+                f'<p class="note">The scenario file <code>{esc(scenario_name)}</code> was not found '
+                f"from here; its values are not shown.</p>")
+
+    run_rows = []
+    for k in RUN_KEYS:
+        if k in summary:
+            label, unit = key_label(k)
+            run_rows.append((label.replace("dsdem version", "dsdem version"), unit, summary[k]))
+    run_rows.append(("output folder", "", str(out.resolve())))
+    run_rows.append(("report generated", "", now))
+    log = out / "dsdem.log"
+    log_html = ""
+    if log.is_file():
+        text = log.read_text(encoding="utf-8", errors="replace")
+        lines = text.splitlines()
+        if len(lines) > 400:
+            text = "\n".join(lines[:100] + [f"... ({len(lines) - 300} lines) ..."] + lines[-200:])
+        log_html = f"<details><summary>Log (dsdem.log)</summary><pre>{esc(text)}</pre></details>"
+    section("run", "Run information", kv_table(run_rows) + log_html)
+
+    version = summary.get("dsdem_version", "")
+    head_sub = []
+    if scenario_name:
+        head_sub.append(f"scenario <code>{esc(scenario_name)}</code>")
+    if version:
+        head_sub.append(f"dsdem {esc(version)}")
+    head_sub.append(f"report of {esc(now)}")
+    page = f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="generator" content="dsdem report">
+<title>{esc(title)} — dsdem report</title>
+<style>{CSS}</style>
+</head>
+<body>
+<main>
+<header>
+<h1>{esc(title)}</h1>
+<div class="sub">{' &middot; '.join(head_sub)}</div>
+<nav>{''.join(f'<a href="#{a}">{esc(h)}</a>' for a, h in nav)}</nav>
+</header>
+{chr(10).join(sec)}
+<footer>dsdem: continuous–discontinuous simulation (FEM-DSDEM) of rock-slope failure and landslide run-out, 2D.
+Values in SI units per metre of thickness unless stated.</footer>
+</main>
+</body>
+</html>
+"""
+    path = out / "report.html"
+    tmp = out / "report.html.tmp"
+    tmp.write_text(page, encoding="utf-8")
+    tmp.replace(path)
+    return path
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Write OUT/report.html, a self-contained report of a dsdem run.")
+    ap.add_argument("out", help="output folder of a dsdem run")
+    ap.add_argument("--no-render", action="store_true", help="do not render a field snapshot when none exists")
+    ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    a = ap.parse_args(argv)
+    out = Path(a.out)
+    if not out.is_dir():
+        raise lib.InputError(f"{out}: no such output folder")
+    path = build(out, allow_render=not a.no_render, quiet=a.quiet)
+    if not a.quiet:
+        print(f"wrote {path} ({path.stat().st_size / 1024:.0f} KiB)")
+    return 0
+
+
+if __name__ == "__main__":
+    lib.run_main(main)
