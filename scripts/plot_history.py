@@ -232,6 +232,11 @@ class Plotter:
         ]
         if not cols:
             return
+        # Counts that never change (no joint ever broke, one fragment throughout, no
+        # contact) say nothing: leave the figure out.
+        if all(np.nanmin(self.h.col(c)) == np.nanmax(self.h.col(c)) for c in cols):
+            self.used.update(cols)
+            return
         fig, axes = plt.subplots(len(cols), 1, figsize=(9.5, 2.2 + 2.3 * len(cols)), sharex=True,
                                  layout="constrained", squeeze=False)
         colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]

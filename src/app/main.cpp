@@ -7,6 +7,8 @@
 #include <iostream>
 #include <unistd.h>
 
+#include "app/post_commands.hpp"
+#include "app/wave_command.hpp"
 #include "dsdem_version.hpp"
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
@@ -46,13 +48,14 @@ int main(int argc, char** argv) {
   std::string run_scenario_path, out_dir = "out";
   std::vector<std::string> run_sets;
   int threads = 0;
-  bool quiet = false, no_fields = false;
+  bool quiet = false, no_fields = false, no_plots = false;
   run_cmd->add_option("scenario", run_scenario_path, "Scenario YAML file")->required();
   run_cmd->add_option("-o,--output", out_dir, "Output directory")->capture_default_str();
   run_cmd->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run_cmd->add_option("--set", run_sets, "Override a scenario value: key.path=value (repeatable)");
   run_cmd->add_flag("-q,--quiet", quiet, "No progress on the terminal (the log still gets everything)");
   run_cmd->add_flag("--no-fields", no_fields, "Do not write VTU field frames");
+  run_cmd->add_flag("--no-plots", no_plots, "Do not make the history plots at the end");
 
   // check
   auto* check_cmd = app.add_subcommand("check", "Validate a scenario and print the model, dt and a run-time estimate");
@@ -63,6 +66,9 @@ int main(int argc, char** argv) {
 
   // schema
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
+
+  dsdem::app::add_wave_commands(app);
+  dsdem::app::add_post_commands(app);
 
   try {
     app.parse(argc, argv);
@@ -93,6 +99,8 @@ int main(int argc, char** argv) {
       const auto result = dsdem::solver::run(prepared, options);
       fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", out_dir, result.steps,
                  result.wall_time_s, result.energy_balance_error);
+      if (!no_plots && dsdem::app::run_plot(out_dir, true) != 0)
+        fmt::print(stderr, "warning: history plots were not made\n");
       return 0;
     });
   }

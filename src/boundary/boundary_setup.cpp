@@ -34,6 +34,7 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
   };
 
   std::map<Index, std::size_t> index_of;  // model node -> entry in out
+  std::map<Index, const io::BoundarySpec*> spec_of;  // the first boundary that named the node
   for (const auto& b : boundaries) {
     if (b.type != io::BoundaryType::ViscousSpring) continue;
     const Index g = model.find_group(b.group);
@@ -60,6 +61,7 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
       for (Index n : {a, c}) {
         auto [it, fresh] = index_of.try_emplace(n, out.size());
         if (fresh) {
+          spec_of[n] = &b;
           BoundaryNode bn;
           bn.node = n;
           bn.medium = medium;
@@ -71,13 +73,14 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
         bn.normal += 0.5 * length * normal;  // length-weighted average of the adjacent edges
       }
     }
-    for (auto& [n, k] : index_of) {
-      BoundaryNode& bn = out[k];
-      if (bn.coef.kn > 0) continue;  // set by an earlier group
-      bn.normal.normalize();
-      const double R = b.R ? *b.R : scattering_distance(nodes.X[n], *b.scattering_centre);
-      bn.coef = viscous_spring_coefficients(bn.area, bn.medium, R);
-    }
+  }
+  // Coefficients once every group has contributed: a corner node shared by two curves
+  // gets both tributary lengths and the averaged normal.
+  for (auto& bn : out) {
+    bn.normal.normalize();
+    const io::BoundarySpec& b = *spec_of[bn.node];
+    const double R = b.R ? *b.R : scattering_distance(nodes.X[bn.node], *b.scattering_centre);
+    bn.coef = viscous_spring_coefficients(bn.area, bn.medium, R);
   }
   // Free-field column of each node: from the base to the free surface above it. Side
   // nodes use the column at their own x; base nodes the column above them.
