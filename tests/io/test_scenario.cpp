@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
@@ -194,4 +195,14 @@ TEST(Schema, EveryKeyIsDocumentedAndMarkdownListsIt) {
     EXPECT_FALSE(s.doc.empty()) << s.pattern;
     EXPECT_NE(md.find("`" + s.pattern + "`"), std::string::npos) << s.pattern;
   }
+}
+
+// docs/scenario-reference.md is generated from the schema (dsdem schema): it must not drift.
+TEST(Schema, CommittedReferenceMatchesTheCode) {
+  std::ifstream in(std::string(DSDEM_SOURCE_DIR) + "/docs/scenario-reference.md");
+  ASSERT_TRUE(in.good()) << "docs/scenario-reference.md is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), io::schema_markdown())
+      << "regenerate it: ./build/dsdem schema > docs/scenario-reference.md";
 }
