@@ -121,6 +121,18 @@ class ContactForces {
 
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
+  // Restart from a checkpoint: the stored tangential forces, the elastic-energy
+  // reference and the skin of the interrupted run; the broad phase is rebuilt.
+  void restore(const std::vector<ContactHistory::Entry>& entries, double last_elastic_energy, double skin) {
+    history_.clear();
+    history_.begin_step();
+    for (const auto& e : entries) history_.record(e.key, e.ft);
+    history_.end_step();
+    last_elastic_energy_ = last_elastic_energy;
+    if (skin > 0.0) settings_.skin = skin;
+    invalidated_ = true;
+  }
+  double last_elastic_energy() const { return last_elastic_energy_; }
   // Forgets the tangential history and the elastic-energy reference.
   void reset_history() {
     history_.clear();

@@ -9,6 +9,7 @@
 #include "boundary/boundary_setup.hpp"
 #include "contact/contact_forces.hpp"
 #include "fem/cst.hpp"
+#include "io/checkpoint.hpp"
 #include "model/model.hpp"
 #include "solver/constraints.hpp"
 #include "solver/energy.hpp"
@@ -71,6 +72,11 @@ class Solver {
   void initialise();
   // One explicit step of velocity Verlet (DESIGN.md §1).
   void step();
+
+  // Checkpoint of the whole state (bit-identical restart). restore() expects a solver
+  // built on the same model, with the stage's settings, constraints and boundary set.
+  void save(io::CheckpointWriter& out) const;
+  void restore(const io::CheckpointReader& in);
 
   double time() const { return time_; }
   long step_count() const { return step_; }

@@ -1,0 +1,174 @@
+// Saving and restoring the solver's state: everything a step reads, so a restarted run
+// continues bit-identically (issue 8).
+#include <fmt/format.h>
+
+#include "solver/solver.hpp"
+
+namespace dsdem::solver {
+
+namespace {
+
+template <class T, class Get>
+std::vector<double> flatten(const std::vector<T>& v, int width, Get get) {
+  std::vector<double> out(v.size() * width);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (int k = 0; k < width; ++k) out[i * width + k] = get(v[i], k);
+  return out;
+}
+
+std::vector<double> vec2s(const std::vector<Vec2>& v) {
+  return flatten(v, 2, [](const Vec2& x, int k) { return x[k]; });
+}
+std::vector<double> vec3s(const std::vector<Vec3>& v) {
+  return flatten(v, 3, [](const Vec3& x, int k) { return x[k]; });
+}
+
+void check_size(const std::string& name, std::size_t got, std::size_t want) {
+  if (got != want)
+    throw std::runtime_error(fmt::format("checkpoint '{}' has {} values, the model needs {}: it belongs to another model",
+                                         name, got, want));
+}
+
+void read_vec2s(const io::CheckpointReader& in, const std::string& name, std::vector<Vec2>& v) {
+  const auto d = in.doubles(name);
+  check_size(name, d.size(), 2 * v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec2(d[2 * i], d[2 * i + 1]);
+}
+void read_vec3s(const io::CheckpointReader& in, const std::string& name, std::vector<Vec3>& v) {
+  const auto d = in.doubles(name);
+  check_size(name, d.size(), 3 * v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+}
+
+}  // namespace
+
+void Solver::save(io::CheckpointWriter& out) const {
+  const Nodes& n = model_.nodes;
+  const Triangles& tri = model_.triangles;
+  const Joints& J = model_.joints;
+  out.put("time", time_);
+  out.put_int("step", step_);
+  out.put_int("broken_joints", broken_joints_);
+  const EnergyLedger& e = energy_;
+  const std::vector<double> energies{e.kinetic, e.strain, e.gravity_potential, e.joint_elastic, e.contact_elastic,
+                                     e.external_work, e.damping_dissipated, e.fracture_dissipated,
+                                     e.friction_dissipated, e.initial_total};
+  out.put("energy", energies);
+  out.put("nodes/u", vec2s(n.u));
+  out.put("nodes/v", vec2s(n.v));
+  out.put("nodes/a", vec2s(n.a));
+  out.put("nodes/u_prev", vec2s(u_prev_));
+  out.put("nodes/damping_force_prev", vec2s(damping_force_prev_));
+  out.put("triangles/stress", vec3s(tri.stress));
+  out.put("triangles/strain", vec3s(tri.strain));
+  out.put("triangles/stress0", vec3s(tri.stress0));
+  // Joints: per end point dn_max, s_max, damage, dn, ds, sn, ss, mode.
+  std::vector<double> js(J.size() * 16);
+  std::vector<double> jd(J.size() * 6);
+  for (std::size_t j = 0; j < J.size(); ++j) {
+    for (int k = 0; k < 2; ++k) {
+      const JointPointState& p = J.state[j][k];
+      const double vals[8] = {p.dn_max, p.s_max, p.damage, p.dn, p.ds, p.sn, p.ss, static_cast<double>(p.mode)};
+      for (int q = 0; q < 8; ++q) js[j * 16 + k * 8 + q] = vals[q];
+    }
+    const double d[6] = {J.damage[j], static_cast<double>(J.broken[j]), J.break_time[j], J.break_position[j].x(),
+                         J.break_position[j].y(), J.dissipated[j]};
+    for (int q = 0; q < 6; ++q) jd[j * 6 + q] = d[q];
+  }
+  std::vector<std::int64_t> modes(J.size());
+  for (std::size_t j = 0; j < J.size(); ++j) modes[j] = static_cast<std::int64_t>(J.break_mode[j]);
+  out.put("joints/state", js);
+  out.put("joints/data", jd);
+  out.put("joints/break_mode", modes);
+  std::vector<double> reactions(constraints_.size());
+  for (std::size_t k = 0; k < constraints_.size(); ++k) reactions[k] = constraints_[k].reaction_prev;
+  out.put("constraints/reaction_prev", reactions);
+  std::vector<Vec2> u_ref(boundary_.size()), f_static(boundary_.size());
+  for (std::size_t k = 0; k < boundary_.size(); ++k) {
+    u_ref[k] = boundary_[k].u_ref;
+    f_static[k] = boundary_[k].static_force;
+  }
+  out.put("boundary/u_ref", vec2s(u_ref));
+  out.put("boundary/static_force", vec2s(f_static));
+  out.put("boundary/force_prev", vec2s(boundary_force_prev_));
+  out.put("earthquake_start", quake_start_);
+  if (contact_) {
+    const auto& entries = contact_->history().entries();
+    std::vector<std::int64_t> keys(entries.size() * 3);
+    std::vector<double> ft(entries.size() * 2);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      keys[3 * k] = entries[k].key.i;
+      keys[3 * k + 1] = entries[k].key.j;
+      keys[3 * k + 2] = entries[k].key.feature;
+      ft[2 * k] = entries[k].ft.x();
+      ft[2 * k + 1] = entries[k].ft.y();
+    }
+    out.put("contact/keys", keys);
+    out.put("contact/ft", ft);
+    out.put("contact/last_elastic_energy", contact_->last_elastic_energy());
+    out.put("contact/skin", contact_->skin());
+  }
+}
+
+void Solver::restore(const io::CheckpointReader& in) {
+  Nodes& n = model_.nodes;
+  Triangles& tri = model_.triangles;
+  Joints& J = model_.joints;
+  time_ = in.scalar("time");
+  step_ = in.integer("step");
+  broken_joints_ = in.integer("broken_joints");
+  const auto e = in.doubles("energy");
+  check_size("energy", e.size(), 10);
+  energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9]};
+  read_vec2s(in, "nodes/u", n.u);
+  read_vec2s(in, "nodes/v", n.v);
+  read_vec2s(in, "nodes/a", n.a);
+  read_vec2s(in, "nodes/u_prev", u_prev_);
+  read_vec2s(in, "nodes/damping_force_prev", damping_force_prev_);
+  read_vec3s(in, "triangles/stress", tri.stress);
+  read_vec3s(in, "triangles/strain", tri.strain);
+  read_vec3s(in, "triangles/stress0", tri.stress0);
+  const auto js = in.doubles("joints/state");
+  const auto jd = in.doubles("joints/data");
+  const auto modes = in.integers("joints/break_mode");
+  check_size("joints/state", js.size(), 16 * J.size());
+  check_size("joints/data", jd.size(), 6 * J.size());
+  for (std::size_t j = 0; j < J.size(); ++j) {
+    for (int k = 0; k < 2; ++k) {
+      JointPointState& p = J.state[j][k];
+      const double* v = &js[j * 16 + k * 8];
+      p = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], static_cast<BreakMode>(static_cast<int>(v[7]))};
+    }
+    J.damage[j] = jd[j * 6];
+    J.broken[j] = static_cast<std::uint8_t>(jd[j * 6 + 1]);
+    J.break_time[j] = jd[j * 6 + 2];
+    J.break_position[j] = Vec2(jd[j * 6 + 3], jd[j * 6 + 4]);
+    J.dissipated[j] = jd[j * 6 + 5];
+    J.break_mode[j] = static_cast<BreakMode>(modes[j]);
+  }
+  const auto reactions = in.doubles("constraints/reaction_prev");
+  check_size("constraints/reaction_prev", reactions.size(), constraints_.size());
+  for (std::size_t k = 0; k < constraints_.size(); ++k) constraints_[k].reaction_prev = reactions[k];
+  std::vector<Vec2> u_ref(boundary_.size()), f_static(boundary_.size());
+  read_vec2s(in, "boundary/u_ref", u_ref);
+  read_vec2s(in, "boundary/static_force", f_static);
+  read_vec2s(in, "boundary/force_prev", boundary_force_prev_);
+  for (std::size_t k = 0; k < boundary_.size(); ++k) {
+    boundary_[k].u_ref = u_ref[k];
+    boundary_[k].static_force = f_static[k];
+  }
+  quake_start_ = in.scalar("earthquake_start");
+  if (contact_) {
+    const auto keys = in.integers("contact/keys");
+    const auto ft = in.doubles("contact/ft");
+    std::vector<contact::ContactHistory::Entry> entries(keys.size() / 3);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      entries[k].key = {static_cast<Index>(keys[3 * k]), static_cast<Index>(keys[3 * k + 1]),
+                        static_cast<std::uint8_t>(keys[3 * k + 2])};
+      entries[k].ft = Vec2(ft[2 * k], ft[2 * k + 1]);
+    }
+    contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"));
+  }
+}
+
+}  // namespace dsdem::solver
