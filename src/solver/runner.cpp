@@ -270,6 +270,10 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   const bool has_joints = model.joints.size() > 0;
   std::optional<io::PvdSeries> cracks;
   if (has_joints) cracks.emplace(out / "cracks.pvd");
+  std::optional<io::PvdSeries> contacts;
+  if (model.contact.enabled && model.contact.output) contacts.emplace(out / "contacts.pvd");
+  std::vector<Vec2> contact_points, contact_forces;
+  std::vector<double> contact_normal_force, contact_overlap;
   struct GaugeStats {
     double max_disp = 0.0, max_speed = 0.0, time_of_max_speed = 0.0;
   };
@@ -333,6 +337,28 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
       io::write_cracks_vtu(cfile, model, solver.time());
       cracks->add(solver.time(), cfile);
     }
+    if (contacts && solver.contact()) {
+      contact_points.clear();
+      contact_forces.clear();
+      contact_normal_force.clear();
+      contact_overlap.clear();
+      solver.contact()->for_each_contact([&](const contact::ContactRecord& c) {
+        contact_points.push_back(c.point);
+        contact_forces.push_back(c.force);
+        contact_normal_force.push_back(c.fn);
+        contact_overlap.push_back(c.overlap);
+      });
+      const std::string funit = plane_strain ? "N_per_m" : "N";
+      const fs::path pfile = contacts->frame_path(contacts->size());
+      io::VtuOptions po;
+      po.time_s = solver.time();
+      io::write_points_vtu(pfile, contact_points,
+                           {io::vector_field("contact_force", funit, contact_forces),
+                            io::scalar_field("normal_force", funit, std::span<const double>(contact_normal_force)),
+                            io::scalar_field("overlap", "m", std::span<const double>(contact_overlap))},
+                           po);
+      contacts->add(solver.time(), pfile);
+    }
   };
 
   const bool tty = !options.quiet && isatty(STDERR_FILENO);
@@ -385,9 +411,10 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
           const double rate = (solver.step_count() - steps_at_last_progress) /
                               std::chrono::duration<double>(now - last_progress).count();
           const double eta = (end_time - t) / prepared.dt / rate;
-          const std::string line =
-              fmt::format("[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  energy balance {:.2e}", stage.name, t,
-                          end_time, rate, human_time(eta), solver.energy().balance_error());
+          const std::string line = fmt::format(
+              "[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  broken joints {}  contacts {}  energy balance {:.2e}",
+              stage.name, t, end_time, rate, human_time(eta), solver.broken_joints(), solver.active_contacts(),
+              solver.energy().balance_error());
           if (tty)
             fmt::print(stderr, "\r{:<100}", line);
           else if (!options.quiet)

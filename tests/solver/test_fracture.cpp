@@ -133,3 +133,58 @@ TEST(Fracture, BuilderInsertsJointsAndKeepsBedrockContinuous) {
   // Interior edges of a 4x2 grid with diagonals: 3*2 vertical + 4*1 horizontal + 8 diagonal = 18; interface 4.
   EXPECT_EQ(model.joints.size(), 18u + 4u);
 }
+
+// A bar broken in tension and pushed back together: the two pieces meet through contact
+// (no joint any more), with small overlaps and no energy blow-up.
+TEST(Fracture, BrokenBarPushedBackTogetherCollidesWithoutOverlapExplosion) {
+  const double L = 0.2, H = 0.02, E = 21e9, ft = 2.5e6;
+  const int nx = 20, ny = 2;
+  RawMesh raw = mesh::rectangle_mesh(nx, ny, L, H, mesh::Diagonal::Alternate, 0, 0, "bar");
+  RawPhysicalGroup notch;
+  notch.name = "mid";
+  notch.dim = 1;
+  for (int i = 0; i < ny; ++i)
+    notch.edges.push_back({static_cast<Index>(i * (nx + 1) + nx / 2), static_cast<Index>((i + 1) * (nx + 1) + nx / 2)});
+  raw.groups.push_back(notch);
+  io::Scenario sc = discrete_bar_scenario(E, ft);
+  io::JointSpec weak;
+  weak.ft = 0.99 * ft;
+  sc.joints.curves["mid"] = weak;
+  sc.joints.defaults.penalty = 10;  // the default: a softer joint, a larger time step
+  sc.contact.friction = 0.3;
+  Model model = mesh::build_model(sc, raw);
+  ASSERT_TRUE(model.contact.enabled);
+  solver::Solver s(model);
+  io::BoundarySpec left;
+  left.group = "left";
+  left.type = io::BoundaryType::Fixed;
+  io::BoundarySpec right;
+  right.group = "right";
+  right.type = io::BoundaryType::Velocity;
+  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};
+  right.y = io::TimeHistory{{0.0}, {0.0}};
+  s.set_constraints(solver::build_constraints(model, {left, right}, 0.0));
+  const double dt = 0.3 * solver::stable_time_step(model, 0.0).dt;
+  s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});
+  s.initialise();
+  while (s.time() < 6e-3 && s.broken_joints() < ny) s.step();
+  ASSERT_EQ(s.broken_joints(), ny);
+  // Push back at 0.2 m/s: the gap closes and the pieces press on each other.
+  const double t_back = s.time();
+  right.x = io::TimeHistory{{0.0, 1e-4}, {0.02, -0.2}};
+  s.set_constraints(solver::build_constraints(model, {left, right}, t_back));
+  const auto& left_nodes = model.groups[model.find_group("left")].nodes;
+  double max_overlap = 0, max_push = 0;
+  int steps_in_contact = 0;
+  while (s.time() < t_back + 2e-3) {
+    s.step();
+    s.contact()->for_each_contact([&](const contact::ContactRecord& c) { max_overlap = std::max(max_overlap, c.overlap); });
+    if (s.active_contacts() > 0) ++steps_in_contact;
+    max_push = std::max(max_push, s.reaction_on(left_nodes).x());
+  }
+  EXPECT_GT(steps_in_contact, 100) << "the pieces never met";
+  EXPECT_GT(max_push, 0.0) << "no compression reached the fixed end";
+  EXPECT_LT(max_overlap, 0.01 * L / nx) << "overlap " << max_overlap << " m";
+  EXPECT_EQ(s.broken_joints(), ny);  // nothing re-glued, nothing else broke
+  EXPECT_LT(s.energy().balance_error(), 1e-2);
+}
