@@ -35,6 +35,37 @@ io::Scenario discrete_bar_scenario(double E, double ft) {
   return sc;
 }
 
+// A bar of nx x ny cells of triangles and joints whose mid-section (a named curve) is 1%
+// weaker, as in a notched specimen, so the crack has a place to start.
+Model notched_bar(double L, double H, int nx, int ny, double E, double ft, double penalty) {
+  RawMesh raw = mesh::rectangle_mesh(nx, ny, L, H, mesh::Diagonal::Alternate, 0, 0, "bar");
+  RawPhysicalGroup notch;
+  notch.name = "mid";
+  notch.dim = 1;
+  for (int i = 0; i < ny; ++i)
+    notch.edges.push_back({static_cast<Index>(i * (nx + 1) + nx / 2), static_cast<Index>((i + 1) * (nx + 1) + nx / 2)});
+  raw.groups.push_back(notch);
+  io::Scenario sc = discrete_bar_scenario(E, ft);
+  io::JointSpec weak;
+  weak.ft = 0.99 * ft;
+  sc.joints.curves["mid"] = weak;
+  sc.joints.defaults.penalty = penalty;
+  sc.contact.friction = 0.3;
+  return mesh::build_model(sc, raw);
+}
+
+// Left end fixed, right end pulled at 0.02 m/s after a gentle ramp.
+std::vector<io::BoundarySpec> pull(io::BoundarySpec& right) {
+  io::BoundarySpec left;
+  left.group = "left";
+  left.type = io::BoundaryType::Fixed;
+  right.group = "right";
+  right.type = io::BoundaryType::Velocity;
+  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};
+  right.y = io::TimeHistory{{0.0}, {0.0}};
+  return {left, right};
+}
+
 }  // namespace
 
 // A bar of triangles and joints pulled apart breaks at sigma = ft (within 2%), along
@@ -43,32 +74,11 @@ io::Scenario discrete_bar_scenario(double E, double ft) {
 TEST(Fracture, DirectTensionBarBreaksAtTensileStrengthWithOneCrack) {
   const double L = 0.2, H = 0.02, E = 21e9, ft = 2.5e6;
   const int nx = 20, ny = 2;
-  RawMesh raw = mesh::rectangle_mesh(nx, ny, L, H, mesh::Diagonal::Alternate, 0, 0, "bar");
-  RawPhysicalGroup notch;
-  notch.name = "mid";
-  notch.dim = 1;
-  for (int i = 0; i < ny; ++i) {
-    const Index a = static_cast<Index>(i * (nx + 1) + nx / 2), b = static_cast<Index>((i + 1) * (nx + 1) + nx / 2);
-    notch.edges.push_back({a, b});
-  }
-  raw.groups.push_back(notch);
-  io::Scenario sc = discrete_bar_scenario(E, ft);
-  io::JointSpec weak;
-  weak.ft = 0.99 * ft;
-  sc.joints.curves["mid"] = weak;
-  Model model = mesh::build_model(sc, raw);
+  Model model = notched_bar(L, H, nx, ny, E, ft, 50);
   ASSERT_EQ(model.nodes.size(), 3 * model.triangles.size());
-
   solver::Solver s(model);
-  io::BoundarySpec left;
-  left.group = "left";
-  left.type = io::BoundaryType::Fixed;
   io::BoundarySpec right;
-  right.group = "right";
-  right.type = io::BoundaryType::Velocity;
-  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};  // ramp up gently, then 0.02 m/s
-  right.y = io::TimeHistory{{0.0}, {0.0}};
-  s.set_constraints(solver::build_constraints(model, {left, right}, 0.0));
+  s.set_constraints(solver::build_constraints(model, pull(right), 0.0));
   const double dt = 0.3 * solver::stable_time_step(model, 0.0).dt;
   // Light mass damping against the loading wave's ringing.
   s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});
@@ -139,31 +149,12 @@ TEST(Fracture, BuilderInsertsJointsAndKeepsBedrockContinuous) {
 TEST(Fracture, BrokenBarPushedBackTogetherCollidesWithoutOverlapExplosion) {
   const double L = 0.2, H = 0.02, E = 21e9, ft = 2.5e6;
   const int nx = 20, ny = 2;
-  RawMesh raw = mesh::rectangle_mesh(nx, ny, L, H, mesh::Diagonal::Alternate, 0, 0, "bar");
-  RawPhysicalGroup notch;
-  notch.name = "mid";
-  notch.dim = 1;
-  for (int i = 0; i < ny; ++i)
-    notch.edges.push_back({static_cast<Index>(i * (nx + 1) + nx / 2), static_cast<Index>((i + 1) * (nx + 1) + nx / 2)});
-  raw.groups.push_back(notch);
-  io::Scenario sc = discrete_bar_scenario(E, ft);
-  io::JointSpec weak;
-  weak.ft = 0.99 * ft;
-  sc.joints.curves["mid"] = weak;
-  sc.joints.defaults.penalty = 10;  // the default: a softer joint, a larger time step
-  sc.contact.friction = 0.3;
-  Model model = mesh::build_model(sc, raw);
+  Model model = notched_bar(L, H, nx, ny, E, ft, 10);  // default penalty: a larger time step
   ASSERT_TRUE(model.contact.enabled);
   solver::Solver s(model);
-  io::BoundarySpec left;
-  left.group = "left";
-  left.type = io::BoundaryType::Fixed;
   io::BoundarySpec right;
-  right.group = "right";
-  right.type = io::BoundaryType::Velocity;
-  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};
-  right.y = io::TimeHistory{{0.0}, {0.0}};
-  s.set_constraints(solver::build_constraints(model, {left, right}, 0.0));
+  auto bcs = pull(right);
+  s.set_constraints(solver::build_constraints(model, bcs, 0.0));
   const double dt = 0.3 * solver::stable_time_step(model, 0.0).dt;
   s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});
   s.initialise();
@@ -171,8 +162,8 @@ TEST(Fracture, BrokenBarPushedBackTogetherCollidesWithoutOverlapExplosion) {
   ASSERT_EQ(s.broken_joints(), ny);
   // Push back at 0.2 m/s: the gap closes and the pieces press on each other.
   const double t_back = s.time();
-  right.x = io::TimeHistory{{0.0, 1e-4}, {0.02, -0.2}};
-  s.set_constraints(solver::build_constraints(model, {left, right}, t_back));
+  bcs[1].x = io::TimeHistory{{0.0, 1e-4}, {0.02, -0.2}};
+  s.set_constraints(solver::build_constraints(model, bcs, t_back));
   const auto& left_nodes = model.groups[model.find_group("left")].nodes;
   double max_overlap = 0, max_push = 0;
   int steps_in_contact = 0;
