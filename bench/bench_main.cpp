@@ -220,10 +220,10 @@ void BM_WholeBox(benchmark::State& state) {
 }
 // ~10^3, 10^4, 10^5, 10^6 elements; 1 and 2 threads. Fixed step counts (each step of
 // 10^6 elements takes about a second).
-BENCHMARK(BM_WholeBox)->Args({22, 20, 1})->Args({22, 20, 2})->Iterations(3000)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_WholeBox)->Args({72, 68, 1})->Args({72, 68, 2})->Iterations(400)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_WholeBox)->Args({224, 222, 1})->Args({224, 222, 2})->Iterations(40)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_WholeBox)->Args({710, 702, 1})->Args({710, 702, 2})->Iterations(5)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeBox)->Args({22, 20, 1})->Args({22, 20, 2})->Iterations(1000)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeBox)->Args({72, 68, 1})->Args({72, 68, 2})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeBox)->Args({224, 222, 1})->Args({224, 222, 2})->Iterations(10)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeBox)->Args({710, 702, 1})->Args({710, 702, 2})->Iterations(3)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // Synthetic Brazilian disc (see bench_models.hpp): args (element size in 0.1 mm, threads).
 void BM_WholeDisc(benchmark::State& state) {
@@ -234,7 +234,8 @@ void BM_WholeDisc(benchmark::State& state) {
   state.counters["threads"] = static_cast<double>(state.range(1));
   set_threads(1);
 }
-BENCHMARK(BM_WholeDisc)->Args({50, 1})->Args({50, 2})->Args({20, 1})->Args({20, 2})->Iterations(2000)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeDisc)->Args({50, 1})->Args({50, 2})->Iterations(1000)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeDisc)->Args({20, 1})->Args({20, 2})->Iterations(200)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
