@@ -81,7 +81,7 @@ def main():
                  "(R = 0.1 m, discrete, between two contact plates, top plate at 1 m/s). Time per step and rates "
                  "are after 20 (box) or 200 (disc) warm-up steps.")
     lines.append("")
-    lines.append("| run | elements | joints | threads | steps | ms/step (wall) | M elem-steps/s (wall) | "
+    lines.append("| run | elements | joints | threads | steps (or repetitions, for medians) | ms/step (wall) | M elem-steps/s (wall) | "
                  "M elem-steps/s (main-thread CPU) | contacts/step | contacts/s (wall) | broken | peak MB | B/elem (RSS) |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     whole = {}
