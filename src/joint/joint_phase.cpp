@@ -2,41 +2,91 @@
 
 namespace dsdem {
 
+namespace {
+
+// One intact joint: its forces (times thickness), energy and dissipation; breaks it
+// when it fails. Returns true when it broke now.
+inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<JointProperties>& properties,
+                       std::size_t j, double time, bool damage_enabled, double thickness,
+                       std::array<Vec2, 4>& f, double& energy, double& dissipation) {
+  const auto& nd = joints.nodes[j];
+  const JointNodePositions x{nodes.x(nd[0]), nodes.x(nd[1]), nodes.x(nd[2]), nodes.x(nd[3])};
+  // Separations from displacements: the two faces coincide in the reference.
+  const JointSeparations delta{(nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
+                               (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
+  const JointForceResult r =
+      joint_force(x, delta, joints.length0[j], properties[joints.property[j]], joints.state[j], damage_enabled);
+  joints.state[j] = r.state;
+  joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
+  joints.dissipated[j] += thickness * r.dissipation;
+  dissipation = thickness * r.dissipation;
+  if (r.failed_now) {
+    // Both ends carry no tension or cohesion any more: drop the joint, keep the
+    // energy it still stores as dissipated so the balance closes.
+    joints.broken[j] = 1;
+    joints.break_time[j] = time;
+    joints.break_position[j] = 0.25 * (x[0] + x[1] + x[2] + x[3]);
+    joints.break_mode[j] = r.mode;
+    joints.dissipated[j] += thickness * r.energy;
+    dissipation += thickness * r.energy;
+    f = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+    energy = 0.0;
+    return true;
+  }
+  for (int k = 0; k < 4; ++k) f[k] = thickness * r.f[k];
+  energy = thickness * r.energy;
+  return false;
+}
+
+}  // namespace
+
 JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
                                   bool damage_enabled, double thickness) {
   JointPhaseTotals tot;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
-    const auto& nd = joints.nodes[j];
-    const JointNodePositions x{nodes.x(nd[0]), nodes.x(nd[1]), nodes.x(nd[2]), nodes.x(nd[3])};
-    // Separations from displacements: the two faces coincide in the reference.
-    const JointSeparations delta{
-        (nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
-        (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
-    const JointForceResult r = joint_force(x, delta, joints.length0[j],
-                                           properties[joints.property[j]], joints.state[j],
-                                           damage_enabled);
-    joints.state[j] = r.state;
-    joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
-    joints.dissipated[j] += thickness * r.dissipation;
-    tot.dissipation += thickness * r.dissipation;
-    if (r.failed_now) {
-      // Both ends carry no tension or cohesion any more: drop the joint, keep the
-      // energy it still stores as dissipated so the balance closes.
-      joints.broken[j] = 1;
-      joints.break_time[j] = time;
-      joints.break_position[j] = 0.25 * (x[0] + x[1] + x[2] + x[3]);
-      joints.break_mode[j] = r.mode;
-      joints.dissipated[j] += thickness * r.energy;
-      tot.dissipation += thickness * r.energy;
+    std::array<Vec2, 4> f;
+    double energy = 0.0, dissipation = 0.0;
+    const bool broke = joint_step(nodes, joints, properties, j, time, damage_enabled, thickness, f, energy, dissipation);
+    tot.dissipation += dissipation;
+    if (broke) {
       ++tot.broken_now;
       continue;
     }
-    for (int k = 0; k < 4; ++k) nodes.f[nd[k]] += thickness * r.f[k];
-    tot.energy += thickness * r.energy;
+    const auto& nd = joints.nodes[j];
+    for (int k = 0; k < 4; ++k) nodes.f[nd[k]] += f[k];
+    tot.energy += energy;
   }
   return tot;
+}
+
+void JointPhaseBuffers::resize(std::size_t n) {
+  if (force.size() == n) return;
+  force.assign(n, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+  energy.assign(n, 0.0);
+  dissipation.assign(n, 0.0);
+}
+
+void evaluate_joints(const Nodes& nodes, Joints& joints, const std::vector<JointProperties>& properties,
+                     double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
+                     Index& broken_now) {
+  const std::ptrdiff_t nj = static_cast<std::ptrdiff_t>(joints.size());
+  Index broke = 0;
+#pragma omp for schedule(static) nowait
+  for (std::ptrdiff_t j = 0; j < nj; ++j) {
+    if (joints.broken[j]) {  // contact takes over (DESIGN.md §3); its force slot stays zero
+      buf.dissipation[j] = 0.0;
+      continue;
+    }
+    if (joint_step(nodes, joints, properties, static_cast<std::size_t>(j), time, damage_enabled, thickness,
+                   buf.force[j], buf.energy[j], buf.dissipation[j]))
+      ++broke;
+  }
+  if (broke) {
+#pragma omp atomic
+    broken_now += broke;
+  }
 }
 
 }  // namespace dsdem

@@ -24,4 +24,25 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
                                   bool damage_enabled = true, double thickness = 1.0);
 
+// Per-joint results of evaluate_joints, for a deterministic parallel gather (issue 7):
+// the forces on the joint's four nodes (zero for a broken joint), its elastic energy
+// and the energy it dissipated in this call. Sized by evaluate_joints (no allocation
+// once sized).
+struct JointPhaseBuffers {
+  std::vector<std::array<Vec2, 4>> force;  // N, already times the thickness
+  std::vector<double> energy;              // J/m
+  std::vector<double> dissipation;         // J/m
+  void resize(std::size_t n);
+};
+
+// The joint loop of add_joint_forces without the scatter: every joint independent, so
+// the loop is an orphaned `omp for` (static schedule) — call it from inside a parallel
+// region to share the joints among the threads, or from serial code. Histories and
+// breaks are updated as in add_joint_forces. The caller adds buf.force to the nodes
+// (in a fixed order) and sums buf.energy / buf.dissipation; broken_now is returned
+// through *broken_now (added to with an atomic, exact for any thread count).
+void evaluate_joints(const Nodes& nodes, Joints& joints, const std::vector<JointProperties>& properties,
+                     double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
+                     Index& broken_now);
+
 }  // namespace dsdem

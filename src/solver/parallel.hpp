@@ -2,6 +2,7 @@
 // Reductions that give bit-identical results for any thread count: the sum is split
 // into fixed-size chunks (independent of the number of threads), each chunk summed in
 // order, and the chunk sums added serially (DESIGN.md §9, issue 7).
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -23,6 +24,30 @@ double deterministic_sum(std::size_t n, Term term, std::vector<double>& scratch)
   }
   double total = 0.0;
   for (std::size_t c = 0; c < chunks; ++c) total += scratch[c];
+  return total;
+}
+
+// K sums over the same index range in one pass (one parallel region instead of K);
+// term(i) returns std::array<double, K>. Same fixed chunking, so each sum is
+// bit-identical for any thread count. scratch holds K doubles per chunk.
+template <std::size_t K, class Term>
+std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<double>& scratch, bool parallel = true) {
+  const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
+  if (scratch.size() < K * chunks) scratch.resize(K * chunks);
+#pragma omp parallel for schedule(static) if (parallel && chunks > 4)
+  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(chunks); ++c) {
+    const std::size_t begin = static_cast<std::size_t>(c) * kReductionChunk;
+    const std::size_t end = begin + kReductionChunk < n ? begin + kReductionChunk : n;
+    std::array<double, K> s{};
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::array<double, K> t = term(i);
+      for (std::size_t k = 0; k < K; ++k) s[k] += t[k];
+    }
+    for (std::size_t k = 0; k < K; ++k) scratch[K * static_cast<std::size_t>(c) + k] = s[k];
+  }
+  std::array<double, K> total{};
+  for (std::size_t c = 0; c < chunks; ++c)
+    for (std::size_t k = 0; k < K; ++k) total[k] += scratch[K * c + k];
   return total;
 }
 

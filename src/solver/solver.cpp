@@ -5,7 +5,10 @@
 #include <cmath>
 #include <limits>
 
-#include "joint/joint_phase.hpp"
+static_assert(sizeof(std::array<dsdem::Vec2, 3>) == 3 * sizeof(dsdem::Vec2) &&
+                  sizeof(std::array<dsdem::Vec2, 4>) == 4 * sizeof(dsdem::Vec2),
+              "per-element / per-joint force arrays are read as flat Vec2 arrays in the gather");
+
 #include "solver/parallel.hpp"
 
 namespace dsdem::solver {
@@ -83,6 +86,7 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   u_prev_.assign(nn, Vec2::Zero());
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
   build_node_incidence();
+  build_joint_incidence();
   for (auto b : model_.joints.broken) broken_joints_ += b ? 1 : 0;
   if (model_.contact.enabled) {
     contact::ContactSettings cs;
@@ -115,13 +119,25 @@ void Solver::build_node_incidence() {
     for (int k = 0; k < 3; ++k) incidence_entry_[fill[model_.triangles.conn[t][k]]++] = static_cast<Index>(3 * t + k);
 }
 
+void Solver::build_joint_incidence() {
+  const std::size_t nn = model_.nodes.size(), nj = model_.joints.size();
+  joint_buf_.resize(nj);
+  joint_incidence_offset_.assign(nn + 1, 0);
+  for (const auto& nd : model_.joints.nodes)
+    for (Index n : nd) ++joint_incidence_offset_[n + 1];
+  for (std::size_t i = 0; i < nn; ++i) joint_incidence_offset_[i + 1] += joint_incidence_offset_[i];
+  joint_incidence_entry_.assign(joint_incidence_offset_[nn], 0);
+  std::vector<Index> fill(joint_incidence_offset_.begin(), joint_incidence_offset_.end() - 1);
+  for (std::size_t j = 0; j < nj; ++j)
+    for (int k = 0; k < 4; ++k) joint_incidence_entry_[fill[model_.joints.nodes[j][k]]++] = static_cast<Index>(4 * j + k);
+}
+
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
 void Solver::initialise() {
   clear_forces();
   add_gravity();
-  add_internal_forces();
-  add_joint_forces();
+  add_internal_and_joint_forces();
   add_contact_forces();
   add_boundary_forces();
   add_damping_forces();
@@ -135,11 +151,8 @@ void Solver::initialise() {
 }
 
 void Solver::step() {
-  kick_and_drift();
-  clear_forces();
-  add_gravity();
-  add_internal_forces();
-  add_joint_forces();
+  kick_and_drift();  // also clears the forces and adds gravity (one node loop, issue 7)
+  add_internal_and_joint_forces();
   add_contact_forces();
   add_boundary_forces();
   add_damping_forces();
@@ -153,6 +166,7 @@ void Solver::step() {
 void Solver::kick_and_drift() {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
+  const Vec2 g = settings_.gravity;
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.v[i] += 0.5 * dt * n.a[i];
   const double t_half = time_ + 0.5 * dt;
@@ -161,6 +175,9 @@ void Solver::kick_and_drift() {
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     u_prev_[i] = n.u[i];
     n.u[i] += dt * n.v[i];
+    // clear_forces() and add_gravity() of the new step, fused into this loop.
+    n.f[i] = n.m[i] * g;
+    damping_force_[i].setZero();
   }
   time_ += dt;
   for (const auto& d : constraints_)
@@ -183,54 +200,75 @@ void Solver::add_gravity() {
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.f[i] += n.m[i] * g;
 }
 
-void Solver::add_internal_forces() {
+void Solver::add_internal_and_joint_forces() {
   auto& n = model_.nodes;
   auto& tri = model_.triangles;
+  auto& J = model_.joints;
   const double beta = settings_.beta;
   const double thickness = model_.thickness;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t t = 0; t < ssize(tri.size()); ++t) {
-    const auto& c = tri.conn[t];
-    fem::TriangleInput in;
-    for (int k = 0; k < 3; ++k) {
-      in.x[k] = n.X[c[k]] + n.u[c[k]];
-      in.v[k] = n.v[c[k]];
+  const bool joints = J.size() > 0;
+  const std::ptrdiff_t ne = ssize(tri.size()), nn = ssize(n.size());
+  int inverted = 0;
+  Index broken_now = 0;
+  // One region per step for elements, joints and the gather (issue 7): the element and
+  // joint loops share the threads without a barrier between them; the gather waits.
+#pragma omp parallel if (parallel_)
+  {
+#pragma omp for schedule(static) nowait reduction(| : inverted)
+    for (std::ptrdiff_t t = 0; t < ne; ++t) {
+      const auto& c = tri.conn[t];
+      fem::TriangleInput in;
+      for (int k = 0; k < 3; ++k) {
+        in.x[k] = n.X[c[k]] + n.u[c[k]];
+        in.v[k] = n.v[c[k]];
+      }
+      in.Dm_inv = tri.Dm_inv[t];
+      in.area0 = tri.area0[t];
+      in.thickness = thickness;
+      in.S0 = tri.stress0[t];
+      in.beta = beta;
+      fem::TriangleResponse r;
+      fem::triangle_internal_force(in, elastic_[tri.material[t]], r, element_damping_force_[t]);
+      element_force_[t] = r.force;
+      tri.stress[t] = r.cauchy;
+      tri.strain[t] = r.green;
+      element_strain_energy_[t] = r.strain_energy;
+      element_detF_[t] = r.detF;
+      // check_stability() scans the elements only when this flag is set.
+      if (!(r.detF > 0.0)) inverted = 1;
     }
-    in.Dm_inv = tri.Dm_inv[t];
-    in.area0 = tri.area0[t];
-    in.thickness = thickness;
-    in.S0 = tri.stress0[t];
-    in.beta = beta;
-    fem::TriangleResponse r;
-    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, element_damping_force_[t]);
-    element_force_[t] = r.force;
-    tri.stress[t] = r.cauchy;
-    tri.strain[t] = r.green;
-    element_strain_energy_[t] = r.strain_energy;
-    element_detF_[t] = r.detF;
-  }
-  // Gather per node in a fixed order: bit-identical for any thread count.
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
-    Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
-    for (Index k = incidence_offset_[i]; k < incidence_offset_[i + 1]; ++k) {
-      const Index e = incidence_entry_[k];
-      f += element_force_[e / 3][e % 3];
-      fd += element_damping_force_[e / 3][e % 3];
+    if (joints)
+      evaluate_joints(n, J, model_.joint_properties, time_, settings_.failure, thickness, joint_buf_, broken_now);
+#pragma omp barrier
+    // Gather per node in a fixed order (elements, then joints): bit-identical for any
+    // thread count. A broken joint's slots stay zero.
+    // Flat views: entry 3 t + k is element_force_[t][k], entry 4 j + k joint_buf_.force[j][k].
+    const Vec2* ef = element_force_.empty() ? nullptr : element_force_[0].data();
+    const Vec2* edf = element_damping_force_.empty() ? nullptr : element_damping_force_[0].data();
+    const Vec2* jf = joint_buf_.force.empty() ? nullptr : joint_buf_.force[0].data();
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < nn; ++i) {
+      Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
+      for (Index k = incidence_offset_[i]; k < incidence_offset_[i + 1]; ++k) {
+        const Index e = incidence_entry_[k];
+        f += ef[e];
+        fd += edf[e];
+      }
+      Vec2 fj = Vec2::Zero();
+      for (Index k = joint_incidence_offset_[i]; k < joint_incidence_offset_[i + 1]; ++k) fj += jf[joint_incidence_entry_[k]];
+      n.f[i] += f + fd + fj;
+      damping_force_[i] += fd;
     }
-    n.f[i] += f + fd;
-    damping_force_[i] += fd;
   }
-}
-
-void Solver::add_joint_forces() {
-  if (model_.joints.size() == 0) return;
-  const JointPhaseTotals t =
-      dsdem::add_joint_forces(model_.nodes, model_.joints, model_.joint_properties, time_, settings_.failure,
-                              model_.thickness);
-  energy_.joint_elastic = t.energy;
-  energy_.fracture_dissipated += t.dissipation;
-  broken_joints_ += t.broken_now;
+  inverted_ = inverted != 0;
+  if (joints) {
+    const auto sums = deterministic_sums<2>(
+        J.size(), [this](std::size_t j) { return std::array<double, 2>{joint_buf_.energy[j], joint_buf_.dissipation[j]}; },
+        reduction_scratch_, parallel_);
+    energy_.joint_elastic = sums[0];
+    energy_.fracture_dissipated += sums[1];
+    broken_joints_ += broken_now;
+  }
 }
 
 bool Solver::bonded(Index i, Index j) const {
@@ -337,15 +375,20 @@ void Solver::finish_velocities() {
 void Solver::update_energy() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
-  energy_.kinetic = deterministic_sum(n.size(), [&](std::size_t i) { return 0.5 * n.m[i] * n.v[i].squaredNorm(); },
-                                      reduction_scratch_);
-  energy_.strain = deterministic_sum(element_strain_energy_.size(), [&](std::size_t t) { return element_strain_energy_[t]; },
-                                     reduction_scratch_);
-  energy_.gravity_potential =
-      deterministic_sum(n.size(), [&](std::size_t i) { return -n.m[i] * g.dot(n.u[i]); }, reduction_scratch_);
-  energy_.damping_dissipated -= deterministic_sum(
-      n.size(), [&](std::size_t i) { return 0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i]); },
-      reduction_scratch_);
+  // The three node sums in one pass (one parallel region), fixed chunks: deterministic.
+  const auto node_sums = deterministic_sums<3>(
+      n.size(),
+      [&](std::size_t i) {
+        return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
+                                     0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
+      },
+      reduction_scratch_, parallel_);
+  energy_.kinetic = node_sums[0];
+  energy_.gravity_potential = node_sums[1];
+  energy_.damping_dissipated -= node_sums[2];
+  energy_.strain = deterministic_sums<1>(
+      element_strain_energy_.size(), [&](std::size_t t) { return std::array<double, 1>{element_strain_energy_[t]}; },
+      reduction_scratch_, parallel_)[0];
   std::swap(damping_force_prev_, damping_force_);
 }
 
@@ -368,6 +411,7 @@ void Solver::check_stability() {
     throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_, time_), "non_finite",
                            kNoIndex, Vec2::Zero(), step_, time_);
   }
+  if (!inverted_) return;  // the element loop saw no det F <= 0
   for (std::size_t t = 0; t < tri.size(); ++t) {
     if (!(element_detF_[t] > 0.0)) {
       const auto& c = tri.conn[t];

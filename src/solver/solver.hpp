@@ -10,6 +10,7 @@
 #include "contact/contact_forces.hpp"
 #include "fem/cst.hpp"
 #include "io/checkpoint.hpp"
+#include "joint/joint_phase.hpp"
 #include "model/model.hpp"
 #include "solver/constraints.hpp"
 #include "solver/energy.hpp"
@@ -91,14 +92,20 @@ class Solver {
   const contact::ContactForces* contact() const { return contact_.get(); }
   // True when triangles i and j are still glued by an intact joint (no contact between them).
   bool bonded(Index i, Index j) const;
+  // OpenMP on or off for this model's loops (default: on above kParallelThreshold
+  // triangles). Results are bit-identical either way and for any thread count.
+  void set_parallel(bool on) { parallel_ = on; }
+  bool parallel() const { return parallel_; }
 
  private:
   // Phases of one step, in order.
   void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions
   void clear_forces();
   void add_gravity();
-  void add_internal_forces();     // triangles, objective CST (DESIGN.md §2)
-  void add_joint_forces();        // cohesive joints, breaking for good (DESIGN.md §3)
+  // Triangles, objective CST (DESIGN.md §2), and cohesive joints, breaking for good
+  // (DESIGN.md §3): one parallel region, per-element and per-joint force buffers
+  // gathered per node in a fixed order (bit-identical for any thread count).
+  void add_internal_and_joint_forces();
   void add_contact_forces();      // spheropolygons of zones A and C (DESIGN.md §4)
   void add_boundary_forces();     // viscous-spring boundary and free-field seismic input (DESIGN.md §5)
   void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
@@ -108,6 +115,7 @@ class Solver {
   void check_stability();
 
   void build_node_incidence();
+  void build_joint_incidence();
 
   Model& model_;
   // Small models run serially: a parallel region costs more than it saves there.
@@ -137,6 +145,10 @@ class Solver {
   std::vector<std::array<Vec2, 3>> element_damping_force_;
   std::vector<double> element_strain_energy_;
   std::vector<double> element_detF_;
+  bool inverted_ = false;  // some element had det F <= 0 in the last element loop
+  // Joints: per-joint forces before the gather, node -> (joint * 4 + k) incidence (CSR).
+  JointPhaseBuffers joint_buf_;
+  std::vector<Index> joint_incidence_offset_, joint_incidence_entry_;
   // Node -> (element * 3 + local) incidence, CSR, for a deterministic parallel gather.
   std::vector<Index> incidence_offset_, incidence_entry_;
   // Non-conservative nodal forces of the previous and current step (trapezoidal work).

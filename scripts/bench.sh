@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# `make bench`: builds the benchmarks if needed, runs them and writes bench/results.md
+# (machine info, kernel and whole-run tables, example runs when the examples exist).
+# Usage: bash scripts/bench.sh [BUILD_DIR]   (env QUICK=1: skip the 10^6-element and
+# example runs).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${1:-build}"
+case "$BUILD" in /*) ;; *) BUILD="$ROOT/$BUILD" ;; esac
+OUT="$ROOT/bench/results.md"
+RAW="$BUILD/bench-raw"
+mkdir -p "$RAW"
+
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
+fi
+cmake -S "$ROOT" -B "$BUILD" > /dev/null   # picks up bench/ if it appeared since
+cmake --build "$BUILD" -j "$(nproc)" --target dsdem_bench dsdem
+BENCH="$BUILD/bench/dsdem_bench"
+if [ ! -x "$BENCH" ]; then
+  echo "bench.sh: $BENCH not built (is Google Benchmark installed? libbenchmark-dev)" >&2
+  exit 1
+fi
+
+run() {  # name filter [repetitions]
+  local name="$1" filter="$2" reps="${3:-1}"
+  echo "== $name" >&2
+  "$BENCH" --benchmark_filter="$filter" --benchmark_repetitions="$reps" \
+    --benchmark_report_aggregates_only="$([ "$reps" -gt 1 ] && echo true || echo false)" \
+    --benchmark_format=json --benchmark_out="$RAW/$name.json" --benchmark_out_format=json > /dev/null
+}
+
+# Kernels: 5 repetitions, medians reported.
+run kernels 'BM_(TriangleInternalForce|JointLaw|NarrowPhase|BroadPhase)' 5
+# Whole runs: every size in its own process, so peak memory is that model's.
+run box_1e3_t1 'BM_WholeBox/22/20/1/' 3
+run box_1e3_t2 'BM_WholeBox/22/20/2/' 3
+run box_1e4_t1 'BM_WholeBox/72/68/1/' 3
+run box_1e4_t2 'BM_WholeBox/72/68/2/' 3
+run box_1e5_t1 'BM_WholeBox/224/222/1/'
+run box_1e5_t2 'BM_WholeBox/224/222/2/'
+if [ "${QUICK:-0}" != 1 ]; then
+  run box_1e6_t1 'BM_WholeBox/710/702/1/'
+  run box_1e6_t2 'BM_WholeBox/710/702/2/'
+fi
+run disc_h5_t1 'BM_WholeDisc/50/1/' 3
+run disc_h5_t2 'BM_WholeDisc/50/2/' 3
+run disc_h2_t1 'BM_WholeDisc/20/1/'
+run disc_h2_t2 'BM_WholeDisc/20/2/'
+
+# Whole example runs through the CLI, when the examples exist (other issues add them).
+EXAMPLES="$RAW/examples.tsv"
+: > "$EXAMPLES"
+if [ "${QUICK:-0}" != 1 ]; then
+  for ex in brazilian_disc dr2; do
+    scen="$ROOT/examples/$ex/scenario.yaml"
+    [ -f "$scen" ] || continue
+    for t in 1 2; do
+      echo "== example $ex, $t thread(s)" >&2
+      start=$(date +%s.%N)
+      if OMP_NUM_THREADS=$t /usr/bin/time -f '%M' -o "$RAW/$ex-$t.mem" \
+           "$BUILD/dsdem" run "$scen" -o "$RAW/$ex-$t" --threads "$t" --no-fields --no-plots -q > "$RAW/$ex-$t.log" 2>&1; then
+        status=ok
+      else
+        status=failed
+      fi
+      end=$(date +%s.%N)
+      printf '%s\t%s\t%.1f\t%s\t%s\n' "$ex" "$t" "$(echo "$end - $start" | bc)" "$(cat "$RAW/$ex-$t.mem" 2>/dev/null | tail -1)" "$status" >> "$EXAMPLES"
+    done
+  done
+fi
+
+python3 "$ROOT/bench/report.py" "$RAW" "$OUT"
+echo "wrote $OUT" >&2
