@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -378,6 +379,35 @@ void Solver::check_stability() {
                       t, element_detF_[t], p.x(), p.y(), step_, time_),
           "inverted_element", static_cast<Index>(t), p, step_, time_);
     }
+  }
+  // Energy created from nothing: mechanical + dissipated energy exceeding the start plus
+  // the work put in by more than half of the largest energy in play, for
+  // kEnergyGrowthSteps steps in a row (a numerical instability grows exponentially and
+  // stays there; a start-up transient of the trapezoidal work does not).
+  constexpr double kEnergyGrowthRatio = 0.5;
+  constexpr int kEnergyGrowthSteps = 20;
+  const double created = energy_.mechanical() - energy_.initial_total + energy_.dissipated() - energy_.external_work;
+  const double in_play = std::max({std::abs(energy_.kinetic), std::abs(energy_.strain), std::abs(energy_.gravity_potential),
+                                   std::abs(energy_.joint_elastic), std::abs(energy_.contact_elastic),
+                                   std::abs(energy_.external_work), std::abs(energy_.dissipated()),
+                                   std::abs(energy_.initial_total)});
+  energy_growth_steps_ = (created > kEnergyGrowthRatio * in_play && created > 0.0) ? energy_growth_steps_ + 1 : 0;
+  if (energy_growth_steps_ >= kEnergyGrowthSteps) {
+    // Where it shows: the node with the largest kinetic energy.
+    std::size_t worst = 0;
+    double worst_ke = -1.0;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      const double ke = n.m[i] * n.v[i].squaredNorm();
+      if (ke > worst_ke) worst_ke = ke, worst = i;
+    }
+    const Vec2 p = n.size() ? n.x(static_cast<Index>(worst)) : Vec2::Zero();
+    throw InstabilityError(
+        fmt::format("energy growing beyond the work put in: {:.4g} J created (work in {:.4g}, start {:.4g}, kinetic {:.4g}) "
+                    "for {} steps; fastest node {} at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step is too large "
+                    "for a stiffness the stable-step estimate missed (lower time.safety)",
+                    created, energy_.external_work, energy_.initial_total, energy_.kinetic, kEnergyGrowthSteps, worst,
+                    p.x(), p.y(), step_, time_),
+        "energy_growth", static_cast<Index>(worst), p, step_, time_);
   }
 }
 

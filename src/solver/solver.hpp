@@ -112,6 +112,7 @@ class Solver {
   double time_ = 0.0;
   long step_ = 0;
   long broken_joints_ = 0;
+  int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
 
   // Contact: driver, pair parameters, current positions (contiguous), joints per triangle.
   std::unique_ptr<contact::ContactForces> contact_;
