@@ -380,18 +380,23 @@ void Solver::check_stability() {
           "inverted_element", static_cast<Index>(t), p, step_, time_);
     }
   }
-  // Energy created from nothing: mechanical + dissipated energy exceeding the start plus
-  // the work put in by more than half of the largest energy in play, for
-  // kEnergyGrowthSteps steps in a row (a numerical instability grows exponentially and
-  // stays there; a start-up transient of the trapezoidal work does not).
-  constexpr double kEnergyGrowthRatio = 0.5;
-  constexpr int kEnergyGrowthSteps = 20;
+  // Energy created from nothing: mechanical + dissipated energy above the start plus the
+  // work put in, by more than a tenth of the largest energy in play, and growing by at
+  // least 15 % a step for kEnergyGrowthSteps steps in a row. A numerical instability grows
+  // exponentially like that; a constant offset (a velocity imposed suddenly at t = 0,
+  // whose impulse is no work) or a slow drift does not.
+  constexpr double kEnergyGrowthRatio = 0.1;
+  constexpr double kEnergyGrowthRate = 1.15;
+  constexpr int kEnergyGrowthSteps = 5;
   const double created = energy_.mechanical() - energy_.initial_total + energy_.dissipated() - energy_.external_work;
   const double in_play = std::max({std::abs(energy_.kinetic), std::abs(energy_.strain), std::abs(energy_.gravity_potential),
                                    std::abs(energy_.joint_elastic), std::abs(energy_.contact_elastic),
                                    std::abs(energy_.external_work), std::abs(energy_.dissipated()),
                                    std::abs(energy_.initial_total)});
-  energy_growth_steps_ = (created > kEnergyGrowthRatio * in_play && created > 0.0) ? energy_growth_steps_ + 1 : 0;
+  const bool growing = created > kEnergyGrowthRatio * in_play && created > kEnergyGrowthRate * created_prev_ &&
+                       created_prev_ > 0.0;
+  energy_growth_steps_ = growing ? energy_growth_steps_ + 1 : 0;
+  created_prev_ = created;
   if (energy_growth_steps_ >= kEnergyGrowthSteps) {
     // Where it shows: the node with the largest kinetic energy.
     std::size_t worst = 0;
