@@ -3,9 +3,10 @@
 # (second build dir, -O1 with line tables) and runs the test suite under them.
 #   scripts/sanitize.sh            build + test
 # Environment: ASAN_BUILD (default build-asan), ASAN_JOBS (default nproc).
-# Excluded (stated reason): the `regression` label: the full-scenario regression runs
-# repeat the solver loop that the solver/io/app tests already cover, and take several
-# times longer under ASan; they are not input-facing.
+# Excluded (stated reason): the `regression` label (tests/regression/, when present):
+# full-scenario regression runs repeat the solver loop that the solver/io/app tests
+# already exercise, take several times longer under ASan and read no user input.
+# Everything else runs, including the slow solver verification tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${ASAN_BUILD:-build-asan}

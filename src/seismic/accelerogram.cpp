@@ -323,7 +323,9 @@ Accelerogram read_accelerogram_at2(std::istream& in, const std::string& name, co
   if (!(dt > 0.0)) fail(name, 4, fmt::format("DT must be positive, got {}", dt));
   const std::size_t npts = static_cast<std::size_t>(npts_d);
   std::vector<double> a;
-  a.reserve(npts);
+  // NPTS is only a claim until the values are read: do not let a damaged header reserve
+  // gigabytes (found by fuzzing).
+  a.reserve(std::min<std::size_t>(npts, 1u << 16));
   std::string raw;
   int line_no = 4;
   while (std::getline(in, raw)) {

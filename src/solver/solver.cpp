@@ -364,10 +364,10 @@ void Solver::check_stability() {
     for (std::size_t i = 0; i < n.size(); ++i)
       if (!std::isfinite(n.v[i].squaredNorm()) || !std::isfinite(n.u[i].squaredNorm()))
         throw InstabilityError(fmt::format("non-finite velocity at node {} ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s",
-                                           i, n.X[i].x(), n.X[i].y(), step_, time_),
-                               "non_finite", static_cast<Index>(i), n.X[i], step_, time_);
-    throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_, time_), "non_finite",
-                           kNoIndex, Vec2::Zero(), step_, time_);
+                                           i, n.X[i].x(), n.X[i].y(), step_ + 1, time_),
+                               "non_finite", static_cast<Index>(i), n.X[i], step_ + 1, time_);
+    throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_ + 1, time_), "non_finite",
+                           kNoIndex, Vec2::Zero(), step_ + 1, time_);
   }
   for (std::size_t t = 0; t < tri.size(); ++t) {
     if (!(element_detF_[t] > 0.0)) {
@@ -376,8 +376,8 @@ void Solver::check_stability() {
       throw InstabilityError(
           fmt::format("inverted element {} (det F = {:.3g}) at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step "
                       "is too large or the element is crushed",
-                      t, element_detF_[t], p.x(), p.y(), step_, time_),
-          "inverted_element", static_cast<Index>(t), p, step_, time_);
+                      t, element_detF_[t], p.x(), p.y(), step_ + 1, time_),
+          "inverted_element", static_cast<Index>(t), p, step_ + 1, time_);
     }
   }
   // Energy created from nothing: mechanical + dissipated energy above the start plus the
@@ -411,8 +411,8 @@ void Solver::check_stability() {
                     "for {} steps; fastest node {} at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step is too large "
                     "for a stiffness the stable-step estimate missed (lower time.safety)",
                     created, energy_.external_work, energy_.initial_total, energy_.kinetic, kEnergyGrowthSteps, worst,
-                    p.x(), p.y(), step_, time_),
-        "energy_growth", static_cast<Index>(worst), p, step_, time_);
+                    p.x(), p.y(), step_ + 1, time_),
+        "energy_growth", static_cast<Index>(worst), p, step_ + 1, time_);
   }
 }
 

@@ -125,6 +125,40 @@ TEST(Reliability, NonFiniteStateStopsNamingTheNode) {
   fs::remove_all(out);
 }
 
+TEST(Reliability, EnergyGrowthStopsTheRunNamingTheNode) {
+  // Stiff joints at time.safety = 1 (allowed, and `check` passes it): the joint stable
+  // step counts each joint end alone, but the nodes also carry the triangles and the other
+  // joints, so the step is above the real limit and the high modes grow exponentially.
+  const fs::path dir = fresh_dir("rel_growth");
+  fs::create_directories(dir);
+  fs::copy_file(std::string(DSDEM_TEST_DATA_DIR) + "/mesh/square.geo", dir / "square.geo");
+  std::ofstream(dir / "s.yaml") << R"(mesh:
+  file: square.geo
+  element_size: 0.25
+materials:
+  rock: {E: 10.0e9, nu: 0.25, rho: 2500}
+regions:
+  - group: block
+    material: rock
+    zone: discrete
+joints:
+  default: {ft: 1.0e9, c: 4.0e9, phi: 30, GI: 1.0e6, GII: 1.0e7, penalty: 10}
+boundaries:
+  - group: bottom
+    type: fixed
+gravity: [0, -9.81]
+time:
+  end: 0.01
+  safety: 1.0
+)";
+  const fs::path out = dir / "out";
+  EXPECT_EQ(run_dsdem("check " + (dir / "s.yaml").string()).exit_code, 0);
+  const auto c = run_dsdem("run " + (dir / "s.yaml").string() + " -o " + out.string() + " -q --no-plots --threads 1");
+  expect_diagnosis(out, c, "energy_growth", "node");
+  EXPECT_NE(c.output.find("energy growing beyond the work put in"), std::string::npos) << c.output;
+  fs::remove_all(dir);
+}
+
 TEST(Reliability, SigkillLeavesOnlyCompleteFiles) {
   const fs::path out = fresh_dir("rel_kill");
   const pid_t pid = spawn_dsdem({"run", kSlope, "-o", out.string(), "--set", "time.end=100", "--set",
