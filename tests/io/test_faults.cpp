@@ -83,3 +83,30 @@ TEST(Faults, GarbageAccelerogramsAreRuntimeErrors) {
     EXPECT_THROW(read_accelerogram_at2(in, "g.AT2"), std::runtime_error) << text;
   }
 }
+
+// Fuzz find: an AT2 header claiming 333 million points made the reader reserve 2.7 GB
+// before reading a single value (libFuzzer out-of-memory). Now it fails on the count,
+// allocating only what the file holds.
+TEST(Faults, At2HeaderClaimingHugeNptsFailsWithoutReservingIt) {
+  std::istringstream in("PEER\nX\nUNITS OF G\n 333333333  .01000    NPTS, DT\n  0.0 1.0 2.0\n");
+  try {
+    dsdem::seismic::read_accelerogram_at2(in, "huge.AT2");
+    ADD_FAILURE() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("file ends after 3 values; NPTS = 333333333"), std::string::npos) << e.what();
+  }
+}
+
+// Fuzz find: `--set time.end.x=1` walked through the scalar time.end and yaml-cpp threw
+// YAML::BadSubscript, which escaped as an unexpected error (exit 1, no file or key).
+TEST(Faults, SetOverrideThroughAScalarIsAScenarioError) {
+  const std::string text = "time:\n  end: 1.0\nmesh:\n  file: m.msh\n";
+  for (const std::string& o : {std::string("time.end.x=1"), std::string("time.end.x.y=1"), std::string("mesh.file.a=2")}) {
+    try {
+      dsdem::io::parse_scenario(text, "s.yaml", {o});
+      ADD_FAILURE() << o;
+    } catch (const dsdem::io::ScenarioError& e) {
+      EXPECT_NE(std::string(e.what()).find("is a value, not a section with keys"), std::string::npos) << e.what();
+    }
+  }
+}
