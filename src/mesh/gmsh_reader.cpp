@@ -64,6 +64,16 @@ void check_msh_structure(const std::string& path) {
       if (data_size != sizeof(double)) fail(fmt::format("data size {} (expected {})", data_size, sizeof(double)));
       saw_format = true;
     }
+    if (open_section == "PhysicalNames" && !line.empty() && line[0] != '$') {
+      // Gmsh 4.8 dereferences a bad iterator (SEGV) for a physical name of dimension
+      // outside 0..3 (a fuzz find): entries are "dim tag \"name\"", dim 0..3, tag > 0.
+      std::istringstream e(line);
+      long dim = -1, tag = 0;
+      if (e >> dim >> tag) {
+        if (dim < 0 || dim > 3 || tag <= 0)
+          fail(fmt::format("physical name with dimension {} and tag {} (dimension 0..3, tag > 0)", dim, tag));
+      }
+    }
     if (line.empty() || line[0] != '$') continue;
     if (line.rfind("$End", 0) == 0) {
       if (open_section.empty() || line.substr(4) != open_section)

@@ -265,6 +265,15 @@ Accelerogram read_accelerogram_csv(std::istream& in, const std::string& name, Ac
     max_dev = std::max(max_dev, std::abs(t[i] - t[i - 1] - mean_dt));
   }
   if (max_dev <= 1e-4 * mean_dt) return integrate(mean_dt, std::move(a), baseline);
+  // Irregular steps are resampled at the smallest one. A record whose smallest step is
+  // tiny against its length would become hundreds of millions of samples (a fuzz find:
+  // minutes of work, gigabytes): refuse it with the numbers.
+  constexpr double kMaxResampled = 2e7;
+  const double resampled = (t.back() - t.front()) / min_dt + 1.0;
+  if (!(resampled <= kMaxResampled))
+    fail(name, 0, fmt::format("irregular time steps from {:.6g} s over {:.6g} s would need {:.3g} samples once resampled "
+                              "at the smallest step (limit {:.0g}): check the time column",
+                              min_dt, t.back() - t.front(), resampled, kMaxResampled));
   return integrate(min_dt, linear_resample(t, a, min_dt), baseline);
 }
 

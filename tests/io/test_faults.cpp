@@ -110,3 +110,22 @@ TEST(Faults, SetOverrideThroughAScalarIsAScenarioError) {
     }
   }
 }
+
+// Fuzz find: Gmsh 4.8 crashes (SEGV in GModel::setPhysicalName) on a physical name of
+// dimension 4; the reader now rejects it before Gmsh sees the file.
+TEST(Faults, MshPhysicalNameOfDimensionFourIsRejectedBeforeGmsh) {
+  const std::string msg = msh_error(kHeader + "$PhysicalNames\n1\n4 1 \"block\"\n$EndPhysicalNames\n$Nodes\n0 0 0 0\n$EndNodes\n");
+  EXPECT_NE(msg.find("physical name with dimension 4"), std::string::npos) << msg;
+}
+
+// Fuzz find: a CSV with steps of 0.01 s and one jump to t = 540225 s was resampled at
+// 0.01 s: 54 million samples, a hang of minutes. Now refused with the numbers.
+TEST(Faults, CsvWhoseResamplingWouldExplodeIsRefused) {
+  std::istringstream in("time_s,acc_g\n0,0\n0.01,0.1\n0.02,0.2\n540225.08,0\n");
+  try {
+    dsdem::seismic::read_accelerogram_csv(in, "jump.csv", dsdem::seismic::AccelUnits::G);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("would need 5.4e+07 samples"), std::string::npos) << e.what();
+  }
+}
