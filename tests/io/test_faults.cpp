@@ -129,3 +129,11 @@ TEST(Faults, CsvWhoseResamplingWouldExplodeIsRefused) {
     EXPECT_NE(std::string(e.what()).find("would need 5.4e+07 samples"), std::string::npos) << e.what();
   }
 }
+
+// Second fuzz find on the same path: 0.01 s steps over 40225 s (4 million samples) passed
+// a first limit of 2e7 and then spent > 10 s in the baseline correction. Limit 1e6.
+TEST(Faults, CsvResampledToMillionsOfSamplesIsRefused) {
+  std::istringstream in("time_s,acc_g\n0,0\n0.01,0.1\n0.02,0.2\n40225.08,0\n");
+  EXPECT_THROW(dsdem::seismic::read_accelerogram_csv(in, "long.csv", dsdem::seismic::AccelUnits::G),
+               std::runtime_error);
+}
