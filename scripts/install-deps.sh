@@ -15,6 +15,7 @@ PACKAGES=(
   libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-meshio
   ffmpeg
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <unistd.h>
@@ -19,6 +20,22 @@ namespace {
 // Exit codes: 0 success, 1 unexpected failure, 2 bad input, 3 the run went unstable.
 constexpr int kExitInputError = 2;
 constexpr int kExitUnstable = 3;
+
+// SIGINT / SIGTERM during a run: the first one asks the run to stop cleanly at the end of
+// the current step (last fields, history and summary written; exit code 128 + signal);
+// the handler then resets, so a second one ends the process at once.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
 
 int guarded(const std::function<int()>& body) {
   try {
@@ -82,6 +99,7 @@ int main(int argc, char** argv) {
   }
   if (*run_cmd) {
     return guarded([&] {
+      install_stop_handlers();
       const auto sc = dsdem::io::load_scenario(run_scenario_path, run_sets);
       if (threads > 0) omp_set_num_threads(threads);
       // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
@@ -96,7 +114,14 @@ int main(int argc, char** argv) {
       options.threads = threads;
       options.quiet = quiet;
       options.write_fields = !no_fields;
+      options.stop_signal = &g_stop_signal;
+      if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
       const auto result = dsdem::solver::run(prepared, options);
+      if (result.stopped_by_signal) {
+        fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}\n", result.stopped_by_signal,
+                   out_dir);
+        return 128 + result.stopped_by_signal;
+      }
       fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", out_dir, result.steps,
                  result.wall_time_s, result.energy_balance_error);
       if (!no_plots && dsdem::app::run_plot(out_dir, true) != 0)

@@ -1,6 +1,7 @@
 #include "io/scenario.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -200,11 +201,18 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
       if (idx >= cur.size())
         throw ScenarioError({fmt::format("--set {}: index {} beyond the {} entries", key, idx, cur.size())});
       chain.push_back(cur[idx]);
-    } else {
+    } else if (cur.IsMap() || !cur.IsDefined() || cur.IsNull()) {
       chain.push_back(cur[part]);
+    } else {
+      // A scalar on the way: yaml-cpp would throw BadSubscript (found by fuzzing).
+      throw ScenarioError({fmt::format("--set {}: '{}' is a value, not a section with keys",
+                                       key, fmt::join(parts.begin(), parts.begin() + static_cast<long>(i) + 1, "."))});
     }
   }
   YAML::Node leaf = chain.back();
+  if (!leaf.IsSequence() && !leaf.IsMap() && leaf.IsDefined() && !leaf.IsNull())
+    throw ScenarioError({fmt::format("--set {}: '{}' is a value, not a section with keys", key,
+                                     fmt::join(parts.begin(), parts.end() - 1, "."))});
   YAML::Node v;
   try {
     v = YAML::Load(value);
@@ -243,7 +251,13 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
     throw ScenarioError({fmt::format("{}:{}:{}: YAML syntax error: {}", file_name, e.mark.line + 1, e.mark.column + 1, e.msg)});
   }
   if (!root.IsMap()) throw ScenarioError({fmt::format("{}: the scenario must be a YAML map of sections (mesh, materials, ...)", file_name)});
-  for (const auto& o : overrides) apply_override(root, o);
+  for (const auto& o : overrides) {
+    try {
+      apply_override(root, o);
+    } catch (const YAML::Exception& e) {
+      throw ScenarioError({fmt::format("--set {}: {}", o, e.msg)});
+    }
+  }
 
   SchemaReader r(file_name);
   Scenario sc;

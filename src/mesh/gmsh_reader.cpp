@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -33,10 +35,67 @@ constexpr int kGmshLine2 = 1;
 constexpr int kGmshTriangle3 = 2;
 constexpr int kGmshPoint = 15;
 
+// Gmsh's own parser trusts its input (a damaged file can make it read out of bounds or
+// stop the process), so a file goes to it only after this structural check: an ASCII
+// .msh 2.x or 4.x whose sections are all closed ($Name ... $EndName), without NUL bytes.
+// Throws std::runtime_error naming the file and the line.
+void check_msh_structure(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
+  std::string line;
+  long line_no = 0;
+  std::string open_section;
+  bool saw_format = false, saw_nodes = false;
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error(fmt::format("{}:{}: not a Gmsh ASCII .msh file: {}", path, line_no, what));
+  };
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find('\0') != std::string::npos) fail("NUL byte (binary data; save the mesh as ASCII, Mesh.Binary = 0)");
+    if (line_no == 1 && line != "$MeshFormat") fail("the first line must be $MeshFormat");
+    if (line_no == 2) {
+      std::istringstream v(line);
+      double version = 0.0;
+      int file_type = -1, data_size = 0;
+      if (!(v >> version >> file_type >> data_size)) fail("expected 'version file-type data-size' after $MeshFormat");
+      if (!(version >= 2.0 && version < 5.0)) fail(fmt::format("unsupported .msh version {} (write 4.1 or 2.2)", version));
+      if (file_type != 0) fail("binary .msh (save the mesh as ASCII, Mesh.Binary = 0)");
+      if (data_size != sizeof(double)) fail(fmt::format("data size {} (expected {})", data_size, sizeof(double)));
+      saw_format = true;
+    }
+    if (open_section == "PhysicalNames" && !line.empty() && line[0] != '$') {
+      // Gmsh 4.8 dereferences a bad iterator (SEGV) for a physical name of dimension
+      // outside 0..3 (a fuzz find): entries are "dim tag \"name\"", dim 0..3, tag > 0.
+      std::istringstream e(line);
+      long dim = -1, tag = 0;
+      if (e >> dim >> tag) {
+        if (dim < 0 || dim > 3 || tag <= 0)
+          fail(fmt::format("physical name with dimension {} and tag {} (dimension 0..3, tag > 0)", dim, tag));
+      }
+    }
+    if (line.empty() || line[0] != '$') continue;
+    if (line.rfind("$End", 0) == 0) {
+      if (open_section.empty() || line.substr(4) != open_section)
+        fail(fmt::format("'{}' without a matching ${}", line, line.substr(4)));
+      open_section.clear();
+    } else {
+      if (!open_section.empty()) fail(fmt::format("${} is not closed before '{}'", open_section, line));
+      open_section = line.substr(1);
+      if (open_section == "Nodes" || open_section == "NOD") saw_nodes = true;
+    }
+  }
+  if (line_no == 0) fail("empty file");
+  if (!saw_format) fail("no version line after $MeshFormat");
+  if (!open_section.empty()) fail(fmt::format("${} is not closed (truncated file?)", open_section));
+  if (!saw_nodes) fail("no $Nodes section (was it meshed?)");
+}
+
 }  // namespace
 
 RawMesh read_msh(const std::string& path) {
   if (!std::filesystem::exists(path)) throw std::runtime_error(fmt::format("{}: mesh file not found", path));
+  check_msh_structure(path);
   std::lock_guard<std::mutex> lock(gmsh_mutex());
   GmshSession session;
   try {

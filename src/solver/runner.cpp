@@ -5,12 +5,15 @@
 #include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <optional>
 
 #include "dsdem_version.hpp"
@@ -123,6 +126,12 @@ std::string zone_name(Zone z) {
   return "?";
 }
 
+std::string signal_name(int sig) {
+  if (sig == SIGINT) return "SIGINT";
+  if (sig == SIGTERM) return "SIGTERM";
+  return fmt::format("signal {}", sig);
+}
+
 std::string human_time(double s) {
   if (!std::isfinite(s)) return "?";
   if (s < 120) return fmt::format("{:.1f} s", s);
@@ -151,6 +160,71 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
 }
 
 }  // namespace
+
+std::size_t estimate_memory_bytes(const PreparedRun& run) {
+  const Model& m = run.model;
+  // Per entity, from the data structures (model + solver scratch + output buffers):
+  //   node: Nodes (X u v a f v_prescribed: 6 Vec2, m, fix, origin) ~ 120 B, solver
+  //         (damping forces x2, u_prev, contact positions, incidence) ~ 90 B, VTU frame ~ 100 B;
+  //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0, 3 Vec3 tensors) ~ 150 B,
+  //         solver (element forces x2, energy, det F, incidence, joints) ~ 150 B, contact
+  //         shape and broad-phase entries ~ 250 B, VTU frame ~ 250 B;
+  //   joint: Joints (4 nodes, 2 triangles, state, damage, lengths, tractions) ~ 250 B,
+  //         crack output ~ 100 B.
+  // Plus ~60 MB for the program and its libraries (VTK, Gmsh, HDF5).
+  constexpr std::size_t kNode = 310, kTriangle = 800, kJoint = 350, kBase = 60u << 20;
+  std::size_t bytes = kBase + m.nodes.size() * kNode + m.triangles.size() * kTriangle + m.joints.size() * kJoint;
+  for (const auto& rec : {run.quake_horizontal, run.quake_vertical})
+    if (rec) bytes += rec->a.size() * 3 * sizeof(double);
+  return bytes;
+}
+
+std::size_t estimate_output_bytes(const PreparedRun& run, bool write_fields) {
+  const Model& m = run.model;
+  const io::Scenario& sc = run.scenario;
+  const double end = sc.end_time();
+  const double frames = write_fields && sc.output.field_interval > 0 ? std::floor(end / sc.output.field_interval) + 2 : 0;
+  // A VTU frame: ~ 60 B per node, ~ 150 B per triangle (binary arrays, base64); a crack frame per joint ~ 100 B.
+  const double frame = 60.0 * m.nodes.size() + 150.0 * m.triangles.size() + 100.0 * m.joints.size();
+  const double rows = sc.output.history_interval > 0 ? std::floor(end / sc.output.history_interval) + 2 : 0;
+  const double row = 24.0 * (16 + 2 * 4 + 6 * sc.output.gauges.size());
+  const double total = frames * frame + rows * row + (1u << 20);
+  return total > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(total);
+}
+
+std::size_t available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::size_t value = 0;
+  std::string unit;
+  while (in >> key >> value) {
+    std::getline(in, unit);
+    if (key == "MemAvailable:") return value * 1024;
+  }
+  return 0;
+}
+
+namespace {
+std::string human_bytes(double b) {
+  if (b < 1e6) return fmt::format("{:.0f} kB", b / 1e3);
+  if (b < 1e9) return fmt::format("{:.1f} MB", b / 1e6);
+  return fmt::format("{:.2f} GB", b / 1e9);
+}
+}  // namespace
+
+std::vector<std::string> resource_warnings(std::size_t memory_bytes, std::size_t available_bytes, double wall_seconds) {
+  std::vector<std::string> w;
+  if (available_bytes > 0 && memory_bytes > available_bytes)
+    w.push_back(fmt::format("this run needs about {} of memory but the machine has {} available (MemAvailable): "
+                            "use a coarser mesh or a larger machine",
+                            human_bytes(static_cast<double>(memory_bytes)), human_bytes(static_cast<double>(available_bytes))));
+  constexpr double kDay = 24 * 3600.0;
+  if (std::isfinite(wall_seconds) && wall_seconds > kDay)
+    w.push_back(fmt::format("this run would take about {:.1f} h of wall time (more than 24 h): shorten time.end, "
+                            "coarsen the mesh or raise time.safety",
+                            wall_seconds / 3600.0));
+  return w;
+}
 
 std::string check_report(PreparedRun& run) {
   const Model& m = run.model;
@@ -193,8 +267,14 @@ std::string check_report(PreparedRun& run) {
   const auto t0 = Clock::now();
   for (int i = 0; i < probe; ++i) solver.step();
   const double per_step = std::chrono::duration<double>(Clock::now() - t0).count() / probe;
+  const double wall = per_step * static_cast<double>(run.estimated_steps);
   r += fmt::format("estimate   {:.3g} ms per step ({} threads) -> about {} of wall time\n", per_step * 1e3,
-                   omp_get_max_threads(), human_time(per_step * run.estimated_steps));
+                   omp_get_max_threads(), human_time(wall));
+  const std::size_t mem = estimate_memory_bytes(run), avail = available_memory_bytes();
+  r += fmt::format("memory     about {} needed, {} available; output about {}\n", human_bytes(static_cast<double>(mem)),
+                   avail ? human_bytes(static_cast<double>(avail)) : std::string("unknown"),
+                   human_bytes(static_cast<double>(estimate_output_bytes(run))));
+  for (const auto& w : resource_warnings(mem, avail, wall)) r += fmt::format("warning: {}\n", w);
   return r;
 }
 
@@ -203,7 +283,25 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const int threads = omp_get_max_threads();
   const fs::path out(options.output_dir);
-  io::ensure_writable_directory(out);
+  // Before step 0: the output directory must exist or be creatable, be writable and have
+  // room for the results. Bad output settings are bad input (exit code 2); nothing is written.
+  try {
+    io::ensure_writable_directory(out);
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({fmt::format("--output {}: {}", out.string(), e.what())});
+  }
+  {
+    struct statvfs fs_info {};
+    if (::statvfs(out.c_str(), &fs_info) == 0) {
+      const double free_bytes = static_cast<double>(fs_info.f_bavail) * static_cast<double>(fs_info.f_frsize);
+      const double need = static_cast<double>(estimate_output_bytes(prepared, options.write_fields));
+      if (free_bytes < need)
+        throw io::ScenarioError({fmt::format(
+            "--output {}: the file system has {} free but this run will write about {} (fields, history, log): "
+            "free some space, choose another directory or write fewer frames (output.field_interval, --no-fields)",
+            out.string(), human_bytes(free_bytes), human_bytes(need))});
+    }
+  }
   // Keep the mesh the run used next to its results.
   if (!prepared.mesh_file.empty() && fs::exists(prepared.mesh_file)) {
     std::error_code ec;
@@ -367,6 +465,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   double stage_end = 0.0;
   const double end_time = sc.end_time();
   const auto loop_start = Clock::now();
+  int stopped_by = 0;
   auto last_progress = loop_start;
   long steps_at_last_progress = 0;
   try {
@@ -387,6 +486,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
       double peak_kinetic = 0.0;
       // Stop within half a step of the stage end.
       while (solver.time() < stage_end - 0.5 * prepared.dt) {
+        if (options.stop_signal && *options.stop_signal) break;
         solver.step();
         update_gauge_stats();
         const double t = solver.time();
@@ -424,21 +524,41 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
           steps_at_last_progress = solver.step_count();
         }
       }
+      if (options.stop_signal && *options.stop_signal) {
+        stopped_by = static_cast<int>(*options.stop_signal);
+        if (tty) fmt::print(stderr, "\n");
+        log->warn("run stopped by {} at step {}, t = {:.6g} s in stage '{}': writing the last fields, history and summary",
+                  signal_name(stopped_by), solver.step_count(), solver.time(), stage.name);
+        break;
+      }
     }
   } catch (const InstabilityError& e) {
     if (tty) fmt::print(stderr, "\n");
     log->error("run stopped: {}", e.what());
-    write_fields();
-    write_history(-1);
-    history.close();
-    if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
+    // The diagnosis first (it must survive whatever follows), then the last state.
+    const std::string entity = e.kind == "inverted_element" ? "element"
+                               : e.id == kNoIndex           ? "model"
+                                                            : "node";
     io::Json diag = io::Json::object({{"kind", e.kind},
                                       {"message", std::string(e.what())},
+                                      {"entity", entity},
                                       {"id", e.id},
                                       {"position_m", io::Json::array({e.position.x(), e.position.y()})},
                                       {"step", e.step},
-                                      {"time_s", e.time}});
+                                      {"time_s", e.time},
+                                      {"dt_s", prepared.dt},
+                                      {"stable_dt_s", prepared.stable.dt},
+                                      {"stable_dt_controlled_by", prepared.stable.controlled_by}});
     io::write_json_file(out / "diagnosis.json", diag);
+    try {
+      write_fields();
+      write_history(-1);
+      history.close();
+      if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
+    } catch (const std::exception& w) {
+      log->error("could not write the last state: {}", w.what());
+    }
+    log->error("diagnosis in {}", (out / "diagnosis.json").string());
     throw;
   }
   if (tty) fmt::print(stderr, "\n");
@@ -467,6 +587,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["element_steps_per_s"] = model.triangles.size() * static_cast<double>(solver.step_count()) /
                                    std::max(1e-9, std::chrono::duration<double>(Clock::now() - loop_start).count());
   summary["energy_balance_error"] = max_balance_error;
+  summary["completed"] = stopped_by == 0;
+  if (stopped_by) summary["stopped_by"] = signal_name(stopped_by);
   io::Json energies = io::Json::object();
   const auto& e = solver.energy();
   energies["unit"] = energy_unit;
@@ -492,6 +614,10 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["gauges"] = gauges;
   if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
   io::write_json_file(out / "summary.json", summary);
+  if (stopped_by)
+    log->warn("stopped by {}: {} steps in {}; last fields, history and summary in {}", signal_name(stopped_by),
+              solver.step_count(), human_time(wall), out.string());
+  else
   log->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(), human_time(wall),
             max_balance_error, out.string());
   spdlog::drop("dsdem");
@@ -501,6 +627,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   result.wall_time_s = wall;
   result.energy_balance_error = max_balance_error;
   result.summary_path = (out / "summary.json").string();
+  result.stopped_by_signal = stopped_by;
   return result;
 }
 

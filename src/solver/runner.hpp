@@ -1,5 +1,6 @@
 #pragma once
 // Runs a scenario end to end: mesh, model, stages, output, summary (DESIGN.md §10).
+#include <csignal>
 #include <functional>
 #include <optional>
 #include <string>
@@ -18,6 +19,9 @@ struct RunOptions {
   int threads = 0;          // 0 = all cores
   bool quiet = false;       // no progress lines on the terminal
   bool write_fields = true;
+  // Set (to the signal number) by a SIGINT/SIGTERM handler: the run stops at the end of
+  // the current step and writes its last fields, history and summary.
+  const volatile std::sig_atomic_t* stop_signal = nullptr;
 };
 
 // Everything known before step 0: the model, its time step and what controls it.
@@ -49,7 +53,20 @@ struct RunResult {
   double wall_time_s = 0.0;
   double energy_balance_error = 0.0;
   std::string summary_path;
+  int stopped_by_signal = 0;  // the signal that stopped the run early, 0 if it ran to the end
 };
+
+// Bytes of memory a run of this model needs (data structures per node, element, joint,
+// plus contact buffers), and the bytes of output it will write. Estimates, for `check`.
+std::size_t estimate_memory_bytes(const PreparedRun& run);
+std::size_t estimate_output_bytes(const PreparedRun& run, bool write_fields = true);
+
+// Warnings `check` prints when the run needs more memory than the machine has available
+// (MemAvailable in /proc/meminfo) or longer than 24 h of wall time. Empty when fine.
+std::vector<std::string> resource_warnings(std::size_t memory_bytes, std::size_t available_bytes,
+                                           double wall_seconds);
+// MemAvailable from /proc/meminfo in bytes; 0 when unknown.
+std::size_t available_memory_bytes();
 
 // Runs every stage and writes OUT/{fields.pvd, fields/, history.csv, summary.json, dsdem.log}.
 RunResult run(PreparedRun& prepared, const RunOptions& options);

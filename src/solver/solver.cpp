@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -406,10 +407,10 @@ void Solver::check_stability() {
     for (std::size_t i = 0; i < n.size(); ++i)
       if (!std::isfinite(n.v[i].squaredNorm()) || !std::isfinite(n.u[i].squaredNorm()))
         throw InstabilityError(fmt::format("non-finite velocity at node {} ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s",
-                                           i, n.X[i].x(), n.X[i].y(), step_, time_),
-                               "non_finite", static_cast<Index>(i), n.X[i], step_, time_);
-    throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_, time_), "non_finite",
-                           kNoIndex, Vec2::Zero(), step_, time_);
+                                           i, n.X[i].x(), n.X[i].y(), step_ + 1, time_),
+                               "non_finite", static_cast<Index>(i), n.X[i], step_ + 1, time_);
+    throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_ + 1, time_), "non_finite",
+                           kNoIndex, Vec2::Zero(), step_ + 1, time_);
   }
   if (!inverted_) return;  // the element loop saw no det F <= 0
   for (std::size_t t = 0; t < tri.size(); ++t) {
@@ -419,9 +420,43 @@ void Solver::check_stability() {
       throw InstabilityError(
           fmt::format("inverted element {} (det F = {:.3g}) at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step "
                       "is too large or the element is crushed",
-                      t, element_detF_[t], p.x(), p.y(), step_, time_),
-          "inverted_element", static_cast<Index>(t), p, step_, time_);
+                      t, element_detF_[t], p.x(), p.y(), step_ + 1, time_),
+          "inverted_element", static_cast<Index>(t), p, step_ + 1, time_);
     }
+  }
+  // Energy created from nothing: mechanical + dissipated energy above the start plus the
+  // work put in, by more than a tenth of the largest energy in play, and growing by at
+  // least 15 % a step for kEnergyGrowthSteps steps in a row. A numerical instability grows
+  // exponentially like that; a constant offset (a velocity imposed suddenly at t = 0,
+  // whose impulse is no work) or a slow drift does not.
+  constexpr double kEnergyGrowthRatio = 0.1;
+  constexpr double kEnergyGrowthRate = 1.15;
+  constexpr int kEnergyGrowthSteps = 5;
+  const double created = energy_.mechanical() - energy_.initial_total + energy_.dissipated() - energy_.external_work;
+  const double in_play = std::max({std::abs(energy_.kinetic), std::abs(energy_.strain), std::abs(energy_.gravity_potential),
+                                   std::abs(energy_.joint_elastic), std::abs(energy_.contact_elastic),
+                                   std::abs(energy_.external_work), std::abs(energy_.dissipated()),
+                                   std::abs(energy_.initial_total)});
+  const bool growing = created > kEnergyGrowthRatio * in_play && created > kEnergyGrowthRate * created_prev_ &&
+                       created_prev_ > 0.0;
+  energy_growth_steps_ = growing ? energy_growth_steps_ + 1 : 0;
+  created_prev_ = created;
+  if (energy_growth_steps_ >= kEnergyGrowthSteps) {
+    // Where it shows: the node with the largest kinetic energy.
+    std::size_t worst = 0;
+    double worst_ke = -1.0;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      const double ke = n.m[i] * n.v[i].squaredNorm();
+      if (ke > worst_ke) worst_ke = ke, worst = i;
+    }
+    const Vec2 p = n.size() ? n.x(static_cast<Index>(worst)) : Vec2::Zero();
+    throw InstabilityError(
+        fmt::format("energy growing beyond the work put in: {:.4g} J created (work in {:.4g}, start {:.4g}, kinetic {:.4g}) "
+                    "for {} steps; fastest node {} at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step is too large "
+                    "for a stiffness the stable-step estimate missed (lower time.safety)",
+                    created, energy_.external_work, energy_.initial_total, energy_.kinetic, kEnergyGrowthSteps, worst,
+                    p.x(), p.y(), step_ + 1, time_),
+        "energy_growth", static_cast<Index>(worst), p, step_ + 1, time_);
   }
 }
 

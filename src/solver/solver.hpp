@@ -126,6 +126,8 @@ class Solver {
   double time_ = 0.0;
   long step_ = 0;
   long broken_joints_ = 0;
+  int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
+  double created_prev_ = 0.0;    // energy created (not put in) at the previous step
 
   // Contact: driver, pair parameters, current positions (contiguous), joints per triangle.
   std::unique_ptr<contact::ContactForces> contact_;

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang + ASan + UBSan) and runs each on its corpus.
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]     (default 30 s, all four targets)
+# Environment: FUZZ_BUILD (build dir, default build-fuzz), FUZZ_JOBS (default 2),
+# FUZZ_KEEP_CORPUS=1 to merge new inputs back into fuzz/corpus/<target>/.
+# Exit code non-zero when a target crashes, hangs (> 10 s on one input) or leaks memory;
+# the reproducer is left as build-fuzz/artifacts/<target>/crash-*.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SECONDS_PER_TARGET=${1:-30}
+shift || true
+TARGETS=("$@")
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_scenario fuzz_msh fuzz_accel_csv fuzz_accel_at2)
+BUILD=${FUZZ_BUILD:-build-fuzz}
+JOBS=${FUZZ_JOBS:-2}
+CXX_FUZZ=${CXX_FUZZ:-$(command -v clang++-14 || command -v clang++)}
+CC_FUZZ=${CC_FUZZ:-$(command -v clang-14 || command -v clang)}
+
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+  CC="$CC_FUZZ" CXX="$CXX_FUZZ" cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DDSDEM_BUILD_FUZZ=ON -DDSDEM_BUILD_TESTS=OFF -DDSDEM_BUILD_BENCH=OFF > /dev/null
+fi
+cmake --build "$BUILD" --target dsdem_fuzz_all -j "$JOBS"
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/lsan.supp}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+status=0
+for t in "${TARGETS[@]}"; do
+  art="$BUILD/artifacts/$t"
+  work="$BUILD/corpus-work/$t"
+  mkdir -p "$art" "$work"
+  echo "fuzz: $t for ${SECONDS_PER_TARGET} s"
+  # New inputs go to a scratch corpus; the repository's seed corpus is read only.
+  if ! "$BUILD/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=2048 \
+        -max_len=8192 -print_final_stats=1 -artifact_prefix="$art/" "$work" "fuzz/corpus/$t" \
+        > "$BUILD/$t.log" 2>&1; then
+    echo "fuzz: $t FAILED; see $BUILD/$t.log and $art/"
+    tail -40 "$BUILD/$t.log"
+    status=1
+  fi
+  grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb|cov:" "$BUILD/$t.log" | tail -3 || true
+  if [ "${FUZZ_KEEP_CORPUS:-0}" = 1 ]; then
+    "$BUILD/fuzz/$t" -merge=1 "fuzz/corpus/$t" "$work" > /dev/null 2>&1 || true
+  fi
+done
+exit $status

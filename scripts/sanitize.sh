@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Builds the library, CLI and tests with AddressSanitizer + UndefinedBehaviorSanitizer
+# (second build dir, -O1 with line tables) and runs the test suite under them.
+#   scripts/sanitize.sh            build + test
+# Environment: ASAN_BUILD (default build-asan), ASAN_JOBS (default nproc).
+# Excluded (stated reason): the `regression` label (tests/regression/, when present):
+# full-scenario regression runs repeat the solver loop that the solver/io/app tests
+# already exercise, take several times longer under ASan and read no user input.
+# Everything else runs, including the slow solver verification tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${ASAN_BUILD:-build-asan}
+JOBS=${ASAN_JOBS:-$(nproc)}
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+  cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
+    -DDSDEM_SANITIZE=ON -DDSDEM_BUILD_BENCH=OFF > /dev/null
+fi
+cmake --build "$BUILD" -j "$JOBS"
+# Leaks are reported too; OpenMP's runtime keeps thread pools alive at exit, which LSan
+# does not count as a leak. halt_on_error makes any report fail the test that caused it.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+cd "$BUILD"
+ctest --output-on-failure -j "$JOBS" -LE regression --timeout 1500
