@@ -412,16 +412,17 @@ void Solver::check_stability() {
     throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_ + 1, time_), "non_finite",
                            kNoIndex, Vec2::Zero(), step_ + 1, time_);
   }
-  if (!inverted_) return;  // the element loop saw no det F <= 0
-  for (std::size_t t = 0; t < tri.size(); ++t) {
-    if (!(element_detF_[t] > 0.0)) {
-      const auto& c = tri.conn[t];
-      const Vec2 p = (n.x(c[0]) + n.x(c[1]) + n.x(c[2])) / 3.0;
-      throw InstabilityError(
-          fmt::format("inverted element {} (det F = {:.3g}) at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time step "
-                      "is too large or the element is crushed",
-                      t, element_detF_[t], p.x(), p.y(), step_ + 1, time_),
-          "inverted_element", static_cast<Index>(t), p, step_ + 1, time_);
+  if (inverted_) {  // the element loop saw a det F <= 0: find and name it
+    for (std::size_t t = 0; t < tri.size(); ++t) {
+      if (!(element_detF_[t] > 0.0)) {
+        const auto& c = tri.conn[t];
+        const Vec2 p = (n.x(c[0]) + n.x(c[1]) + n.x(c[2])) / 3.0;
+        throw InstabilityError(
+            fmt::format("inverted element {} (det F = {:.3g}) at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time "
+                        "step is too large or the element is crushed",
+                        t, element_detF_[t], p.x(), p.y(), step_ + 1, time_),
+            "inverted_element", static_cast<Index>(t), p, step_ + 1, time_);
+      }
     }
   }
   // Energy created from nothing: mechanical + dissipated energy above the start plus the
