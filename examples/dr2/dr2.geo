@@ -23,7 +23,7 @@
 // Mesh size: the scenario's mesh.element_size h (dsdem passes it as gmsh -clmax) is the
 // size in the breakable zone A. The file reads h, lifts the global cap and grades the
 // mesh: 2.5 h in the contact band (zone C), 12 h in the deep bedrock (zone B).
-// h = 3.5 m gives about 9k elements (the paper: 8951-9288); h = 7 m about 2.6k.
+// h = 4 m gives about 8.6k elements (the paper: 8951-9288); h = 8 m about 2.5k.
 //
 // Physical groups
 //   surfaces : column   T1m1 limestone between L1 and L3 (zone A, breakable)
@@ -35,7 +35,8 @@
 //              T1y3     mudstone behind/below the breakable mudstone (zone C)
 //              bedrock_surface  bedrock band under deposit III, river bed, left bank (zone C)
 //              bedrock  deep bedrock (zone B, plain FEM)
-//   curves   : L1 L2 L3 (cracks), J1 J2 J3 J4 (interlayers), left right base
+//   curves   : L1 L2 L3 (cracks), J1_plate J1_column J1_back (= interlayer J1), J2 J3 J4
+//              (interlayers), left right base
 //              (truncated boundaries), ground (free surface), river (river bed, 720-810 m)
 //   points   : intake (water intake at the right-bank foot), g_front, g_foot, g_top_back,
 //              g_top_front (reference gauge positions; the scenarios may move them)
@@ -174,7 +175,10 @@ Physical Surface("bedrock") = {12};
 Physical Curve("L1") = {20, 21};
 Physical Curve("L2") = {23};
 Physical Curve("L3") = {22};
-Physical Curve("J1") = {24, 25, 26};
+// J1 in three named parts, so that a scenario can weaken it under the plate only
+Physical Curve("J1_plate") = {24};     // under the thin plate (x 452-474)
+Physical Curve("J1_column") = {25};    // under the column between L1 and L3 (x 441-452)
+Physical Curve("J1_back") = {26};      // behind L1, top of the breakable mudstone (x 360-441)
 Physical Curve("J2") = {27};
 Physical Curve("J3") = {28};
 Physical Curve("J4") = {29};
