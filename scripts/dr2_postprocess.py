@@ -130,15 +130,17 @@ def fill_heights(P, tri, zone):
 
 def surface_profile(P, tri, xs):
     """Highest material point per x bin (upper envelope of the deformed mesh)."""
-    cen = P[tri].mean(axis=1)
     top = np.full(len(xs) - 1, np.nan)
-    idx = np.digitize(P[tri].reshape(-1, 2)[:, 0], xs) - 1
-    ys = P[tri].reshape(-1, 2)[:, 1]
-    for i in range(len(xs) - 1):
-        m = idx == i
-        if m.any():
-            top[i] = ys[m].max()
-    del cen
+    # Sample every triangle edge (large bedrock triangles span several bins).
+    s = np.linspace(0.0, 1.0, 12)[:, None]
+    pts = []
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        A, B = P[tri[:, a]], P[tri[:, b]]
+        pts.append((A[None, :, :] * (1 - s[:, :, None]) + B[None, :, :] * s[:, :, None]).reshape(-1, 2))
+    pts = np.concatenate(pts)
+    idx = np.digitize(pts[:, 0], xs) - 1
+    ok = (idx >= 0) & (idx < len(xs) - 1)
+    np.fmax.at(top, idx[ok], pts[ok, 1])
     return top
 
 
