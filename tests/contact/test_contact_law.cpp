@@ -93,14 +93,17 @@ TEST(ContactLaw, TangentialSpringSticksThenCoulombCapHolds) {
   EXPECT_NEAR(r.ft.norm(), mu * kn * delta, 1e-12 * mu * kn * delta);
   EXPECT_GT(r.ft.x(), 0.0);
   EXPECT_NEAR(r.ft.y(), 0.0, 1e-9);
-  // Trial force -800 + 4e8*1e-3 = 399200; dissipation = (trial^2 - cap^2) / (2 ks).
-  const double trial = -800.0 + ks * 100.0 * dt, cap = mu * kn * delta;
-  EXPECT_NEAR(r.friction_dissipation, 0.5 * (trial * trial - cap * cap) / ks, 1e-9);
+  // Trial force -800 + 4e8*1e-3 = 399200 is capped: heat = work of the applied force
+  // (trapezoidal, from -800 to +cap over the slip of 1e-3 m) minus the change of the
+  // stored spring energy.
+  const double prev = -800.0, slip = 100.0 * dt, cap = mu * kn * delta;
+  const double work = 0.5 * (prev + cap) * slip;  // force along +x, the spring stretched by +slip
+  const double d_el = 0.5 * (cap * cap - prev * prev) / ks;
+  EXPECT_NEAR(r.friction_dissipation, work - d_el, 1e-9 * cap * slip);
 }
 
 TEST(ContactLaw, SteadySlidingDissipatesMuFnTimesSlip) {
-  // 1000 steps sliding at 0.2 m/s: dissipated energy = mu*Fn*(slip - stick-up slip)
-  // up to the second-order term ks*ds^2/2 per step (ds = 2e-6 m: 8e-4 J/m per step).
+  // 1000 steps sliding at 0.2 m/s: dissipated energy = mu*Fn*(slip - stick-up slip).
   const double kn = 1e9, ks = 1e9, mu = 0.4, delta = 1e-4, dt = 1e-5, vs = 0.2;
   const ContactLawParams p = params(kn, ks, mu);
   const Vec2 n(0.0, 1.0);
@@ -114,15 +117,32 @@ TEST(ContactLaw, SteadySlidingDissipatesMuFnTimesSlip) {
   const double cap = mu * kn * delta, ds = vs * dt;
   const double slip = 1000 * ds;
   const double elastic = 0.5 * cap * cap / ks;
-  // Work done by the slip on the spring = elastic energy + dissipation (exact identity of
-  // the update: each step adds ks*ds*(|Ft_prev| + ks*ds/2)).
+  // Work of the applied tangential force (trapezoidal per step) = elastic energy + heat.
   double work = 0.0, f = 0.0;
   for (int s = 0; s < 1000; ++s) {
-    work += ds * (f + 0.5 * ks * ds);
-    f = std::min(cap, f + ks * ds);
+    const double f_new = std::min(cap, f + ks * ds);
+    work += ds * 0.5 * (f + f_new);
+    f = f_new;
   }
   EXPECT_NEAR(diss + elastic, work, 1e-9 * work);
-  EXPECT_NEAR(diss, cap * (slip - cap / ks), 0.5 * ks * ds * ds * 1000 + 1e-9);
+  EXPECT_NEAR(diss, cap * (slip - cap / ks), 0.5 * ks * ds * ds + 1e-9);
+}
+
+TEST(ContactLaw, FastSlidingHeatIsMuFnTimesSlipEvenForLargeSteps) {
+  // A run-out step: 40 m/s, dt = 6.7e-4 s, ks = 2e9 Pa (Dr2 slope). Slip per step 0.027 m
+  // is 50 times the elastic slip cap/ks: the heat per step must still be mu*Fn*slip,
+  // not mu*Fn*slip + ks*slip^2/2 (the trial-state formula gave 56 x too much heat).
+  const double kn = 2e9, ks = 2e9, mu = 0.3, delta = 8e-4, dt = 6.7e-4, vs = 40.0;
+  const ContactLawParams p = params(kn, ks, mu);
+  const Vec2 n(0.0, 1.0);
+  const double cap = mu * kn * delta, ds = vs * dt;
+  Vec2 ft(-cap, 0.0);  // already sliding along +x
+  for (int s = 0; s < 10; ++s) {
+    const ContactLawResult r = contact_law(delta, n, Vec2(vs, 0.0), dt, ft, 0.0, p);
+    EXPECT_TRUE(r.sliding);
+    EXPECT_NEAR(r.friction_dissipation, cap * ds, 1e-9 * cap * ds);
+    ft = r.ft;
+  }
 }
 
 TEST(ContactLaw, StoredTangentialForceRotatesWithTheContactFrame) {

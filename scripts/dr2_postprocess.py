@@ -1,0 +1,320 @@
+#!/usr/bin/python3
+"""Post-processing of a Dr2 slope run (examples/dr2, docs/dr2.md).
+
+    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--quiet]
+
+Reads OUT/history.csv, OUT/fields.pvd (+ OUT/fields/*.vtu) and OUT/summary.json and
+writes OUT/dr2.json and plots in OUT/dr2_plots/:
+
+  gauges.png     gauge displacement and velocity magnitudes against time (paper Figs. 17/19/21)
+  snapshots.png  the broken mass at the paper's stages (Figs. 16/18/20)
+  deposit.png    final deposit profile over the original ground
+  energy.png     kinetic energy of the run and the 1 % duration threshold
+
+Definitions (all times from the start of the earthquake stage, i.e. the earthquake's t = 0):
+  gauges[].max_displacement_m      max |u(t) - u(t0)| over the dynamic stage (t0 = its start),
+                                   so the gravity settling is not counted
+  gauges[].peak_velocity_mps       max |v| over the dynamic stage
+  gauges[].time_of_peak_velocity_s time of that peak
+  mean_max_displacement_m          mean over the four gauges
+  duration_s                       first time after the kinetic-energy peak at which the
+                                   kinetic energy falls below 1 % of that peak
+  river_blocked_time_s             first field frame in which debris (zone-A material)
+                                   reaches at least --block-height (default 10 m) above the
+                                   river bed (745 m) in every 10 m column of the river bed
+                                   x = 720..810 m, linearly interpolated between frames on
+                                   the least-filled column; null if never
+  deposit_area_in_channel_m2       area of zone-A triangles (final frame) whose centroid is
+                                   inside the channel: the open region of the original
+                                   profile between the banks below 790 m
+  intake_blocked                   zone-A material that moved more than 5 m lies within
+                                   15 m of the intake (715, 750.8) in the final frame
+Uses only numpy, meshio and matplotlib (Agg).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+RIVER_BED_Z = 745.0
+RIVER_X = (720.0, 810.0)
+CHANNEL_TOP_Z = 790.0
+INTAKE = (715.0, 750.8333)
+# Original ground (examples/dr2/dr2.geo), right bank to left bank.
+GROUND = np.array([(0, 1128), (250, 1102), (398, 1080), (436, 1074), (474, 960), (540, 914), (560, 900),
+                   (690, 780), (720, 745), (810, 745), (880, 860), (980, 1040), (1298, 1169)], float)
+PAPER = {  # reference/paper_results.json
+    "shear_sliding": {"mean": 160, "gauges": [170, 60, 150, 150], "v": {"gauge1": 22.0, "gauge2": 17.5},
+                      "duration": 35.0, "blocked": 24.3},
+    "local_collapse": {"mean": 210},
+    "slip_j1": {"mean": 140, "max": 220, "v": {"gauge1": 17.0, "gauge2": 22.0}, "duration": 35.0},
+}
+
+
+def channel_polygon() -> np.ndarray:
+    def x_at(z, a, b):
+        return a[0] + (z - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
+    xr = x_at(CHANNEL_TOP_Z, (560, 900), (690, 780))
+    xl = x_at(CHANNEL_TOP_Z, (810, 745), (880, 860))
+    return np.array([(xr, CHANNEL_TOP_Z), (690, 780), (720, 745), (810, 745), (xl, CHANNEL_TOP_Z)])
+
+
+def inside(poly: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Even-odd rule, p: (n, 2)."""
+    x, y = p[:, 0], p[:, 1]
+    res = np.zeros(len(p), bool)
+    n = len(poly)
+    for i in range(n):
+        (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+        cond = (y1 > y) != (y2 > y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xc = x1 + (y - y1) * (x2 - x1) / (y2 - y1)
+        res ^= cond & (x < xc)
+    return res
+
+
+def read_history(out: Path):
+    with open(out / "history.csv") as f:
+        header = f.readline().strip().split(",")
+    data = np.genfromtxt(out / "history.csv", delimiter=",", skip_header=1)
+    if data.ndim == 1:
+        data = data[None, :]
+    return {h: data[:, i] for i, h in enumerate(header)}
+
+
+def read_frames(out: Path):
+    pvd = out / "fields.pvd"
+    if not pvd.exists():
+        return []
+    txt = pvd.read_text()
+    return [(float(t), out / f) for t, f in re.findall(r'timestep="([^"]+)"[^>]*file="([^"]+)"', txt)]
+
+
+def load_frame(path: Path):
+    import meshio
+    m = meshio.read(path)
+    tri = m.cells_dict["triangle"]
+    zone = np.asarray(m.cell_data_dict["zone"]["triangle"]).ravel()
+    mat = np.asarray(m.cell_data_dict["material_id"]["triangle"]).ravel()
+    disp = np.asarray(m.point_data["displacement_m"])[:, :2]
+    return m.points[:, :2], tri, zone, mat, disp
+
+
+def tri_area(P, tri):
+    a, b, c = P[tri[:, 0]], P[tri[:, 1]], P[tri[:, 2]]
+    return 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1]))
+
+
+def fill_heights(P, tri, zone):
+    """Debris top above the river bed in each 10 m column of the river bed."""
+    edges = np.arange(RIVER_X[0], RIVER_X[1] + 1e-9, 10.0)
+    top = np.zeros(len(edges) - 1)
+    sel = zone == 0
+    pts = P[np.unique(tri[sel].ravel())]
+    for i in range(len(edges) - 1):
+        m = (pts[:, 0] >= edges[i]) & (pts[:, 0] < edges[i + 1]) & (pts[:, 1] < CHANNEL_TOP_Z + 60)
+        top[i] = (pts[m, 1].max() - RIVER_BED_Z) if m.any() else 0.0
+    return top
+
+
+def surface_profile(P, tri, xs):
+    """Highest material point per x bin (upper envelope of the deformed mesh)."""
+    top = np.full(len(xs) - 1, np.nan)
+    # Sample every triangle edge (large bedrock triangles span several bins).
+    s = np.linspace(0.0, 1.0, 12)[:, None]
+    pts = []
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        A, B = P[tri[:, a]], P[tri[:, b]]
+        pts.append((A[None, :, :] * (1 - s[:, :, None]) + B[None, :, :] * s[:, :, None]).reshape(-1, 2))
+    pts = np.concatenate(pts)
+    idx = np.digitize(pts[:, 0], xs) - 1
+    ok = (idx >= 0) & (idx < len(xs) - 1)
+    np.fmax.at(top, idx[ok], pts[ok, 1])
+    return top
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out")
+    ap.add_argument("--block-height", type=float, default=10.0, help="debris height over the river bed that blocks it, m")
+    ap.add_argument("--mode", default=None, help="shear_sliding | local_collapse | slip_j1 (default: from the scenario name)")
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    sp = out / "summary.json"
+    summary = json.loads(sp.read_text()) if sp.exists() else {"scenario": str(out)}  # a run still going
+    mode = args.mode or next((k for k in PAPER if k in str(summary.get("scenario", ""))), None)
+    h = read_history(out)
+    t = h["time_s"]
+    stage = h["stage"]
+    dyn = stage >= stage.max() if stage.max() > 0 else np.ones_like(t, bool)
+    i0 = int(np.argmax(dyn))
+    t0 = t[i0 - 1] if i0 > 0 else t[0]   # the earthquake starts at the end of the gravity stage
+    td = t[dyn] - t0
+    names = [re.sub(r"_displacement_x_m$", "", k) for k in h if k.endswith("_displacement_x_m")]
+    gauges = []
+    series = {}
+    for g in names:
+        ux, uy = h[f"{g}_displacement_x_m"], h[f"{g}_displacement_y_m"]
+        vx, vy = h[f"{g}_velocity_x_m_per_s"], h[f"{g}_velocity_y_m_per_s"]
+        ref = max(i0 - 1, 0)
+        u = np.hypot(ux[dyn] - ux[ref], uy[dyn] - uy[ref])
+        v = np.hypot(vx[dyn], vy[dyn])
+        k = int(np.argmax(v))
+        gauges.append({"name": g, "max_displacement_m": float(u.max()), "peak_velocity_mps": float(v[k]),
+                       "time_of_peak_velocity_s": float(td[k]), "final_displacement_m": float(u[-1])})
+        series[g] = (u, v)
+    mean_max = float(np.mean([g["max_displacement_m"] for g in gauges])) if gauges else None
+    ke = h["kinetic_J_per_m"][dyn]
+    kpk = int(np.argmax(ke))
+    below = np.nonzero(ke[kpk:] < 0.01 * ke[kpk])[0]
+    duration = float(td[kpk + below[0]]) if len(below) else None
+
+    # Field frames: river blocking, deposit in the channel, intake, snapshots.
+    frames = [(tt - t0, p) for tt, p in read_frames(out) if tt >= t0 - 1e-9]
+    blocked = None
+    prev = None
+    fill_hist = []
+    for tt, p in frames:
+        P, tri, zone, mat, disp = load_frame(p)
+        fh = fill_heights(P, tri, zone)
+        fill_hist.append((tt, float(fh.min())))
+        if blocked is None and fh.min() >= args.block_height:
+            if prev is not None and prev[1] < args.block_height:
+                blocked = prev[0] + (tt - prev[0]) * (args.block_height - prev[1]) / (fh.min() - prev[1])
+            else:
+                blocked = tt
+        prev = (tt, float(fh.min()))
+    area_channel = None
+    intake_blocked = None
+    if frames:
+        P, tri, zone, mat, disp = load_frame(frames[-1][1])
+        cen = P[tri].mean(axis=1)
+        A = tri_area(P, tri)
+        inch = inside(channel_polygon(), cen) & (zone == 0)
+        area_channel = float(A[inch].sum())
+        moved = np.linalg.norm(disp[tri].mean(axis=1), axis=1) > 5.0
+        near = np.hypot(cen[:, 0] - INTAKE[0], cen[:, 1] - INTAKE[1]) < 15.0
+        intake_blocked = bool(np.any(moved & near & (zone == 0)))
+
+    res = {
+        "mode": mode,
+        "scenario": summary.get("scenario"),
+        "earthquake_start_s": float(t0),
+        "gauges": gauges,
+        "mean_max_displacement_m": mean_max,
+        "duration_s": duration,
+        "river_blocked_time_s": blocked,
+        "river_block_height_m": args.block_height,
+        "deposit_area_in_channel_m2": area_channel,
+        "intake_blocked": intake_blocked,
+        "broken_joints": summary.get("broken_joints"),
+        "fragments": summary.get("fragments"),
+        "elements": summary.get("elements"),
+        "wall_time_s": summary.get("wall_time_s"),
+        "element_steps_per_s": summary.get("element_steps_per_s"),
+        "dt_s": summary.get("dt_s"),
+        "dt_controlled_by": summary.get("dt_controlled_by"),
+        "end_time_s": summary.get("end_time_s"),
+        "paper": PAPER.get(mode),
+    }
+    (out / "dr2.json").write_text(json.dumps(res, indent=2))
+
+    pd = out / "dr2_plots"
+    pd.mkdir(exist_ok=True)
+    fig, ax = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    for g in names:
+        u, v = series[g]
+        ax[0].plot(td, u, label=g)
+        ax[1].plot(td, v, label=g)
+    ax[0].set_ylabel("displacement |u| (m)")
+    ax[1].set_ylabel("velocity |v| (m/s)")
+    ax[1].set_xlabel("time from the start of the earthquake (s)")
+    ax[0].legend()
+    ax[0].set_title(f"Dr2 {mode or ''}: gauges (mean max displacement {mean_max:.0f} m)" if mean_max else "gauges")
+    for a in ax:
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(pd / "gauges.png", dpi=110)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.semilogy(td, np.maximum(ke, 1e-3))
+    ax.axhline(0.01 * ke[kpk], color="r", ls="--", label="1 % of peak")
+    if duration is not None:
+        ax.axvline(duration, color="k", ls=":", label=f"duration {duration:.1f} s")
+    ax.set_xlabel("time from the start of the earthquake (s)")
+    ax.set_ylabel("kinetic energy (J/m)")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(pd / "energy.png", dpi=110)
+    plt.close(fig)
+
+    if frames:
+        wanted = [0, 5, 10, 17, 24, 35]
+        picks = []
+        for w in wanted:
+            j = int(np.argmin([abs(tt - w) for tt, _ in frames]))
+            if frames[j] not in picks:
+                picks.append(frames[j])
+        nc = 2
+        nr = math.ceil(len(picks) / nc)
+        fig, axs = plt.subplots(nr, nc, figsize=(12, 3.2 * nr), squeeze=False)
+        for a, (tt, p) in zip(axs.ravel(), picks):
+            P, tri, zone, mat, disp = load_frame(p)
+            a.plot(GROUND[:, 0], GROUND[:, 1], "k-", lw=0.8)
+            s = zone == 0
+            a.tripcolor(P[:, 0], P[:, 1], tri[s], facecolors=mat[s].astype(float), cmap="tab10", vmin=0, vmax=9,
+                        edgecolors="none")
+            a.set_xlim(330, 900)
+            a.set_ylim(720, 1100)
+            a.set_aspect("equal")
+            a.set_title(f"t = {tt:.1f} s")
+        for a in axs.ravel()[len(picks):]:
+            a.axis("off")
+        fig.tight_layout()
+        fig.savefig(pd / "snapshots.png", dpi=100)
+        plt.close(fig)
+
+        P, tri, zone, mat, disp = load_frame(frames[-1][1])
+        xs = np.arange(330, 901, 5.0)
+        top = surface_profile(P, tri, xs)
+        fig, ax = plt.subplots(figsize=(10, 4.5))
+        ax.plot(GROUND[:, 0], GROUND[:, 1], "k--", lw=1, label="original ground")
+        ax.plot(0.5 * (xs[1:] + xs[:-1]), top, "r-", lw=1.5, label=f"final surface (t = {frames[-1][0]:.1f} s)")
+        s = zone == 0
+        ax.tripcolor(P[:, 0], P[:, 1], tri[s], facecolors=mat[s].astype(float), cmap="tab10", vmin=0, vmax=9,
+                     edgecolors="none", alpha=0.6)
+        ax.fill(*channel_polygon().T, color="tab:blue", alpha=0.2, label="river channel (< 790 m)")
+        ax.plot(*INTAKE, "k^", label="intake")
+        ax.set_xlim(330, 900)
+        ax.set_ylim(720, 1100)
+        ax.set_aspect("equal")
+        ax.legend(loc="upper right", fontsize=8)
+        ax.set_title("final deposit profile")
+        fig.tight_layout()
+        fig.savefig(pd / "deposit.png", dpi=110)
+        plt.close(fig)
+
+    if not args.quiet:
+        print(json.dumps({k: res[k] for k in ("mean_max_displacement_m", "duration_s", "river_blocked_time_s",
+                                              "deposit_area_in_channel_m2", "intake_blocked")}, indent=1))
+        for g in gauges:
+            print(f"  {g['name']}: umax {g['max_displacement_m']:.1f} m, vpeak {g['peak_velocity_mps']:.1f} m/s "
+                  f"at {g['time_of_peak_velocity_s']:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
