@@ -9,6 +9,19 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET=${1:-30}
 shift || true
+# `ci`: a reproducible smoke, seed 1 and a fixed number of runs per target (about 30 s
+# each here): CI must not pass or fail by the luck of a time budget.
+CI_MODE=0
+if [ "$SECONDS_PER_TARGET" = "ci" ]; then CI_MODE=1; SECONDS_PER_TARGET=30; fi
+ci_runs() {
+  case "$1" in
+    fuzz_scenario) echo 20000 ;;
+    fuzz_accel_at2) echo 100000 ;;
+    fuzz_accel_csv) echo 20000 ;;
+    fuzz_msh) echo 3000 ;;
+    *) echo 5000 ;;
+  esac
+}
 TARGETS=("$@")
 [ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_scenario fuzz_msh fuzz_accel_csv fuzz_accel_at2)
 BUILD=${FUZZ_BUILD:-build-fuzz}
@@ -32,7 +45,8 @@ for t in "${TARGETS[@]}"; do
   mkdir -p "$art" "$work"
   echo "fuzz: $t for ${SECONDS_PER_TARGET} s"
   # New inputs go to a scratch corpus; the repository's seed corpus is read only.
-  if ! "$BUILD/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=2048 \
+  if [ "$CI_MODE" = 1 ]; then LIMIT=(-seed=1 -runs="$(ci_runs "$t")"); else LIMIT=(-max_total_time="$SECONDS_PER_TARGET"); fi
+  if ! "$BUILD/fuzz/$t" "${LIMIT[@]}" -timeout=10 -rss_limit_mb=2048 \
         -max_len=8192 -print_final_stats=1 -artifact_prefix="$art/" "$work" "fuzz/corpus/$t" \
         > "$BUILD/$t.log" 2>&1; then
     echo "fuzz: $t FAILED; see $BUILD/$t.log and $art/"
