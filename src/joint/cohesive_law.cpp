@@ -43,17 +43,32 @@ CohesiveResponse cohesive_law(double dn, double ds, const JointProperties& p,
   // Secant tractions: the envelope value at the largest separation, scaled back
   // linearly toward the origin (eqs. 6-7 on loading, secant on unloading).
   r.sn = dn <= 0.0 ? p.kn * dn : p.ft * (1.0 - D) * dn / std::max(st.dn_max, wt);
+  // The shear secant stiffness depends on the normal traction (fs, fr) once the slip
+  // has passed ws. A secant that stiffens under compression at a fixed slip would hand
+  // out elastic energy that was never stored (ks_sec * ds^2 / 2 grows without work):
+  // normal oscillations then pump energy into the joint without bound. So the shear
+  // traction moves incrementally with the current secant slope and is kept between 0
+  // and the secant value: it never rises without slip (stiffening releases nothing),
+  // and drops onto the secant when the secant softens (dissipated, like friction).
+  // Whenever the secant stiffness stays constant along a path this is the secant law.
   const double tau_env = fr + (fs - fr) * (1.0 - D);
-  r.ss = tau_env * ds / std::max(st.s_max, ws);
+  const double k_sec = tau_env / std::max(st.s_max, ws);
+  const double ss_secant = k_sec * ds;
+  const double ss_trial = old.ss + k_sec * (ds - old.ds);
+  r.ss = std::clamp(ss_trial, std::min(0.0, ss_secant), std::max(0.0, ss_secant));
 
-  r.energy = 0.5 * (r.sn * dn + r.ss * ds);
+  auto shear_energy = [](double ss, double k) { return k > 0.0 ? 0.5 * ss * ss / k : 0.0; };
+  r.energy = 0.5 * r.sn * dn + shear_energy(r.ss, k_sec);
   // Dissipation = trapezoidal work - change of stored energy. The normal law has a kink
   // at dn = 0 (secant on one side, kn on the other, both through the origin): a step
   // across it is integrated in two pieces, so closing a crack dissipates nothing.
-  const double e_old = 0.5 * (old.sn * old.dn + old.ss * old.ds);
+  const double e_old = 0.5 * old.sn * old.dn + shear_energy(old.ss, old.ks_sec);
   const double work_n = old.dn * dn < 0.0 ? 0.5 * (r.sn * dn - old.sn * old.dn)
                                           : 0.5 * (old.sn + r.sn) * (dn - old.dn);
-  const double work_s = 0.5 * (old.ss + r.ss) * (ds - old.ds);
+  // A shear traction held at 0 after its trial value crossed zero within the step is
+  // integrated in two pieces too (slope k_sec down to zero, then nothing).
+  const bool held_at_zero = r.ss == 0.0 && old.ss != 0.0 && k_sec > 0.0 && (ss_trial > 0.0) != (old.ss > 0.0);
+  const double work_s = held_at_zero ? 0.5 * old.ss * (-old.ss / k_sec) : 0.5 * (old.ss + r.ss) * (ds - old.ds);
   r.dissipation = work_n + work_s - (r.energy - e_old);
   r.failed = D >= 1.0;
   r.failed_now = r.failed && old.damage < 1.0;
@@ -66,6 +81,7 @@ CohesiveResponse cohesive_law(double dn, double ds, const JointProperties& p,
   st.ds = ds;
   st.sn = r.sn;
   st.ss = r.ss;
+  st.ks_sec = k_sec;
   r.state = st;
   r.fs = fs;
   r.ws = ws;

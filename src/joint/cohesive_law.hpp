@@ -23,6 +23,13 @@
 //  * Shear softens from fs to the residual friction fr (not to zero, then jumping to
 //    fr), and wsII = 2*GII/(fs - fr): the softening area above the friction line is
 //    GII. Without compression fr = 0 and this is DESIGN.md's wsII = 2*GII/fs.
+//  * Once the slip has passed ws the shear secant ks_sec = (fr + (fs - fr)*(1 - D)) /
+//    s_max depends on sn. The shear traction therefore follows the secant slope
+//    incrementally and is kept between 0 and ks_sec*ds: it does not jump up when
+//    compression stiffens the secant at a fixed slip (that would create energy, and
+//    oscillating normal separations would pump it without bound), and it drops to
+//    the secant when the secant softens. Stored shear energy is ss^2/(2 ks_sec).
+//    On any path along which ks_sec is constant this is exactly the secant law.
 #include "joint/joints.hpp"
 
 namespace dsdem {

@@ -46,6 +46,7 @@ struct JointPointState {
   double ds = 0.0;      // slip at the last evaluation, m
   double sn = 0.0;      // normal traction at the last evaluation, Pa (tension > 0)
   double ss = 0.0;      // shear traction at the last evaluation, Pa
+  double ks_sec = 0.0;  // shear secant stiffness at the last evaluation, Pa/m (stored energy ss^2/(2 ks_sec))
   BreakMode mode = BreakMode::None;  // how this point failed, once damage == 1
 };
 

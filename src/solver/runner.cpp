@@ -428,7 +428,14 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     const fs::path file = fields.frame_path(fields.size());
     io::VtuOptions vo;
     vo.time_s = solver.time();
-    io::write_triangles_vtu(file, model.nodes, model.triangles, model.materials, {}, {}, vo);
+    // The fragment each triangle belongs to (as counted in the history), so that piece
+    // sizes can be measured from the frames.
+    io::FieldSet cell_extra;
+    if (has_joints) {
+      count_fragments(model, fragment_label);
+      cell_extra.push_back(io::scalar_field("fragment", "", std::span<const std::int32_t>(fragment_label)));
+    }
+    io::write_triangles_vtu(file, model.nodes, model.triangles, model.materials, {}, cell_extra, vo);
     fields.add(solver.time(), file);
     if (cracks) {
       const fs::path cfile = cracks->frame_path(cracks->size());
