@@ -8,6 +8,11 @@ namespace dsdem::solver {
 
 namespace {
 
+// Values saved per joint end point (JointPointState); a field added there must be added here.
+constexpr int kJointStateWidth = 9;
+static_assert(sizeof(JointPointState) == 8 * sizeof(double) + alignof(double),
+              "JointPointState changed: update the checkpoint's joint state");
+
 template <class T, class Get>
 std::vector<double> flatten(const std::vector<T>& v, int width, Get get) {
   std::vector<double> out(v.size() * width);
@@ -62,14 +67,15 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("triangles/stress", vec3s(tri.stress));
   out.put("triangles/strain", vec3s(tri.strain));
   out.put("triangles/stress0", vec3s(tri.stress0));
-  // Joints: per end point dn_max, s_max, damage, dn, ds, sn, ss, mode.
-  std::vector<double> js(J.size() * 16);
+  // Joints: per end point dn_max, s_max, damage, dn, ds, sn, ss, ks_sec, mode.
+  std::vector<double> js(J.size() * 2 * kJointStateWidth);
   std::vector<double> jd(J.size() * 6);
   for (std::size_t j = 0; j < J.size(); ++j) {
     for (int k = 0; k < 2; ++k) {
       const JointPointState& p = J.state[j][k];
-      const double vals[8] = {p.dn_max, p.s_max, p.damage, p.dn, p.ds, p.sn, p.ss, static_cast<double>(p.mode)};
-      for (int q = 0; q < 8; ++q) js[j * 16 + k * 8 + q] = vals[q];
+      const double vals[kJointStateWidth] = {p.dn_max, p.s_max, p.damage, p.dn, p.ds,
+                                             p.sn,     p.ss,    p.ks_sec, static_cast<double>(p.mode)};
+      for (int q = 0; q < kJointStateWidth; ++q) js[(j * 2 + k) * kJointStateWidth + q] = vals[q];
     }
     const double d[6] = {J.damage[j], static_cast<double>(J.broken[j]), J.break_time[j], J.break_position[j].x(),
                          J.break_position[j].y(), J.dissipated[j]};
@@ -131,13 +137,13 @@ void Solver::restore(const io::CheckpointReader& in) {
   const auto js = in.doubles("joints/state");
   const auto jd = in.doubles("joints/data");
   const auto modes = in.integers("joints/break_mode");
-  check_size("joints/state", js.size(), 16 * J.size());
+  check_size("joints/state", js.size(), 2 * kJointStateWidth * J.size());
   check_size("joints/data", jd.size(), 6 * J.size());
   for (std::size_t j = 0; j < J.size(); ++j) {
     for (int k = 0; k < 2; ++k) {
       JointPointState& p = J.state[j][k];
-      const double* v = &js[j * 16 + k * 8];
-      p = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], static_cast<BreakMode>(static_cast<int>(v[7]))};
+      const double* v = &js[(j * 2 + k) * kJointStateWidth];
+      p = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], static_cast<BreakMode>(static_cast<int>(v[8]))};
     }
     J.damage[j] = jd[j * 6];
     J.broken[j] = static_cast<std::uint8_t>(jd[j * 6 + 1]);

@@ -19,7 +19,9 @@ namespace {
 constexpr double GOLDEN_ELEMENTS = 830;
 constexpr double GOLDEN_U1 = 12.25;      // |u| of gauge 1 at t = 4.5 s, m
 constexpr double GOLDEN_U3 = 10.99;      // |u| of gauge 3, m
-constexpr double GOLDEN_BROKEN = 256;    // broken joints (17 of them on L1 from the start)
+// Re-measured after the joint law fix "shear traction follows the secant incrementally"
+// (65ee0ae): 256 before it; the gauge displacements did not move beyond their tolerance.
+constexpr double GOLDEN_BROKEN = 186;    // broken joints (17 of them on L1 from the start)
 
 using dsdem::test::example;
 using dsdem::test::fresh_dir;
