@@ -73,6 +73,15 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("-q,--quiet", quiet, "No progress on the terminal (the log still gets everything)");
   run_cmd->add_flag("--no-fields", no_fields, "Do not write VTU field frames");
   run_cmd->add_flag("--no-plots", no_plots, "Do not make the history plots at the end");
+  std::string restart_path;
+  long stop_at_step = 0;
+  run_cmd->add_option("--restart", restart_path,
+                      "Continue from a checkpoint (OUT/checkpoint.h5) of an earlier run of the same scenario; the "
+                      "output goes on in the checkpoint's folder unless -o names another")
+      ->check(CLI::ExistingFile);
+  run_cmd->add_option("--stop-at-step", stop_at_step,
+                      "Stop cleanly after this step, writing a checkpoint (e.g. to split a run into batch jobs)")
+      ->check(CLI::PositiveNumber);
 
   // check
   auto* check_cmd = app.add_subcommand("check", "Validate a scenario and print the model, dt and a run-time estimate");
@@ -115,12 +124,22 @@ int main(int argc, char** argv) {
       options.quiet = quiet;
       options.write_fields = !no_fields;
       options.stop_signal = &g_stop_signal;
+      options.restart_from = restart_path;
+      options.stop_at_step = stop_at_step;
+      if (!restart_path.empty() && run_cmd->count("--output") == 0)
+        options.output_dir = out_dir = std::filesystem::path(restart_path).parent_path().string();
+      if (options.output_dir.empty()) options.output_dir = out_dir = ".";
       if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
       const auto result = dsdem::solver::run(prepared, options);
       if (result.stopped_by_signal) {
-        fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}\n", result.stopped_by_signal,
-                   out_dir);
+        fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with --restart {}\n",
+                   result.stopped_by_signal, out_dir, result.checkpoint_path);
         return 128 + result.stopped_by_signal;
+      }
+      if (result.stopped_at_step) {
+        fmt::print("stopped at step {} as asked: results so far in {}; continue with --restart {}\n", result.steps,
+                   out_dir, result.checkpoint_path);
+        return 0;
       }
       fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", out_dir, result.steps,
                  result.wall_time_s, result.energy_balance_error);

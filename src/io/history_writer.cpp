@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <fstream>
 #include <iterator>
 #include <stdexcept>
 
@@ -46,6 +47,37 @@ HistoryWriter::HistoryWriter(fs::path path, std::vector<HistoryColumn> columns,
   write_file_atomically(path_, header() + "\n");
   fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd_ < 0) throw_os_error("cannot open history", path_, errno);
+  buffer_.reserve(4096);
+  last_flush_ = std::chrono::steady_clock::now();
+}
+
+HistoryWriter::HistoryWriter(fs::path path, std::vector<HistoryColumn> columns, Resume resume,
+                             HistoryOptions options)
+    : path_(std::move(path)), columns_(std::move(columns)), options_(options) {
+  check_columns(columns_, path_);
+  std::ifstream in(path_, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("cannot resume history '{}': the file is missing", path_.string()));
+  std::string line;
+  if (!std::getline(in, line) || line != header())
+    throw std::runtime_error(fmt::format(
+        "cannot resume history '{}': its columns differ from this run's (another scenario or version?)",
+        path_.string()));
+  std::string kept = line + "\n";
+  std::size_t rows = 0;
+  // Only complete lines count (a kill never leaves half a row, but be safe).
+  while (rows < resume.keep_rows && std::getline(in, line) && !in.eof()) {
+    kept += line;
+    kept += '\n';
+    ++rows;
+  }
+  if (rows < resume.keep_rows)
+    throw std::runtime_error(fmt::format("cannot resume history '{}': it has {} rows, the checkpoint expects {}",
+                                         path_.string(), rows, resume.keep_rows));
+  in.close();
+  write_file_atomically(path_, kept);
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd_ < 0) throw_os_error("cannot open history", path_, errno);
+  rows_ = rows;
   buffer_.reserve(4096);
   last_flush_ = std::chrono::steady_clock::now();
 }

@@ -114,12 +114,12 @@ PvdSeries::PvdSeries(fs::path pvd_path, std::vector<Entry> entries)
   ensure_writable_directory(frame_directory());
 }
 
-PvdSeries PvdSeries::resume(fs::path pvd_path, double up_to_time_s) {
+PvdSeries PvdSeries::resume(fs::path pvd_path, double up_to_time_s, std::size_t max_frames) {
   std::vector<Entry> kept;
   std::error_code ec;
   if (fs::exists(pvd_path, ec)) {
     for (Entry& e : read_entries(pvd_path))
-      if (e.time_s <= up_to_time_s) kept.push_back(std::move(e));
+      if (e.time_s <= up_to_time_s && kept.size() < max_frames) kept.push_back(std::move(e));
   }
   PvdSeries series(std::move(pvd_path), std::move(kept));
   series.rewrite();  // the dropped frames must disappear from the index now

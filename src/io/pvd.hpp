@@ -36,7 +36,10 @@ class PvdSeries {
   // and keeps the frames with time <= up_to_time_s, dropping the ones the resumed run
   // will write again. A missing index gives an empty series. Throws std::runtime_error
   // on an unreadable or malformed index.
-  static PvdSeries resume(std::filesystem::path pvd_path, double up_to_time_s);
+  // `max_frames` also caps the frames kept (the count at the checkpoint: a frame written
+  // at the checkpoint's time after it, e.g. the last state of a stopped run, is dropped).
+  static PvdSeries resume(std::filesystem::path pvd_path, double up_to_time_s,
+                          std::size_t max_frames = static_cast<std::size_t>(-1));
 
   // Appends a frame and rewrites the index. `data_file` is a path to the file already
   // written (absolute, or relative to the current directory, like any path); it is

@@ -507,6 +507,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
     sc.output.field_interval = r.number(o, p, "field_interval").value_or(0.0);
     sc.output.history_interval = r.number(o, p, "history_interval").value_or(0.0);
     sc.output.progress_interval = r.number(o, p, "progress_interval").value_or(2.0);
+    sc.output.checkpoint_steps = static_cast<long>(r.integer(o, p, "checkpoint_steps").value_or(0));
+    sc.output.checkpoint_interval = r.number(o, p, "checkpoint_interval").value_or(600.0);
     if (YAML::Node gs = r.section(o, p, "gauges", YAML::NodeType::Sequence); gs.IsDefined()) {
       const KeyPath gp = p.child("gauges");
       for (std::size_t i = 0; i < gs.size(); ++i) {

@@ -142,6 +142,8 @@ struct OutputSpec {
   double field_interval = 0.0;     // s (0 = end/50)
   double history_interval = 0.0;   // s (0 = end/1000)
   double progress_interval = 2.0;  // s wall clock
+  long checkpoint_steps = 0;          // 0 = only by wall clock, at the end and on a signal
+  double checkpoint_interval = 600.0;  // s wall clock (0 = none by wall clock)
   std::vector<GaugeSpec> gauges;
 };
 

@@ -191,6 +191,11 @@ std::vector<KeySpec> build_schema() {
   s.push_back(num("output.field_interval", "s", "end/50", 0, kInf, "Interval between VTU frames.", true));
   s.push_back(num("output.history_interval", "s", "end/1000", 0, kInf, "Interval between history rows.", true));
   s.push_back(num("output.progress_interval", "s", "2", 0, kInf, "Wall-clock interval between progress lines.", true));
+  s.push_back(num("output.checkpoint_steps", "", "0", 0, kInf,
+                  "Write OUT/checkpoint.h5 every this many steps (0: only by wall clock, at the end and on SIGINT/SIGTERM)."));
+  s.push_back(num("output.checkpoint_interval", "s", "600", 0, kInf,
+                  "Wall-clock interval between checkpoints (0: none by wall clock). A checkpoint is always written at "
+                  "the end and on SIGINT/SIGTERM; continue with `dsdem run SCENARIO --restart OUT/checkpoint.h5`."));
   s.push_back(of("output.gauges", KeyType::List, "", "Gauges: material points followed through the run."));
   s.push_back(of("output.gauges[]", KeyType::Map, "", "One gauge."));
   s.push_back(of("output.gauges[].name", KeyType::String, "required", "Gauge name (history column prefix)."));

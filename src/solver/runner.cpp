@@ -18,6 +18,7 @@
 
 #include "dsdem_version.hpp"
 #include "io/atomic_file.hpp"
+#include "io/checkpoint.hpp"
 #include "io/history_writer.hpp"
 #include "io/json_writer.hpp"
 #include "io/pvd.hpp"
@@ -139,7 +140,9 @@ std::string human_time(double s) {
   return fmt::format("{:.1f} h", s / 3600);
 }
 
-void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario& sc, double dt,
+// Settings, supports, viscous boundary and earthquake of a stage that starts at
+// `start_time` (prescribed motions and the earthquake's time zero are the stage start).
+void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario& sc, double dt, double start_time,
                  const PreparedRun* prepared = nullptr) {
   StepSettings s;
   s.gravity = sc.gravity;
@@ -149,12 +152,12 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
   s.failure = stage.failure;
   solver.set_settings(s);
   const std::vector<PrescribedDof> previous = solver.constraints();
-  solver.set_constraints(build_constraints(solver.model(), stage.boundaries, solver.time()));
+  solver.set_constraints(build_constraints(solver.model(), stage.boundaries, start_time));
   solver.set_viscous_boundary(boundary::build_viscous_boundary(solver.model(), stage.boundaries), previous);
   if (stage.earthquake && prepared)
     solver.set_earthquake(prepared->quake_horizontal ? &*prepared->quake_horizontal : nullptr,
                           prepared->quake_vertical ? &*prepared->quake_vertical : nullptr,
-                          sc.earthquake.incident_factor, solver.time());
+                          sc.earthquake.incident_factor, start_time);
   else
     solver.set_earthquake(nullptr, nullptr, 0.5, 0.0);
 }
@@ -261,7 +264,7 @@ std::string check_report(PreparedRun& run) {
   // Time a few steps on a copy to estimate the run time.
   Model copy = m;
   Solver solver(copy);
-  apply_stage(solver, sc.stages.front(), sc, run.dt);
+  apply_stage(solver, sc.stages.front(), sc, run.dt, 0.0);
   solver.initialise();
   const int probe = static_cast<int>(std::min<long>(50, std::max<long>(1, run.estimated_steps)));
   const auto t0 = Clock::now();
@@ -277,6 +280,99 @@ std::string check_report(PreparedRun& run) {
   for (const auto& w : resource_warnings(mem, avail, wall)) r += fmt::format("warning: {}\n", w);
   return r;
 }
+
+namespace {
+
+struct GaugeStats {
+  double max_disp = 0.0, max_speed = 0.0, time_of_max_speed = 0.0;
+};
+
+// What the runner carries from step to step besides the solver's state: saved with it in
+// every checkpoint so that a restarted run writes what the uninterrupted one would (issue 8).
+struct RunnerState {
+  double time = 0.0;                  // s, of the checkpoint
+  std::size_t stage = 0;              // stage running; stages.size() once all are done
+  std::vector<double> stage_starts;   // s, start of each stage entered
+  double stage_end = 0.0;             // s, end of the current stage
+  double peak_kinetic = 0.0;          // in the current stage (stop_kinetic_ratio)
+  double next_field = 0.0, next_history = 0.0;  // s
+  double max_balance_error = 0.0;
+  std::size_t history_rows = 0, fields_frames = 0, cracks_frames = 0, contacts_frames = 0;
+  double wall_time_before = 0.0;      // s of wall time of the run's earlier parts
+  std::vector<GaugeStats> gauges;
+};
+
+void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const PreparedRun& run) {
+  const Model& m = run.model;
+  w.put("runner/dt", run.dt);
+  w.put("runner/model_size", std::vector<double>{static_cast<double>(m.nodes.size()),
+                                                  static_cast<double>(m.triangles.size()),
+                                                  static_cast<double>(m.joints.size())});
+  w.put_int("runner/stage", static_cast<std::int64_t>(s.stage));
+  w.put("runner/stage_starts", s.stage_starts);
+  w.put("runner/scalars", std::vector<double>{s.stage_end, s.peak_kinetic, s.next_field, s.next_history,
+                                               s.max_balance_error, s.wall_time_before});
+  w.put("runner/counts", std::vector<double>{static_cast<double>(s.history_rows), static_cast<double>(s.fields_frames),
+                                              static_cast<double>(s.cracks_frames),
+                                              static_cast<double>(s.contacts_frames)});
+  std::vector<double> g;
+  for (const auto& x : s.gauges) g.insert(g.end(), {x.max_disp, x.max_speed, x.time_of_max_speed});
+  w.put("runner/gauges", g);
+}
+
+// Reads the runner's part of a checkpoint and checks that it belongs to this model, time
+// step and scenario (messages say what differs). Throws std::runtime_error.
+RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun& run) {
+  if (!in.has("runner/dt"))
+    throw std::runtime_error("this checkpoint has no run state (written by an older dsdem or by the library)");
+  const Model& m = run.model;
+  const auto size = in.doubles("runner/model_size");
+  if (size.size() != 3 || size[0] != static_cast<double>(m.nodes.size()) ||
+      size[1] != static_cast<double>(m.triangles.size()) || size[2] != static_cast<double>(m.joints.size()))
+    throw std::runtime_error(fmt::format(
+        "it belongs to another model ({} nodes, {} triangles, {} joints; this scenario gives {}, {}, {}): use the "
+        "scenario, mesh and --set options of the original run",
+        size.size() > 0 ? size[0] : 0, size.size() > 1 ? size[1] : 0, size.size() > 2 ? size[2] : 0, m.nodes.size(),
+        m.triangles.size(), m.joints.size()));
+  const double dt = in.scalar("runner/dt");
+  if (dt != run.dt)
+    throw std::runtime_error(fmt::format("it was made with dt = {} s, this scenario gives dt = {} s: the time settings "
+                                         "and materials must be those of the original run",
+                                         dt, run.dt));
+  RunnerState s;
+  s.time = in.scalar("time");
+  s.stage = static_cast<std::size_t>(in.integer("runner/stage"));
+  const std::size_t stages = run.scenario.stages.size();
+  if (s.stage >= stages)
+    throw std::runtime_error(fmt::format(
+        "the run in it is complete (all {} stages done at t = {} s): add a stage to the scenario to continue it",
+        s.stage, s.time));
+  s.stage_starts = in.doubles("runner/stage_starts");
+  if (s.stage_starts.size() != s.stage + 1)
+    throw std::runtime_error("its stage record is inconsistent (damaged file?)");
+  const auto sc = in.doubles("runner/scalars");
+  const auto counts = in.doubles("runner/counts");
+  const auto g = in.doubles("runner/gauges");
+  if (sc.size() != 6 || counts.size() != 4) throw std::runtime_error("its run state is incomplete (damaged file?)");
+  if (g.size() != 3 * run.gauges.size())
+    throw std::runtime_error(fmt::format("it has {} gauges, this scenario {}: the gauges must be those of the original run",
+                                         g.size() / 3, run.gauges.size()));
+  s.stage_end = sc[0];
+  s.peak_kinetic = sc[1];
+  s.next_field = sc[2];
+  s.next_history = sc[3];
+  s.max_balance_error = sc[4];
+  s.wall_time_before = sc[5];
+  s.history_rows = static_cast<std::size_t>(counts[0]);
+  s.fields_frames = static_cast<std::size_t>(counts[1]);
+  s.cracks_frames = static_cast<std::size_t>(counts[2]);
+  s.contacts_frames = static_cast<std::size_t>(counts[3]);
+  s.gauges.resize(run.gauges.size());
+  for (std::size_t i = 0; i < s.gauges.size(); ++i) s.gauges[i] = {g[3 * i], g[3 * i + 1], g[3 * i + 2]};
+  return s;
+}
+
+}  // namespace
 
 RunResult run(PreparedRun& prepared, const RunOptions& options) {
   const auto wall_start = Clock::now();
@@ -308,8 +404,29 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     fs::copy_file(prepared.mesh_file, out / fs::path(prepared.mesh_file).filename(), fs::copy_options::overwrite_existing, ec);
   }
 
+  // Restart (issue 8): the checkpoint must come from this model and time step. Resuming in
+  // the checkpoint's own directory continues its files; elsewhere new files start at the
+  // checkpoint's time.
+  std::optional<io::CheckpointReader> checkpoint;
+  RunnerState state;
+  bool continue_files = false;
+  if (!options.restart_from.empty()) {
+    const fs::path ckpt(options.restart_from);
+    try {
+      checkpoint.emplace(ckpt);
+      state = read_runner_state(*checkpoint, prepared);
+    } catch (const io::ScenarioError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw io::ScenarioError({fmt::format("--restart {}: {}", ckpt.string(), e.what())});
+    }
+    std::error_code ec;
+    continue_files = fs::equivalent(fs::absolute(ckpt).parent_path(), out, ec);
+  }
+
   // Log: file always, terminal unless quiet.
-  auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "dsdem.log").string(), true);
+  auto file_sink =
+      std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "dsdem.log").string(), !continue_files);
   std::vector<spdlog::sink_ptr> sinks{file_sink};
   if (!options.quiet) sinks.push_back(std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
   auto log = std::make_shared<spdlog::logger>("dsdem", sinks.begin(), sinks.end());
@@ -360,22 +477,29 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     for (const auto& [q, unit] : std::vector<std::pair<std::string, std::string>>{
              {"displacement", "m"}, {"velocity", "m_per_s"}, {"acceleration", "m_per_s2"}})
       for (const char* c : {"x", "y"}) columns.push_back({fmt::format("{}_{}_{}", g.name, q, c), unit});
-  io::HistoryWriter history(out / "history.csv", columns);
-  io::PvdSeries fields(out / "fields.pvd");
+  std::optional<io::HistoryWriter> history_file;
+  if (continue_files)
+    history_file.emplace(out / "history.csv", columns, io::HistoryWriter::Resume{state.history_rows});
+  else
+    history_file.emplace(out / "history.csv", columns);
+  io::HistoryWriter& history = *history_file;
+  // Frames after the checkpoint (in time or in number) are written again by the resumed run.
+  auto open_series = [&](const std::string& name, std::size_t frames) {
+    return continue_files ? io::PvdSeries::resume(out / name, state.time, frames) : io::PvdSeries(out / name);
+  };
+  io::PvdSeries fields = open_series("fields.pvd", state.fields_frames);
 
   std::vector<double> row(columns.size());
   std::vector<Index> fragment_label;
   const bool has_joints = model.joints.size() > 0;
   std::optional<io::PvdSeries> cracks;
-  if (has_joints) cracks.emplace(out / "cracks.pvd");
+  if (has_joints) cracks.emplace(open_series("cracks.pvd", state.cracks_frames));
   std::optional<io::PvdSeries> contacts;
-  if (model.contact.enabled && model.contact.output) contacts.emplace(out / "contacts.pvd");
+  if (model.contact.enabled && model.contact.output) contacts.emplace(open_series("contacts.pvd", state.contacts_frames));
   std::vector<Vec2> contact_points, contact_forces;
   std::vector<double> contact_normal_force, contact_overlap;
-  struct GaugeStats {
-    double max_disp = 0.0, max_speed = 0.0, time_of_max_speed = 0.0;
-  };
-  std::vector<GaugeStats> gauge_stats(prepared.gauges.size());
+  std::vector<GaugeStats>& gauge_stats = state.gauges;
+  gauge_stats.resize(prepared.gauges.size());
   auto write_history = [&](int stage_index) {
     const auto& e = solver.energy();
     std::size_t k = 0;
@@ -467,53 +591,102 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   };
 
   const bool tty = !options.quiet && isatty(STDERR_FILENO);
-  double max_balance_error = 0.0;
-  double next_field = 0.0, next_history = 0.0;
-  double stage_end = 0.0;
   const double end_time = sc.end_time();
   const auto loop_start = Clock::now();
   int stopped_by = 0;
+  bool stopped_at_step = false;
   auto last_progress = loop_start;
-  long steps_at_last_progress = 0;
+  auto last_checkpoint = loop_start;
+  long steps_at_last_progress = 0, first_step = 0;
+  const double wall_before = state.wall_time_before;
+  const fs::path checkpoint_path = out / "checkpoint.h5";
+  // The history on disk must hold exactly the rows written so far: a resumed run keeps
+  // that many rows and appends after them.
+  auto save_checkpoint = [&] {
+    history.flush();
+    state.time = solver.time();
+    state.history_rows = history.rows_written();
+    state.fields_frames = fields.size();
+    state.cracks_frames = cracks ? cracks->size() : 0;
+    state.contacts_frames = contacts ? contacts->size() : 0;
+    state.wall_time_before = wall_before + std::chrono::duration<double>(Clock::now() - wall_start).count();
+    io::CheckpointWriter w(checkpoint_path);
+    solver.save(w);
+    write_runner_state(w, state, prepared);
+    w.commit();
+    last_checkpoint = Clock::now();
+  };
+  const bool resumed = checkpoint.has_value();
+  const std::size_t resume_stage = state.stage;
   try {
-    for (std::size_t si = 0; si < sc.stages.size(); ++si) {
-      const io::StageSpec& stage = sc.stages[si];
-      apply_stage(solver, stage, sc, prepared.dt, &prepared);
-      if (si == 0) {
-        solver.initialise();
-        write_fields();
-        write_history(0);
-        next_field = sc.output.field_interval;
-        next_history = sc.output.history_interval;
+    if (resumed) {
+      // Each stage's supports, viscous boundary and earthquake as the original run set
+      // them (at their own start times), then the saved state over them.
+      for (std::size_t si = 0; si <= resume_stage; ++si) {
+        apply_stage(solver, sc.stages[si], sc, prepared.dt, state.stage_starts[si], &prepared);
+        if (si == 0) solver.initialise();
       }
-      stage_end += stage.duration;
-      log->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s, joints {}", si + 1, stage.name,
-                stage.duration, stage_end, stage.damping.alpha, stage.damping.beta,
-                stage.failure ? "may break" : "elastic (no failure)");
-      double peak_kinetic = 0.0;
+      solver.restore(*checkpoint);
+      checkpoint.reset();
+      log->info("restarted from {} at step {}, t = {:.6g} s, in stage {} '{}'", options.restart_from,
+                solver.step_count(), solver.time(), resume_stage + 1, sc.stages[resume_stage].name);
+      if (!continue_files) {
+        write_fields();
+        write_history(static_cast<int>(resume_stage));
+      }
+    }
+    first_step = steps_at_last_progress = solver.step_count();
+    for (std::size_t si = state.stage; si < sc.stages.size(); ++si) {
+      const io::StageSpec& stage = sc.stages[si];
+      if (!(resumed && si == resume_stage)) {
+        apply_stage(solver, stage, sc, prepared.dt, solver.time(), &prepared);
+        state.stage = si;
+        state.stage_starts.push_back(solver.time());
+        if (si == 0) {
+          solver.initialise();
+          write_fields();
+          write_history(0);
+          state.next_field = sc.output.field_interval;
+          state.next_history = sc.output.history_interval;
+        }
+        state.stage_end += stage.duration;
+        state.peak_kinetic = 0.0;
+        log->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s, joints {}", si + 1, stage.name,
+                  stage.duration, state.stage_end, stage.damping.alpha, stage.damping.beta,
+                  stage.failure ? "may break" : "elastic (no failure)");
+      }
       // Stop within half a step of the stage end.
-      while (solver.time() < stage_end - 0.5 * prepared.dt) {
+      while (solver.time() < state.stage_end - 0.5 * prepared.dt) {
         if (options.stop_signal && *options.stop_signal) break;
         solver.step();
         update_gauge_stats();
         const double t = solver.time();
-        if (t >= next_history - 0.5 * prepared.dt) {
+        if (t >= state.next_history - 0.5 * prepared.dt) {
           write_history(static_cast<int>(si));
-          next_history += sc.output.history_interval;
-          max_balance_error = std::max(max_balance_error, solver.energy().balance_error());
+          state.next_history += sc.output.history_interval;
+          state.max_balance_error = std::max(state.max_balance_error, solver.energy().balance_error());
         }
-        if (t >= next_field - 0.5 * prepared.dt) {
+        if (t >= state.next_field - 0.5 * prepared.dt) {
           write_fields();
-          next_field += sc.output.field_interval;
+          state.next_field += sc.output.field_interval;
         }
-        peak_kinetic = std::max(peak_kinetic, solver.energy().kinetic);
-        if (stage.stop_kinetic_ratio > 0 && solver.energy().kinetic < stage.stop_kinetic_ratio * peak_kinetic &&
-            t > 0.05 * stage.duration + (stage_end - stage.duration)) {
+        state.peak_kinetic = std::max(state.peak_kinetic, solver.energy().kinetic);
+        if (stage.stop_kinetic_ratio > 0 && solver.energy().kinetic < stage.stop_kinetic_ratio * state.peak_kinetic &&
+            t > 0.05 * stage.duration + (state.stage_end - stage.duration)) {
           log->info("stage '{}' at rest at t = {:.4g} s (kinetic energy below {} of its peak)", stage.name, t,
                     stage.stop_kinetic_ratio);
           break;
         }
         const auto now = Clock::now();
+        // Checkpoints after this step's output, so that the files and the checkpoint agree.
+        if ((sc.output.checkpoint_steps > 0 && solver.step_count() % sc.output.checkpoint_steps == 0) ||
+            (sc.output.checkpoint_interval > 0 &&
+             std::chrono::duration<double>(now - last_checkpoint).count() >= sc.output.checkpoint_interval))
+          save_checkpoint();
+        if (options.stop_at_step > 0 && solver.step_count() >= options.stop_at_step) {
+          stopped_at_step = true;
+          break;
+        }
         if (std::chrono::duration<double>(now - last_progress).count() >= sc.output.progress_interval) {
           const double rate = (solver.step_count() - steps_at_last_progress) /
                               std::chrono::duration<double>(now - last_progress).count();
@@ -534,8 +707,17 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
       if (options.stop_signal && *options.stop_signal) {
         stopped_by = static_cast<int>(*options.stop_signal);
         if (tty) fmt::print(stderr, "\n");
-        log->warn("run stopped by {} at step {}, t = {:.6g} s in stage '{}': writing the last fields, history and summary",
+        log->warn("run stopped by {} at step {}, t = {:.6g} s in stage '{}': writing a checkpoint and the last fields, "
+                  "history and summary",
                   signal_name(stopped_by), solver.step_count(), solver.time(), stage.name);
+        save_checkpoint();
+        break;
+      }
+      if (stopped_at_step) {
+        if (tty) fmt::print(stderr, "\n");
+        log->info("stopped at step {} (--stop-at-step), t = {:.6g} s in stage '{}': checkpoint written", solver.step_count(),
+                  solver.time(), stage.name);
+        save_checkpoint();
         break;
       }
     }
@@ -570,10 +752,19 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   }
   if (tty) fmt::print(stderr, "\n");
   // Last state, unless just written.
-  if (fields.size() == 0 || std::abs(next_field - sc.output.field_interval - solver.time()) > 0.5 * prepared.dt) write_fields();
-  write_history(static_cast<int>(sc.stages.size()) - 1);
+  if (fields.size() == 0 || std::abs(state.next_field - sc.output.field_interval - solver.time()) > 0.5 * prepared.dt)
+    write_fields();
+  if (history.rows_written() == 0 ||
+      std::abs(state.next_history - sc.output.history_interval - solver.time()) > 0.5 * prepared.dt)
+    write_history(static_cast<int>(std::min(state.stage, sc.stages.size() - 1)));
+  const bool completed = stopped_by == 0 && !stopped_at_step;
+  if (completed) {
+    // The end state, for a later continuation with added stages.
+    state.stage = sc.stages.size();
+    save_checkpoint();
+  }
   history.close();
-  max_balance_error = std::max(max_balance_error, solver.energy().balance_error());
+  const double max_balance_error = std::max(state.max_balance_error, solver.energy().balance_error());
 
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
   io::Json summary = io::Json::object();
@@ -591,11 +782,18 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["end_time_s"] = solver.time();
   summary["threads"] = threads;
   summary["wall_time_s"] = wall;
-  summary["element_steps_per_s"] = model.triangles.size() * static_cast<double>(solver.step_count()) /
+  if (resumed) {
+    summary["restarted_from"] = options.restart_from;
+    summary["restart_step"] = first_step;
+    summary["wall_time_total_s"] = wall_before + wall;
+  }
+  summary["checkpoint"] = checkpoint_path.string();
+  summary["element_steps_per_s"] = model.triangles.size() * static_cast<double>(solver.step_count() - first_step) /
                                    std::max(1e-9, std::chrono::duration<double>(Clock::now() - loop_start).count());
   summary["energy_balance_error"] = max_balance_error;
-  summary["completed"] = stopped_by == 0;
+  summary["completed"] = completed;
   if (stopped_by) summary["stopped_by"] = signal_name(stopped_by);
+  if (stopped_at_step) summary["stopped_at_step"] = solver.step_count();
   io::Json energies = io::Json::object();
   const auto& e = solver.energy();
   energies["unit"] = energy_unit;
@@ -621,11 +819,13 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["gauges"] = gauges;
   if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
   io::write_json_file(out / "summary.json", summary);
-  if (stopped_by)
-    log->warn("stopped by {}: {} steps in {}; last fields, history and summary in {}", signal_name(stopped_by),
-              solver.step_count(), human_time(wall), out.string());
+  if (!completed)
+    log->warn("stopped{}: {} steps in {}; last fields, history and summary in {}; continue with "
+              "`dsdem run {} --restart {}`",
+              stopped_by ? " by " + signal_name(stopped_by) : " at step " + std::to_string(solver.step_count()),
+              solver.step_count(), human_time(wall), out.string(), sc.file, checkpoint_path.string());
   else
-  log->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(), human_time(wall),
+    log->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(), human_time(wall),
             max_balance_error, out.string());
   spdlog::drop("dsdem");
 
@@ -635,6 +835,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   result.energy_balance_error = max_balance_error;
   result.summary_path = (out / "summary.json").string();
   result.stopped_by_signal = stopped_by;
+  result.stopped_at_step = stopped_at_step;
+  result.checkpoint_path = checkpoint_path.string();
   return result;
 }
 

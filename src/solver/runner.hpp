@@ -22,6 +22,13 @@ struct RunOptions {
   // Set (to the signal number) by a SIGINT/SIGTERM handler: the run stops at the end of
   // the current step and writes its last fields, history and summary.
   const volatile std::sig_atomic_t* stop_signal = nullptr;
+  // Continue from this checkpoint (OUT/checkpoint.h5 of an earlier run of the same
+  // scenario). In the checkpoint's own directory the run continues its files; elsewhere
+  // new files start at the checkpoint's time.
+  std::string restart_from;
+  // Stop cleanly after this step with a checkpoint (0: run to the end), e.g. to split a
+  // long run into batch jobs.
+  long stop_at_step = 0;
 };
 
 // Everything known before step 0: the model, its time step and what controls it.
@@ -54,6 +61,8 @@ struct RunResult {
   double energy_balance_error = 0.0;
   std::string summary_path;
   int stopped_by_signal = 0;  // the signal that stopped the run early, 0 if it ran to the end
+  bool stopped_at_step = false;  // RunOptions::stop_at_step reached
+  std::string checkpoint_path;   // the last checkpoint written
 };
 
 // Bytes of memory a run of this model needs (data structures per node, element, joint,

@@ -98,6 +98,9 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("boundary/static_force", vec2s(f_static));
   out.put("boundary/force_prev", vec2s(boundary_force_prev_));
   out.put("earthquake_start", quake_start_);
+  // The energy-growth watch (check_stability) so a restarted run flags the same step.
+  out.put_int("stability/energy_growth_steps", energy_growth_steps_);
+  out.put("stability/created_prev", created_prev_);
   if (contact_) {
     const auto& entries = contact_->history().entries();
     std::vector<std::int64_t> keys(entries.size() * 3);
@@ -164,6 +167,10 @@ void Solver::restore(const io::CheckpointReader& in) {
     boundary_[k].static_force = f_static[k];
   }
   quake_start_ = in.scalar("earthquake_start");
+  if (in.has("stability/energy_growth_steps")) {
+    energy_growth_steps_ = static_cast<int>(in.integer("stability/energy_growth_steps"));
+    created_prev_ = in.scalar("stability/created_prev");
+  }
   if (contact_) {
     const auto keys = in.integers("contact/keys");
     const auto ft = in.doubles("contact/ft");

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cfloat>
+#include <fstream>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -151,6 +152,44 @@ TEST(HistoryWriter, NumpyReadsColumnsByName) {
                           "assert d[\"kinetic_energy_J_per_m\"].tolist() == [0.1, 1.1], d' " +
                           (dir / "h.csv").string();
   EXPECT_EQ(std::system(cmd.c_str()), 0);
+}
+
+
+TEST(HistoryWriter, ResumeKeepsRowsUpToTheCheckpointAndAppends) {
+  ScratchDir dir;
+  {
+    HistoryWriter h(dir / "h.csv", kColumns, never_flush());
+    for (int i = 0; i < 5; ++i) h.append({0.1 * i, 1.0 * i, 2.0 * i, 0.0});
+    h.close();
+  }
+  // A half-written last line (as if killed mid-write) must not count either.
+  { std::ofstream(dir / "h.csv", std::ios::app) << "0.5,5"; }
+  {
+    HistoryWriter h(dir / "h.csv", kColumns, HistoryWriter::Resume{3}, never_flush());
+    EXPECT_EQ(h.rows_written(), 3u);
+    EXPECT_EQ(split(read_text(dir / "h.csv"), '\n').size(), 1u + 3u);  // dropped at once
+    h.append({0.3, 30.0, 60.0, 0.5});
+    h.close();
+  }
+  const auto lines = split(read_text(dir / "h.csv"), '\n');
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[3], "0.2,2,4,0");
+  EXPECT_EQ(lines[4], "0.3,30,60,0.5");
+}
+
+TEST(HistoryWriter, ResumeRefusesAnotherHeaderOrTooFewRows) {
+  ScratchDir dir;
+  {
+    HistoryWriter h(dir / "h.csv", kColumns, never_flush());
+    h.append({0.0, 1.0, 2.0, 0.0});
+  }
+  std::vector<HistoryColumn> other = kColumns;
+  other[1].quantity = "strain_energy";
+  EXPECT_THROW(HistoryWriter(dir / "h.csv", other, HistoryWriter::Resume{1}), std::runtime_error);
+  EXPECT_THROW(HistoryWriter(dir / "h.csv", kColumns, HistoryWriter::Resume{2}), std::runtime_error);
+  EXPECT_THROW(HistoryWriter(dir / "missing.csv", kColumns, HistoryWriter::Resume{0}), std::runtime_error);
+  // The refused resumes left the file as it was.
+  EXPECT_EQ(split(read_text(dir / "h.csv"), '\n').size(), 2u);
 }
 
 }  // namespace

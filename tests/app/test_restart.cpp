@@ -1,0 +1,207 @@
+// Checkpoints and `dsdem run --restart` through the CLI (issues 8 and 9): a run stopped
+// at any step, by a signal or killed outright, continues from its checkpoint to files
+// bit-identical to those of a run that was never interrupted.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/cli_util.hpp"
+
+namespace fs = std::filesystem;
+using namespace dsdem::test;
+
+namespace {
+
+// The Dr2 shear-sliding scenario made small and short: a gravity stage, then a strong
+// earthquake through the viscous-spring boundary, joints breaking and blocks in contact.
+// About 3000 steps, under a second of wall time.
+std::string small_dr2(double quake_duration = 1.5) {
+  return example("dr2/shear_sliding.yaml") +
+         " --set mesh.element_size=20 --set stages.0.duration=0.3 --set stages.1.duration=" +
+         std::to_string(quake_duration) +
+         " --set earthquake.horizontal.generate.pga=0.6 --set output.field_interval=0.25"
+         " --set output.history_interval=0.01 -q --no-plots --threads 1";
+}
+
+// The summary's gauge block and counts: equal for the interrupted and the uninterrupted run.
+std::string summary_results(const fs::path& out) {
+  const std::string s = read_text(out / "summary.json");
+  std::string picked;
+  for (const char* key : {"broken_joints", "fragments", "steps", "end_time_s"}) {
+    std::smatch m;
+    if (std::regex_search(s, m, std::regex("\"" + std::string(key) + "\": [^,\n]+"))) picked += m.str() + "\n";
+  }
+  const auto g = s.find("\"gauges\"");
+  if (g != std::string::npos) picked += s.substr(g, s.find(']', s.find("final_displacement_m", g)) - g);
+  return picked;
+}
+
+// Everything a user reads after a run, except the log and the wall-clock numbers.
+void expect_same_results(const fs::path& a, const fs::path& b) {
+  for (const char* f : {"history.csv", "cracks.csv", "fields.pvd", "cracks.pvd", "summary.json"}) {
+    ASSERT_TRUE(fs::exists(a / f)) << (a / f);
+    ASSERT_TRUE(fs::exists(b / f)) << (b / f);
+  }
+  ASSERT_GE(std::distance(fs::directory_iterator(a / "fields"), fs::directory_iterator{}), 3);
+  EXPECT_EQ(read_text(a / "history.csv"), read_text(b / "history.csv")) << "history.csv differs";
+  EXPECT_EQ(read_text(a / "cracks.csv"), read_text(b / "cracks.csv")) << "cracks.csv differs";
+  EXPECT_EQ(read_text(a / "fields.pvd"), read_text(b / "fields.pvd")) << "fields.pvd differs";
+  EXPECT_EQ(read_text(a / "cracks.pvd"), read_text(b / "cracks.pvd")) << "cracks.pvd differs";
+  for (const auto& e : fs::directory_iterator(a / "fields"))
+    EXPECT_EQ(read_text(e.path()), read_text(b / "fields" / e.path().filename())) << e.path().filename();
+  EXPECT_EQ(summary_results(a), summary_results(b));
+}
+
+class Restart : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    reference_ = fresh_dir("restart_reference");
+    const auto c = run_dsdem("run " + small_dr2() + " -o " + reference_.string());
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    const std::string s = read_text(reference_ / "summary.json");
+    ASSERT_NE(s.find("\"completed\": true"), std::string::npos) << s;
+    // The case must exercise what a restart has to carry: broken joints and contacts.
+    ASSERT_EQ(s.find("\"broken_joints\": 0,"), std::string::npos) << s;
+  }
+  static void TearDownTestSuite() { fs::remove_all(reference_); }
+  static fs::path reference_;
+};
+fs::path Restart::reference_;
+
+// Stopped in the gravity stage (the stage switch to viscous springs and the earthquake
+// happen after the restart) and in the earthquake stage (joints breaking, contacts).
+class RestartAtStep : public Restart, public ::testing::WithParamInterface<long> {};
+
+TEST_P(RestartAtStep, ContinuesBitIdenticallyInItsOwnFolder) {
+  const long stop = GetParam();
+  const fs::path out = fresh_dir("restart_at_" + std::to_string(stop));
+  const auto first = run_dsdem("run " + small_dr2() + " -o " + out.string() + " --stop-at-step " + std::to_string(stop));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_NE(first.output.find("--restart"), std::string::npos) << first.output;
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  const std::string partial = read_text(out / "summary.json");
+  EXPECT_NE(partial.find("\"completed\": false"), std::string::npos) << partial;
+  EXPECT_NE(partial.find("\"stopped_at_step\": " + std::to_string(stop)), std::string::npos) << partial;
+
+  // No -o: the run goes on in the checkpoint's folder.
+  const auto second = run_dsdem("run " + small_dr2() + " --restart " + (out / "checkpoint.h5").string());
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_NE(read_text(out / "dsdem.log").find("restarted from"), std::string::npos);
+  expect_same_results(reference_, out);
+  const std::string s = read_text(out / "summary.json");
+  EXPECT_NE(s.find("\"restart_step\": " + std::to_string(stop)), std::string::npos) << s;
+  fs::remove_all(out);
+}
+INSTANTIATE_TEST_SUITE_P(Restart, RestartAtStep, ::testing::Values(200L, 1700L));
+
+TEST_F(Restart, InAnotherFolderStartsNewFilesAtTheCheckpoint) {
+  const fs::path first = fresh_dir("restart_first"), second = fresh_dir("restart_second");
+  ASSERT_EQ(run_dsdem("run " + small_dr2() + " -o " + first.string() + " --stop-at-step 1500").exit_code, 0);
+  const auto c = run_dsdem("run " + small_dr2() + " -o " + second.string() + " --restart " +
+                           (first / "checkpoint.h5").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  // The new history starts at the checkpoint and ends exactly as the reference does.
+  const std::string ref = read_text(reference_ / "history.csv"), got = read_text(second / "history.csv");
+  const auto lines = [](const std::string& t) {
+    std::vector<std::string> v;
+    std::istringstream in(t);
+    for (std::string l; std::getline(in, l);) v.push_back(l);
+    return v;
+  };
+  const auto r = lines(ref), g = lines(got);
+  ASSERT_GE(g.size(), 3u);
+  EXPECT_EQ(g.front(), r.front());  // header
+  EXPECT_EQ(g.back(), r.back());
+  EXPECT_LT(g.size(), r.size());
+  EXPECT_EQ(read_text(reference_ / "cracks.csv"), read_text(second / "cracks.csv"));
+  EXPECT_EQ(summary_results(reference_), summary_results(second));
+  fs::remove_all(first);
+  fs::remove_all(second);
+}
+
+TEST_F(Restart, SigtermWritesACheckpointToContinueFrom) {
+  const fs::path out = fresh_dir("restart_sigterm");
+  // Longer earthquake so that the signal lands mid-run; the comparison run is made here too.
+  const fs::path ref = fresh_dir("restart_sigterm_ref");
+  ASSERT_EQ(run_dsdem("run " + small_dr2(8.0) + " -o " + ref.string()).exit_code, 0);
+  const std::string cmd = std::string(DSDEM_BINARY) + " run " + small_dr2(8.0) + " -o " + out.string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd + " > /dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  // Stop once the earthquake stage is under way (a few field frames written).
+  for (int i = 0; i < 600 && !fs::exists(out / "fields" / "fields_000003.vtu"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run ended before the signal arrived (machine too fast)";
+  ASSERT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  const auto c = run_dsdem("run " + small_dr2(8.0) + " --restart " + (out / "checkpoint.h5").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  expect_same_results(ref, out);
+  fs::remove_all(out);
+  fs::remove_all(ref);
+}
+
+TEST_F(Restart, KilledRunResumesFromItsLastPeriodicCheckpoint) {
+  const fs::path out = fresh_dir("restart_kill");
+  const std::string args = small_dr2() + " --set output.checkpoint_steps=1000";
+  const fs::path ref = fresh_dir("restart_kill_ref");
+  ASSERT_EQ(run_dsdem("run " + args + " -o " + ref.string()).exit_code, 0);
+  // Stand in for a SIGKILL at step 2345: a stop there, then the files as a kill after the
+  // periodic checkpoint at step 2000 leaves them (rows and frames beyond the checkpoint).
+  ASSERT_EQ(run_dsdem("run " + args + " -o " + out.string() + " --stop-at-step 2000").exit_code, 0);
+  const fs::path saved = out.string() + ".ckpt";
+  fs::copy_file(out / "checkpoint.h5", saved, fs::copy_options::overwrite_existing);
+  ASSERT_EQ(run_dsdem("run " + args + " --restart " + (out / "checkpoint.h5").string() + " --stop-at-step 2345")
+                .exit_code,
+            0);
+  fs::copy_file(saved, out / "checkpoint.h5", fs::copy_options::overwrite_existing);
+  const auto c = run_dsdem("run " + args + " --restart " + (out / "checkpoint.h5").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  expect_same_results(ref, out);
+  fs::remove_all(out);
+  fs::remove_all(ref);
+  fs::remove(saved);
+}
+
+TEST_F(Restart, RefusesAnotherModelOrACompleteRunWithExitCode2) {
+  const fs::path out = fresh_dir("restart_refuse");
+  ASSERT_EQ(run_dsdem("run " + small_dr2() + " -o " + out.string() + " --stop-at-step 100").exit_code, 0);
+  const auto other = run_dsdem("run " + small_dr2() + " --set mesh.element_size=25 --restart " +
+                               (out / "checkpoint.h5").string());
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("another model"), std::string::npos) << other.output;
+  EXPECT_NE(other.output.find("checkpoint.h5"), std::string::npos) << other.output;
+
+  const auto faster = run_dsdem("run " + small_dr2() + " --set time.safety=0.2 --restart " +
+                                (out / "checkpoint.h5").string());
+  EXPECT_EQ(faster.exit_code, 2) << faster.output;
+  EXPECT_NE(faster.output.find("dt ="), std::string::npos) << faster.output;
+
+  const auto done = run_dsdem("run " + small_dr2() + " --restart " + (reference_ / "checkpoint.h5").string() +
+                              " -o " + out.string());
+  EXPECT_EQ(done.exit_code, 2) << done.output;
+  EXPECT_NE(done.output.find("complete"), std::string::npos) << done.output;
+
+  std::ofstream(out / "bad.h5") << "not a checkpoint";
+  const auto bad = run_dsdem("run " + small_dr2() + " --restart " + (out / "bad.h5").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("bad.h5"), std::string::npos) << bad.output;
+  fs::remove_all(out);
+}
+
+}  // namespace
