@@ -71,7 +71,10 @@ class Restart : public ::testing::Test {
     // The case must exercise what a restart has to carry: broken joints and contacts.
     ASSERT_EQ(s.find("\"broken_joints\": 0,"), std::string::npos) << s;
   }
-  static void TearDownTestSuite() { fs::remove_all(reference_); }
+  static void TearDownTestSuite() {
+    fs::remove_all(reference_);
+    fresh_dir("restart_long_reference");  // removes it, if a test made it
+  }
   static fs::path reference_;
 };
 fs::path Restart::reference_;
@@ -127,33 +130,62 @@ TEST_F(Restart, InAnotherFolderStartsNewFilesAtTheCheckpoint) {
   fs::remove_all(second);
 }
 
-TEST_F(Restart, SigtermWritesACheckpointToContinueFrom) {
-  const fs::path out = fresh_dir("restart_sigterm");
-  // Longer earthquake so that the signal lands mid-run; the comparison run is made here too.
-  const fs::path ref = fresh_dir("restart_sigterm_ref");
-  ASSERT_EQ(run_dsdem("run " + small_dr2(8.0) + " -o " + ref.string()).exit_code, 0);
-  const std::string cmd = std::string(DSDEM_BINARY) + " run " + small_dr2(8.0) + " -o " + out.string();
+// A longer run (8 s of earthquake, a few seconds of wall time), so that a signal lands
+// mid-run; its uninterrupted reference is made once for the tests that need it.
+const std::string kLongArgs = small_dr2(8.0) + " --set output.checkpoint_steps=500";
+
+const fs::path& long_reference() {
+  static const fs::path ref = [] {
+    const fs::path d = fresh_dir("restart_long_reference");
+    const auto c = run_dsdem("run " + kLongArgs + " -o " + d.string());
+    EXPECT_EQ(c.exit_code, 0) << c.output;
+    return d;
+  }();
+  return ref;
+}
+
+// Starts the long run in `out` and sends `sig` once a few field frames (and so at least
+// one periodic checkpoint) are written. Returns the exit status.
+int run_long_and_signal(const fs::path& out, int sig) {
+  const std::string cmd = std::string(DSDEM_BINARY) + " run " + kLongArgs + " -o " + out.string();
   const pid_t pid = fork();
   if (pid == 0) {
     execl("/bin/sh", "sh", "-c", ("exec " + cmd + " > /dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  ASSERT_GT(pid, 0);
-  // Stop once the earthquake stage is under way (a few field frames written).
-  for (int i = 0; i < 600 && !fs::exists(out / "fields" / "fields_000003.vtu"); ++i)
+  for (int i = 0; i < 1200 && !fs::exists(out / "fields" / "fields_000003.vtu"); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  kill(pid, SIGTERM);
+  kill(pid, sig);
   int status = 0;
   waitpid(pid, &status, 0);
+  return status;
+}
+
+TEST_F(Restart, SigtermWritesACheckpointToContinueFrom) {
+  const fs::path& ref = long_reference();
+  const fs::path out = fresh_dir("restart_sigterm");
+  const int status = run_long_and_signal(out, SIGTERM);
   ASSERT_TRUE(WIFEXITED(status));
   if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run ended before the signal arrived (machine too fast)";
   ASSERT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
   ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
-  const auto c = run_dsdem("run " + small_dr2(8.0) + " --restart " + (out / "checkpoint.h5").string());
+  const auto c = run_dsdem("run " + kLongArgs + " --restart " + (out / "checkpoint.h5").string());
   ASSERT_EQ(c.exit_code, 0) << c.output;
   expect_same_results(ref, out);
   fs::remove_all(out);
-  fs::remove_all(ref);
+}
+
+TEST_F(Restart, SigkilledRunResumesFromItsLastCheckpoint) {
+  const fs::path& ref = long_reference();
+  const fs::path out = fresh_dir("restart_sigkill");
+  const int status = run_long_and_signal(out, SIGKILL);
+  if (WIFEXITED(status)) GTEST_SKIP() << "the run ended before the signal arrived (machine too fast)";
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  const auto c = run_dsdem("run " + kLongArgs + " --restart " + (out / "checkpoint.h5").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  expect_same_results(ref, out);
+  fs::remove_all(out);
 }
 
 TEST_F(Restart, KilledRunResumesFromItsLastPeriodicCheckpoint) {
