@@ -122,7 +122,7 @@ void Solver::build_node_incidence() {
 
 void Solver::build_joint_incidence() {
   const std::size_t nn = model_.nodes.size(), nj = model_.joints.size();
-  joint_buf_.resize(nj);
+  joint_buf_.prepare(nj, model_.joint_properties);
   joint_incidence_offset_.assign(nn + 1, 0);
   for (const auto& nd : model_.joints.nodes)
     for (Index n : nd) ++joint_incidence_offset_[n + 1];
@@ -239,7 +239,7 @@ void Solver::add_internal_and_joint_forces() {
       if (!(r.detF > 0.0)) inverted = 1;
     }
     if (joints)
-      evaluate_joints(n, J, model_.joint_properties, time_, settings_.failure, thickness, joint_buf_, broken_now);
+      evaluate_joints(n, J, time_, settings_.failure, thickness, joint_buf_, broken_now);
 #pragma omp barrier
     // Gather per node in a fixed order (elements, then joints): bit-identical for any
     // thread count. A broken joint's slots stay zero.
