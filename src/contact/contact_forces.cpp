@@ -98,7 +98,7 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   edges_.resize(nt);
   box_.resize(nt);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(nt);
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (settings_.parallel && n > 4096)
   for (std::ptrdiff_t t = 0; t < n; ++t) {
     if (!in.active[t]) continue;
     const auto& c = in.conn[t];
@@ -112,7 +112,7 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
 int ContactForces::begin_pairs(std::size_t n_pairs) {
   int nt = 1;
 #ifdef _OPENMP
-  if (n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
+  if (settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
   return nt;

@@ -52,6 +52,9 @@ struct ContactSettings {
   double skin = 0.0;
   // Below this many candidate pairs the pair loop runs on one thread.
   std::size_t min_pairs_per_parallel_run = 512;
+  // false: every loop on one thread (the solver turns OpenMP off for small models; a
+  // parallel region there costs more than it saves, and far more on a loaded machine).
+  bool parallel = true;
 };
 
 // The model arrays the contact phase reads (sizes: nodes for x, v, mass; triangles
@@ -119,6 +122,7 @@ class ContactForces {
     return compute(in, params, dt, [](Index, Index) { return false; }, f);
   }
 
+  void set_parallel(bool on) { settings_.parallel = on; }
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
   // Restart from a checkpoint: the stored tangential forces, the elastic-energy

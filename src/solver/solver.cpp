@@ -92,6 +92,7 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   if (model_.contact.enabled) {
     contact::ContactSettings cs;
     cs.skin = model_.contact.skin;
+    cs.parallel = parallel_;
     contact_ = std::make_unique<contact::ContactForces>(cs);
     contact_params_.set_default(model_.contact.defaults);
     for (const auto& p : model_.contact.pairs) contact_params_.set(p.group_a, p.group_b, p.props);
@@ -136,6 +137,7 @@ void Solver::build_joint_incidence() {
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
 void Solver::initialise() {
+  if (contact_) update_positions();
   clear_forces();
   add_gravity();
   add_internal_and_joint_forces();
@@ -168,21 +170,35 @@ void Solver::kick_and_drift() {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
   const Vec2 g = settings_.gravity;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.v[i] += 0.5 * dt * n.a[i];
-  const double t_half = time_ + 0.5 * dt;
-  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+  const bool contact = contact_ != nullptr;
+  // One node loop (one parallel region) for the kick, the drift, clearing the forces,
+  // gravity and the contact positions: each parallel region is a fork and a join, and
+  // on a loaded machine every join waits for the slowest thread (issue 7).
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    n.v[i] += 0.5 * dt * n.a[i];
     u_prev_[i] = n.u[i];
     n.u[i] += dt * n.v[i];
-    // clear_forces() and add_gravity() of the new step, fused into this loop.
     n.f[i] = n.m[i] * g;
     damping_force_[i].setZero();
+    if (contact) positions_[i] = n.X[i] + n.u[i];
   }
+  // Prescribed velocities, and the drift of those nodes redone with them (the same
+  // expression u_prev + dt v as above, so bit-identical to prescribing before the drift).
+  const double t_half = time_ + 0.5 * dt;
+  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+  for (const auto& d : constraints_) n.u[d.node][d.dir] = u_prev_[d.node][d.dir] + dt * n.v[d.node][d.dir];
   time_ += dt;
   for (const auto& d : constraints_)
     if (d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(time_ - d.t_start);
+  if (contact)
+    for (const auto& d : constraints_) positions_[d.node] = n.X[d.node] + n.u[d.node];
+}
+
+void Solver::update_positions() {
+  auto& n = model_.nodes;
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) positions_[i] = n.X[i] + n.u[i];
 }
 
 void Solver::clear_forces() {
@@ -283,9 +299,7 @@ bool Solver::bonded(Index i, Index j) const {
 
 void Solver::add_contact_forces() {
   if (!contact_) return;
-  auto& n = model_.nodes;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) positions_[i] = n.X[i] + n.u[i];
+  auto& n = model_.nodes;  // positions_ were updated by kick_and_drift (or initialise)
   const ContactSetup& cs = model_.contact;
   const contact::ContactInput in{positions_, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
                                  model_.triangles.group, cs.body};

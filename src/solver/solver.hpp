@@ -94,12 +94,16 @@ class Solver {
   bool bonded(Index i, Index j) const;
   // OpenMP on or off for this model's loops (default: on above kParallelThreshold
   // triangles). Results are bit-identical either way and for any thread count.
-  void set_parallel(bool on) { parallel_ = on; }
+  void set_parallel(bool on) {
+    parallel_ = on;
+    if (contact_) contact_->set_parallel(on);
+  }
   bool parallel() const { return parallel_; }
 
  private:
   // Phases of one step, in order.
-  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions
+  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions, contact positions
+  void update_positions();        // contact positions X + u (kick_and_drift does it in a step)
   void clear_forces();
   void add_gravity();
   // Triangles, objective CST (DESIGN.md §2), and cohesive joints, breaking for good
