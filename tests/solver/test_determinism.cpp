@@ -10,8 +10,7 @@
 #include <omp.h>
 #endif
 
-#include "mesh/model_builder.hpp"
-#include "mesh/structured.hpp"
+#include "common/block_on_ground.hpp"
 #include "solver/constraints.hpp"
 #include "solver/solver.hpp"
 
@@ -19,38 +18,13 @@ using namespace dsdem;
 
 namespace {
 
-// A discrete block (joints on every interior edge, contact on) hitting a contact ground
-// slab at 20 m/s: the impact breaks joints within a few hundred steps.
+// The block of tests/common/block_on_ground.hpp: joints on every interior edge,
+// contact on, hitting the ground at 20 m/s, so joints break within a few hundred steps.
 Model impact_model(int nx, int ny) {
-  const double h = 0.01;
-  RawMesh raw = mesh::rectangle_mesh(nx, ny, nx * h, ny * h, mesh::Diagonal::Alternate, 0.0, 0.02 * h, "block");
-  RawMesh ground = mesh::rectangle_mesh(nx, 2, nx * h, 2 * h, mesh::Diagonal::Alternate, 0.0, -2 * h, "ground");
-  for (auto& g : ground.groups)
-    if (g.dim == 1) g.name = "ground_" + g.name;
-  mesh::append_mesh(raw, ground);
-  io::Scenario sc;
-  sc.file = "(test)";
-  Material rock;
-  rock.name = "rock";
-  rock.E = 21e9;
-  rock.nu = 0.2;
-  rock.rho = 2500;
-  sc.materials["rock"] = rock;
-  sc.regions.push_back(io::RegionSpec{"block", "rock", Zone::Discrete, {}, {}});
-  sc.regions.push_back(io::RegionSpec{"ground", "rock", Zone::ContactBedrock, {}, {}});
-  sc.joints.present = true;
-  sc.joints.defaults.ft = 2.5e6;
-  sc.joints.defaults.c = 10e6;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 50;
-  sc.joints.defaults.GII = 500;
-  sc.contact.friction = 0.5;
-  sc.contact.restitution = 0.5;
-  sc.stages.push_back(io::StageSpec{});
-  Model model = mesh::build_model(sc, raw);
-  for (Index t : model.groups[model.find_group("block")].triangles)
-    for (Index n : model.triangles.conn[t]) model.nodes.v[n] = Vec2(3.0, -20.0);
-  return model;
+  test::BlockOnGround b;
+  b.nx = nx;
+  b.ny = ny;
+  return test::block_on_ground(b);
 }
 
 struct RunResult {
