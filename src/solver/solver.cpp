@@ -3,8 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 static_assert(sizeof(std::array<dsdem::Vec2, 3>) == 3 * sizeof(dsdem::Vec2) &&
                   sizeof(std::array<dsdem::Vec2, 4>) == 4 * sizeof(dsdem::Vec2),
@@ -77,6 +82,9 @@ StableStep stable_time_step(const Model& model, double beta) {
 }
 
 Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() > kParallelThreshold) {
+#ifdef _OPENMP
+  auto_parallel_ = parallel_ && omp_get_max_threads() > 1;
+#endif
   const std::size_t ne = model_.triangles.size(), nn = model_.nodes.size();
   element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   element_damping_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
@@ -154,6 +162,7 @@ void Solver::initialise() {
 }
 
 void Solver::step() {
+  const auto start = std::chrono::steady_clock::now();
   kick_and_drift();  // also clears the forces and adds gravity (one node loop, issue 7)
   add_internal_and_joint_forces();
   add_contact_forces();
@@ -164,6 +173,28 @@ void Solver::step() {
   update_energy();
   check_stability();
   ++step_;
+  if (auto_parallel_) probe_parallel(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+void Solver::probe_parallel(double step_seconds) {
+  // The probe window is steps probe_start_ .. + 2 kProbeSteps - 1: the first half on one
+  // thread, the second with OpenMP; then the faster mode runs until the next probe.
+  const long k = step_ - 1 - probe_start_;  // position of the step just done in the window
+  if (k == -1) use_parallel(false);  // the window starts with the next step
+  if (k < 0) return;
+  if (k >= 2 * kProbeSteps) {  // e.g. after a restore: start a window now
+    probe_start_ = step_;
+    use_parallel(false);
+    return;
+  }
+  probe_time_[k < kProbeSteps ? 0 : 1] += step_seconds;
+  if (k + 1 == kProbeSteps) {
+    use_parallel(true);
+  } else if (k + 1 == 2 * kProbeSteps) {
+    use_parallel(probe_time_[1] < probe_time_[0]);
+    probe_time_[0] = probe_time_[1] = 0.0;
+    probe_start_ = step_ + kProbeInterval;
+  }
 }
 
 void Solver::kick_and_drift() {
