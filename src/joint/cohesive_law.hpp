@@ -94,7 +94,8 @@ inline CohesiveResponse cohesive_law(double dn, double ds, const JointLawConstan
   if (dn <= 0.0) {
     sn_normal = p.kn * dn;
   } else {
-    const double d_normal = std::min(1.0, std::max(0.0, st.dn_max - wt) / wn);
+    const double past = std::max(0.0, st.dn_max - wt);
+    const double d_normal = std::min(1.0, past != 0.0 ? past / wn : past);  // 0/wn = 0: skip the division
     sn_normal = p.ft * (1.0 - d_normal) * dn / std::max(st.dn_max, wt);
   }
   // Eq. 8 with the tension cut-off; fr is the residual friction (compression only).
@@ -106,8 +107,11 @@ inline CohesiveResponse cohesive_law(double dn, double ds, const JointLawConstan
   const double wsII = 2.0 * p.GII / std::max(fs - fr, tiny);
 
   // Eq. 9 on the largest opening and slip reached; damage never decreases.
-  const double en = std::max(st.dn_max - wt, 0.0) / wn;
-  const double es = std::max(st.s_max - ws, 0.0) / wsII;
+  // Intact joints sit below both limits: the numerators are +0 and the quotients +0
+  // without dividing (divisions are most of the law's latency).
+  const double past_n = std::max(st.dn_max - wt, 0.0), past_s = std::max(st.s_max - ws, 0.0);
+  const double en = past_n != 0.0 ? past_n / wn : past_n;
+  const double es = past_s != 0.0 ? past_s / wsII : past_s;
   // hypot(x, 0) = |x| exactly (C Annex F): skip the libm call in the common cases.
   const double e = en == 0.0 ? es : (es == 0.0 ? en : std::hypot(en, es));
   if (damage_enabled) st.damage = std::max(old.damage, std::min(1.0, e));
