@@ -3,6 +3,7 @@
 machine info, kernel and whole-run tables, the issue-7 targets with met / not met, and
 bench/profile_notes.md (the hand-written profile findings and changes) appended."""
 import json
+import re
 import os
 import platform
 import subprocess
@@ -100,8 +101,8 @@ def main():
         eps = b["elem_steps/s"]
         cpu_ms = b["cpu_time"] if b["time_unit"] == "ms" else b["cpu_time"] / 1e6
         b["cpu_eps"] = b["elements"] / (cpu_ms * 1e-3)
-        pcpu = b.get("process_cpu_s")
-        b["proc_eps"] = b["elements"] * b["iterations"] / pcpu if pcpu else None
+        pcpu = b.get("proc_cpu_s/step")
+        b["proc_eps"] = b["elements"] / pcpu if pcpu else None
         proc = f"{b['proc_eps'] / 1e6:.2f}" if b["proc_eps"] else "?"
         load1 = f"{b['load1']:.1f}" if "load1" in b else "?"
         lines.append(f"| {n} | {b['elements']:.0f} | {b['joints']:.0f} | {b['threads']:.0f} | {b['iterations']} | {ms:.3g} | "
@@ -171,6 +172,25 @@ def main():
         pe = get(big, "peak_MB") * 1e6 / get(big, "elements")
         lines.append(f"| memory <= 1 KB per element ({big}) | peak {pe:.0f} B/elem (whole process, incl. model building); "
                      f"steady RSS {get(big, 'B/elem'):.0f} B/elem | {'yes' if get(big, 'B/elem') <= 1024 else 'no'} (steady) |")
+    # Dr2 shear sliding: full length from the short run's rate and the logged dt.
+    for r in ex_rows:
+        if not r[0].startswith("dr2") or r[1] != "2" or len(r) < 7:
+            continue
+        log = os.path.join(raw, "dr2-2", "dsdem.log")
+        m = None
+        if os.path.exists(log):
+            with open(log) as f:
+                m = re.search(r"dt = ([0-9.eE+-]+) s", f.read())
+        try:
+            rate = float(r[6]) / float(r[2])
+        except ValueError:
+            continue
+        if m:
+            steps = (3.0 + 40.0) / float(m.group(1))
+            lines.append(f"| Dr2 shear sliding, 40 s (+ 3 s gravity) at the default mesh under 3 min on 2 cores | "
+                         f"short run {rate:.0f} steps/s wall (2 threads, load {r[8] if len(r) > 8 else '?'}); dt = "
+                         f"{float(m.group(1)):.3g} s -> {steps / 1e3:.0f} k steps -> ~{steps / rate / 60:.0f} min at this rate "
+                         f"(see the notes for an idle-machine estimate) | {'yes' if steps / rate <= 180 else 'no'} |")
     lines.append("")
 
     notes = os.path.join(root, "bench", "profile_notes.md")
