@@ -5,6 +5,8 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <sys/resource.h>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -185,16 +187,34 @@ BENCHMARK(BM_BroadPhase)->Arg(32)->Arg(256)->Unit(benchmark::kMillisecond);
 
 // Steps a model: counters element-steps/s, contacts/s (contact evaluations per second),
 // broken joints, peak memory and memory per element.
+// CPU time of the whole process (all threads), s.
+double process_cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
+// threads > 1 forces OpenMP on (the solver's own timed choice would fall back to one
+// thread on a loaded machine, hiding the scaling this measures); 1 forces it off.
 void run_steps(benchmark::State& state, Model& model, std::vector<solver::PrescribedDof> dofs, Vec2 gravity, int warmup,
-               double rss_before) {
+               double rss_before, int threads) {
   solver::Solver s(model);
+  s.set_parallel(threads > 1);
   bench::prepare(s, std::move(dofs), gravity);
   for (int k = 0; k < warmup; ++k) s.step();
+  double load[3] = {0.0, 0.0, 0.0};
+  getloadavg(load, 3);
   double contacts = 0.0;
+  const double cpu0 = process_cpu_seconds();
   for (auto _ : state) {
     s.step();
     contacts += static_cast<double>(s.active_contacts());
   }
+  // CPU seconds per step, all threads (the main-thread CPU time that Google Benchmark
+  // reports misses the second thread).
+  state.counters["proc_cpu_s/step"] = (process_cpu_seconds() - cpu0) / static_cast<double>(state.iterations());
+  state.counters["load1"] = load[0];
   const double ne = static_cast<double>(model.triangles.size());
   const double steps = static_cast<double>(state.iterations());
   state.counters["elements"] = ne;
@@ -214,7 +234,7 @@ void BM_WholeBox(benchmark::State& state) {
   set_threads(static_cast<int>(state.range(2)));
   const double rss0 = rss_bytes();
   Model model = bench::box_model(nx, ny);
-  run_steps(state, model, bench::box_constraints(model), Vec2(0.0, -9.81), 20, rss0);
+  run_steps(state, model, bench::box_constraints(model), Vec2(0.0, -9.81), 20, rss0, static_cast<int>(state.range(2)));
   state.counters["threads"] = static_cast<double>(state.range(2));
   set_threads(1);
 }
@@ -230,7 +250,7 @@ void BM_WholeDisc(benchmark::State& state) {
   set_threads(static_cast<int>(state.range(1)));
   const double rss0 = rss_bytes();
   Model model = bench::disc_model(1e-4 * static_cast<double>(state.range(0)));
-  run_steps(state, model, bench::disc_constraints(model), Vec2::Zero(), 200, rss0);
+  run_steps(state, model, bench::disc_constraints(model), Vec2::Zero(), 200, rss0, static_cast<int>(state.range(1)));
   state.counters["threads"] = static_cast<double>(state.range(1));
   set_threads(1);
 }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/block_on_ground.hpp"  // tests/common: shared with the solver tests
 #include "io/scenario.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
@@ -28,48 +29,31 @@ inline void add_body(RawMesh& raw, RawMesh m, const std::string& name) {
   }
 }
 
+// The solver tests' materials (rock, steel) with the paper's rock joints (§1.3.1) and
+// contact stiffness 1 x E of the rock.
 inline io::Scenario rock_scenario() {
-  io::Scenario sc;
+  io::Scenario sc = test::impact_scenario();
   sc.file = "(bench)";
-  Material rock;
-  rock.name = "rock";
-  rock.E = 21e9;
-  rock.nu = 0.2;
-  rock.rho = 2500;
-  sc.materials["rock"] = rock;
-  Material steel;
-  steel.name = "steel";
-  steel.E = 210e9;
-  steel.nu = 0.3;
-  steel.rho = 7850;
-  sc.materials["steel"] = steel;
-  sc.joints.present = true;
-  sc.joints.defaults.ft = 2.5e6;
   sc.joints.defaults.c = 20e6;
   sc.joints.defaults.phi_deg = 45;
   sc.joints.defaults.GI = 120;
   sc.joints.defaults.GII = 1500;
   sc.contact.kn = 21e9;
-  sc.contact.friction = 0.5;
-  sc.contact.restitution = 0.5;
-  sc.stages.push_back(io::StageSpec{});
   return sc;
 }
 
-// nx x ny cells (2 nx ny discrete triangles) of side h above a contact ground of
-// nx x 2 cells. The block starts 0.001 h above the ground moving down at v0.
+// The "synthetic box of breakable elements": tests/common/block_on_ground.hpp with
+// nx x ny cells (2 nx ny discrete triangles) of side h on a steel ground, starting
+// 0.001 h above it moving down at v0.
 inline Model box_model(int nx, int ny, double h = 0.01, double v0 = 20.0) {
-  RawMesh raw;
-  add_body(raw, mesh::rectangle_mesh(nx, ny, nx * h, ny * h, mesh::Diagonal::Alternate, 0.0, 0.001 * h, "block"), "block");
-  add_body(raw, mesh::rectangle_mesh(nx, 2, nx * h, 2 * h, mesh::Diagonal::Alternate, 0.0, -2 * h, "ground"), "ground");
-  io::Scenario sc = rock_scenario();
-  sc.regions.push_back(io::RegionSpec{"block", "rock", Zone::Discrete, {}, {}});
-  sc.regions.push_back(io::RegionSpec{"ground", "steel", Zone::ContactBedrock, {}, {}});
-  Model model = mesh::build_model(sc, raw);
-  const auto& block = model.groups[model.find_group("block")];
-  for (Index t : block.triangles)
-    for (Index n : model.triangles.conn[t]) model.nodes.v[n] = Vec2(0.0, -v0);
-  return model;
+  test::BlockOnGround b;
+  b.nx = nx;
+  b.ny = ny;
+  b.h = h;
+  b.gap = 0.001;
+  b.velocity = Vec2(0.0, -v0);
+  b.ground_material = "steel";
+  return test::block_on_ground(b, rock_scenario());
 }
 
 inline std::vector<solver::PrescribedDof> box_constraints(const Model& model) {

@@ -1,6 +1,8 @@
 // Runs a few steps of a benchmark model, for profilers (callgrind, perf):
 //   dsdem_profile box NX NY STEPS WARMUP   |   dsdem_profile disc H_0.1MM STEPS WARMUP
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <string>
 
@@ -38,7 +40,19 @@ int main(int argc, char** argv) {
     s.step();
     contacts += s.active_contacts();
   }
-  std::printf("elements %zu joints %zu steps %d contacts/step %.1f broken %ld\n", model.triangles.size(),
-              model.joints.size(), steps, static_cast<double>(contacts) / steps, s.broken_joints());
+  // FNV-1a of every displacement and velocity bit: optimisations must leave it unchanged.
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const Vec2& w) {
+    for (int d = 0; d < 2; ++d) {
+      std::uint64_t b;
+      const double x = w[d];
+      std::memcpy(&b, &x, sizeof b);
+      h = (h ^ b) * 1099511628211ull;
+    }
+  };
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) mix(model.nodes.u[i]), mix(model.nodes.v[i]);
+  std::printf("elements %zu joints %zu steps %d contacts/step %.1f broken %ld state %016llx\n", model.triangles.size(),
+              model.joints.size(), steps, static_cast<double>(contacts) / steps, s.broken_joints(),
+              static_cast<unsigned long long>(h));
   return 0;
 }

@@ -3,6 +3,7 @@
 machine info, kernel and whole-run tables, the issue-7 targets with met / not met, and
 bench/profile_notes.md (the hand-written profile findings and changes) appended."""
 import json
+import re
 import os
 import platform
 import subprocess
@@ -57,6 +58,7 @@ def main():
     mem = sh("free -g | awk 'NR==2{print $2}'")
     comp = sh("c++ --version | head -1")
     lines.append(f"- Memory: {mem} GiB; OS {platform.platform()}; compiler {comp}")
+    lines.append(f"- OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; QUICK={os.environ.get('QUICK', '0')}")
     lines.append(f"- Load average at the start of the kernel runs: {ctx.get('load_avg', '?')} "
                  "(the machine is shared: timings are noisy, medians of repetitions are given where repeated)")
     lines.append(f"- Build: {ctx.get('library_build_type', '?')} Google Benchmark; dsdem -O2, no -ffast-math")
@@ -82,8 +84,8 @@ def main():
                  "are after 20 (box) or 200 (disc) warm-up steps.")
     lines.append("")
     lines.append("| run | elements | joints | threads | steps (or repetitions, for medians) | ms/step (wall) | M elem-steps/s (wall) | "
-                 "M elem-steps/s (main-thread CPU) | contacts/step | contacts/s (wall) | broken | peak MB | B/elem (RSS) |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+                 "M elem-steps/s (main-thread CPU) | M elem-steps per CPU-s (all threads) | load avg | contacts/step | contacts/s (wall) | broken | peak MB | B/elem (RSS) |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     whole = {}
     names = sorted(f[:-5] for f in os.listdir(raw) if f.endswith(".json") and f != "kernels.json")
     order = {"box_1e3": 0, "box_1e4": 1, "box_1e5": 2, "box_1e6": 3, "disc_h5": 4, "disc_h2": 5}
@@ -99,8 +101,12 @@ def main():
         eps = b["elem_steps/s"]
         cpu_ms = b["cpu_time"] if b["time_unit"] == "ms" else b["cpu_time"] / 1e6
         b["cpu_eps"] = b["elements"] / (cpu_ms * 1e-3)
+        pcpu = b.get("proc_cpu_s/step")
+        b["proc_eps"] = b["elements"] / pcpu if pcpu else None
+        proc = f"{b['proc_eps'] / 1e6:.2f}" if b["proc_eps"] else "?"
+        load1 = f"{b['load1']:.1f}" if "load1" in b else "?"
         lines.append(f"| {n} | {b['elements']:.0f} | {b['joints']:.0f} | {b['threads']:.0f} | {b['iterations']} | {ms:.3g} | "
-                     f"{eps / 1e6:.2f} | {b['cpu_eps'] / 1e6:.2f} | {b['contacts']:.0f} | {b['contacts/s'] / 1e6:.3f} M | "
+                     f"{eps / 1e6:.2f} | {b['cpu_eps'] / 1e6:.2f} | {proc} | {load1} | {b['contacts']:.0f} | {b['contacts/s'] / 1e6:.3f} M | "
                      f"{b['broken']:.0f} | {b['peak_MB']:.0f} | {b['B/elem']:.0f} |")
     lines.append("")
 
@@ -112,11 +118,16 @@ def main():
     lines.append("## Example runs (CLI, --no-fields --no-plots -q)")
     lines.append("")
     if ex_rows:
-        lines.append("| example | threads | wall s | peak RSS MB | status |")
-        lines.append("|---|---|---|---|---|")
+        lines.append("| example | threads | wall s | peak RSS MB | status | CPU s (all threads) | steps | steps/s (wall) | load avg |")
+        lines.append("|---|---|---|---|---|---|---|---|---|")
         for r in ex_rows:
             mem = f"{float(r[3]) / 1024:.0f}" if len(r) > 3 and r[3] else "?"
-            lines.append(f"| {r[0]} | {r[1]} | {r[2]} | {mem} | {r[4] if len(r) > 4 else '?'} |")
+            extra = r[5:9] + ["?"] * (4 - len(r[5:9]))
+            try:
+                extra[2] = f"{float(extra[1]) / float(r[2]):.0f}"
+            except ValueError:
+                pass
+            lines.append(f"| {r[0]} | {r[1]} | {r[2]} | {mem} | {r[4] if len(r) > 4 else '?'} | " + " | ".join(extra) + " |")
     else:
         lines.append("examples/brazilian_disc and examples/dr2 were not present in this tree: the synthetic disc "
                      "above stands in for the first; see the Dr2 estimate in the notes below.")
@@ -145,7 +156,10 @@ def main():
         a, b = get(n + "_t1", "elem_steps/s"), get(n + "_t2", "elem_steps/s")
         if a and b:
             s = b / a
-            lines.append(f"| 2 threads >= 1.7x one thread ({n}) | {s:.2f}x | {'yes' if s >= 1.7 else 'no'} |")
+            pa, pb = get(n + "_t1", "proc_eps"), get(n + "_t2", "proc_eps")
+            eff = f"; CPU per element-step 2 threads / 1 thread = {pa / pb:.2f}" if pa and pb else ""
+            lines.append(f"| 2 threads >= 1.7x one thread ({n}, wall; load avg {get(n + '_t2', 'load1') or 0:.1f}) | "
+                         f"{s:.2f}x{eff} | {'yes' if s >= 1.7 else 'no'} |")
     base = get("box_1e3_t1", "cpu_eps")
     if base:
         sizes = [n for n in ("box_1e3", "box_1e4", "box_1e5", "box_1e6") if get(n + "_t1", "cpu_eps")]
@@ -158,6 +172,25 @@ def main():
         pe = get(big, "peak_MB") * 1e6 / get(big, "elements")
         lines.append(f"| memory <= 1 KB per element ({big}) | peak {pe:.0f} B/elem (whole process, incl. model building); "
                      f"steady RSS {get(big, 'B/elem'):.0f} B/elem | {'yes' if get(big, 'B/elem') <= 1024 else 'no'} (steady) |")
+    # Dr2 shear sliding: full length from the short run's rate and the logged dt.
+    for r in ex_rows:
+        if not r[0].startswith("dr2") or r[1] != "2" or len(r) < 7:
+            continue
+        log = os.path.join(raw, "dr2-2", "dsdem.log")
+        m = None
+        if os.path.exists(log):
+            with open(log) as f:
+                m = re.search(r"dt = ([0-9.eE+-]+) s", f.read())
+        try:
+            rate = float(r[6]) / float(r[2])
+        except ValueError:
+            continue
+        if m:
+            steps = (3.0 + 40.0) / float(m.group(1))
+            lines.append(f"| Dr2 shear sliding, 40 s (+ 3 s gravity) at the default mesh under 3 min on 2 cores | "
+                         f"short run {rate:.0f} steps/s wall (2 threads, load {r[8] if len(r) > 8 else '?'}); dt = "
+                         f"{float(m.group(1)):.3g} s -> {steps / 1e3:.0f} k steps -> ~{steps / rate / 60:.0f} min at this rate "
+                         f"(see the notes for an idle-machine estimate) | {'yes' if steps / rate <= 180 else 'no'} |")
     lines.append("")
 
     notes = os.path.join(root, "bench", "profile_notes.md")

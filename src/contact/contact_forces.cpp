@@ -92,15 +92,21 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
     invalidated_ = false;
     n_triangles_ = nt;
     rebuilt = true;
+    in_pair_.assign(nt, 0);
+    for (const ContactPair& p : broad_.pairs()) in_pair_[p.i] = in_pair_[p.j] = 1;
+    shape_tris_.clear();
+    if (shape_tris_.capacity() < nt) shape_tris_.reserve(nt);  // once: rebuilds happen in the time loop
+    for (std::size_t t = 0; t < nt; ++t)
+      if (in_pair_[t]) shape_tris_.push_back(static_cast<Index>(t));
   }
 
   sp_.resize(nt);
   edges_.resize(nt);
   box_.resize(nt);
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(nt);
-#pragma omp parallel for schedule(static) if (n > 4096)
-  for (std::ptrdiff_t t = 0; t < n; ++t) {
-    if (!in.active[t]) continue;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_tris_.size());
+#pragma omp parallel for schedule(static) if (settings_.parallel && n > 4096)
+  for (std::ptrdiff_t s = 0; s < n; ++s) {
+    const Index t = shape_tris_[s];
     const auto& c = in.conn[t];
     sp_[t] = make_spheropolygon(in.x[c[0]], in.x[c[1]], in.x[c[2]], in.rounding_radius[t]);
     edges_[t] = core_edges(sp_[t].core);
@@ -112,7 +118,7 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
 int ContactForces::begin_pairs(std::size_t n_pairs) {
   int nt = 1;
 #ifdef _OPENMP
-  if (n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
+  if (settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
   return nt;

@@ -52,6 +52,9 @@ struct ContactSettings {
   double skin = 0.0;
   // Below this many candidate pairs the pair loop runs on one thread.
   std::size_t min_pairs_per_parallel_run = 512;
+  // false: every loop on one thread (the solver turns OpenMP off for small models; a
+  // parallel region there costs more than it saves, and far more on a loaded machine).
+  bool parallel = true;
 };
 
 // The model arrays the contact phase reads (sizes: nodes for x, v, mass; triangles
@@ -119,6 +122,7 @@ class ContactForces {
     return compute(in, params, dt, [](Index, Index) { return false; }, f);
   }
 
+  void set_parallel(bool on) { settings_.parallel = on; }
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
   // Restart from a checkpoint: the stored tangential forces, the elastic-energy
@@ -150,7 +154,8 @@ class ContactForces {
   double skin() const { return skin_; }
   // OpenMP threads that ran the pair loop of the last call.
   int threads_used() const { return used_threads_; }
-  // Spheropolygon of triangle t at the last call (contact triangles only).
+  // Spheropolygon of triangle t at the last call (contact triangles that are in some
+  // candidate pair of the broad phase; the others are not updated).
   const Spheropolygon& spheropolygon(Index t) const { return sp_[t]; }
 
  private:
@@ -174,6 +179,11 @@ class ContactForces {
   std::vector<Spheropolygon> sp_;
   std::vector<CoreEdges> edges_;  // of sp_[t].core
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
+  // Triangles in some candidate pair (ascending), set at each broad-phase build: only
+  // their shapes are updated each step. A contact zone's interior (one body, no pairs)
+  // is skipped: on Dr2 that was most of the 12 % the shapes took (issue 7 profile).
+  std::vector<Index> shape_tris_;
+  std::vector<std::uint8_t> in_pair_;  // scratch of the build: per triangle
   std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;

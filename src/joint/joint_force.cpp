@@ -13,9 +13,17 @@ JointKinematics joint_kinematics(const JointNodePositions& x, const JointSeparat
   const Vec2 ea = x[1] - x[0];
   const Vec2 eb = x[3] - x[2];
   k.length = d.norm();
-  const double scale = std::max(ea.norm(), eb.norm());
-  if (k.length <= 1e-12 * scale) d = ea.norm() >= eb.norm() ? ea : eb;  // faces crossed
-  const double len = d.norm();
+  // The face lengths are at most their L1 norms: a mid-line longer than 2e-12 of those
+  // cannot be collapsed, which spares two square roots in the common case.
+  const double l1 = std::max(std::abs(ea.x()) + std::abs(ea.y()), std::abs(eb.x()) + std::abs(eb.y()));
+  double len = k.length;
+  if (!(k.length > 2e-12 * l1)) {
+    const double scale = std::max(ea.norm(), eb.norm());
+    if (k.length <= 1e-12 * scale) {  // faces crossed
+      d = ea.norm() >= eb.norm() ? ea : eb;
+      len = d.norm();
+    }
+  }
   if (len > 0.0) {
     k.t = d / len;
     k.n = Vec2(k.t.y(), -k.t.x());  // clockwise turn: outward of tri_a (CCW along a0->a1)
@@ -40,6 +48,13 @@ JointForceResult joint_force(const JointNodePositions& x, double length0,
 
 JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
                              double length0, const JointProperties& p,
+                             const std::array<JointPointState, 2>& state,
+                             bool damage_enabled) {
+  return joint_force(x, delta, length0, law_constants(p), state, damage_enabled);
+}
+
+JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
+                             double length0, const JointLawConstants& p,
                              const std::array<JointPointState, 2>& state,
                              bool damage_enabled) {
   JointForceResult r;

@@ -53,6 +53,12 @@ JointForceResult joint_force(const JointNodePositions& x, const JointSeparations
                              double length0, const JointProperties& p,
                              const std::array<JointPointState, 2>& state,
                              bool damage_enabled = true);
+// Hot path of the joint phase: the law's constants computed once (law_constants(p));
+// bit-identical to the overload above.
+JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
+                             double length0, const JointLawConstants& k,
+                             const std::array<JointPointState, 2>& state,
+                             bool damage_enabled = true);
 JointForceResult joint_force(const JointNodePositions& x, double length0,
                              const JointProperties& p,
                              const std::array<JointPointState, 2>& state,

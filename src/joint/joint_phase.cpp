@@ -6,8 +6,9 @@ namespace {
 
 // One intact joint: its forces (times thickness), energy and dissipation; breaks it
 // when it fails. Returns true when it broke now.
-inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<JointProperties>& properties,
-                       std::size_t j, double time, bool damage_enabled, double thickness,
+template <class Law>
+inline bool joint_step(const Nodes& nodes, Joints& joints, const Law& law, std::size_t j, double time,
+                       bool damage_enabled, double thickness,
                        std::array<Vec2, 4>& f, double& energy, double& dissipation) {
   const auto& nd = joints.nodes[j];
   const JointNodePositions x{nodes.x(nd[0]), nodes.x(nd[1]), nodes.x(nd[2]), nodes.x(nd[3])};
@@ -15,7 +16,7 @@ inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<Joi
   const JointSeparations delta{(nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
                                (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
   const JointForceResult r =
-      joint_force(x, delta, joints.length0[j], properties[joints.property[j]], joints.state[j], damage_enabled);
+      joint_force(x, delta, joints.length0[j], law[joints.property[j]], joints.state[j], damage_enabled);
   joints.state[j] = r.state;
   joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
   joints.dissipated[j] += thickness * r.dissipation;
@@ -61,6 +62,12 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
   return tot;
 }
 
+void JointPhaseBuffers::prepare(std::size_t n, const std::vector<JointProperties>& properties) {
+  resize(n);
+  law.resize(properties.size());
+  for (std::size_t k = 0; k < properties.size(); ++k) law[k] = law_constants(properties[k]);
+}
+
 void JointPhaseBuffers::resize(std::size_t n) {
   if (force.size() == n) return;
   force.assign(n, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
@@ -68,8 +75,7 @@ void JointPhaseBuffers::resize(std::size_t n) {
   dissipation.assign(n, 0.0);
 }
 
-void evaluate_joints(const Nodes& nodes, Joints& joints, const std::vector<JointProperties>& properties,
-                     double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
+void evaluate_joints(const Nodes& nodes, Joints& joints, double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
                      Index& broken_now) {
   const std::ptrdiff_t nj = static_cast<std::ptrdiff_t>(joints.size());
   Index broke = 0;
@@ -79,7 +85,7 @@ void evaluate_joints(const Nodes& nodes, Joints& joints, const std::vector<Joint
       buf.dissipation[j] = 0.0;
       continue;
     }
-    if (joint_step(nodes, joints, properties, static_cast<std::size_t>(j), time, damage_enabled, thickness,
+    if (joint_step(nodes, joints, buf.law, static_cast<std::size_t>(j), time, damage_enabled, thickness,
                    buf.force[j], buf.energy[j], buf.dissipation[j]))
       ++broke;
   }

@@ -32,7 +32,11 @@ struct JointPhaseBuffers {
   std::vector<std::array<Vec2, 4>> force;  // N, already times the thickness
   std::vector<double> energy;              // J/m
   std::vector<double> dissipation;         // J/m
+  std::vector<JointLawConstants> law;      // per joint property, law_constants(p)
   void resize(std::size_t n);
+  // Sizes the buffers for n joints and computes the law constants of the properties
+  // (call again if the properties change).
+  void prepare(std::size_t n, const std::vector<JointProperties>& properties);
 };
 
 // The joint loop of add_joint_forces without the scatter: every joint independent, so
@@ -40,9 +44,9 @@ struct JointPhaseBuffers {
 // region to share the joints among the threads, or from serial code. Histories and
 // breaks are updated as in add_joint_forces. The caller adds buf.force to the nodes
 // (in a fixed order) and sums buf.energy / buf.dissipation; broken_now is returned
-// through *broken_now (added to with an atomic, exact for any thread count).
-void evaluate_joints(const Nodes& nodes, Joints& joints, const std::vector<JointProperties>& properties,
-                     double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
+// through *broken_now (added to with an atomic, exact for any thread count). The law
+// constants come from buf.law (buf.prepare() first).
+void evaluate_joints(const Nodes& nodes, Joints& joints, double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
                      Index& broken_now);
 
 }  // namespace dsdem

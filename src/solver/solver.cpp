@@ -3,8 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 static_assert(sizeof(std::array<dsdem::Vec2, 3>) == 3 * sizeof(dsdem::Vec2) &&
                   sizeof(std::array<dsdem::Vec2, 4>) == 4 * sizeof(dsdem::Vec2),
@@ -77,6 +82,9 @@ StableStep stable_time_step(const Model& model, double beta) {
 }
 
 Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() > kParallelThreshold) {
+#ifdef _OPENMP
+  auto_parallel_ = parallel_ && omp_get_max_threads() > 1;
+#endif
   const std::size_t ne = model_.triangles.size(), nn = model_.nodes.size();
   element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   element_damping_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
@@ -92,6 +100,7 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   if (model_.contact.enabled) {
     contact::ContactSettings cs;
     cs.skin = model_.contact.skin;
+    cs.parallel = parallel_;
     contact_ = std::make_unique<contact::ContactForces>(cs);
     contact_params_.set_default(model_.contact.defaults);
     for (const auto& p : model_.contact.pairs) contact_params_.set(p.group_a, p.group_b, p.props);
@@ -122,7 +131,7 @@ void Solver::build_node_incidence() {
 
 void Solver::build_joint_incidence() {
   const std::size_t nn = model_.nodes.size(), nj = model_.joints.size();
-  joint_buf_.resize(nj);
+  joint_buf_.prepare(nj, model_.joint_properties);
   joint_incidence_offset_.assign(nn + 1, 0);
   for (const auto& nd : model_.joints.nodes)
     for (Index n : nd) ++joint_incidence_offset_[n + 1];
@@ -136,6 +145,7 @@ void Solver::build_joint_incidence() {
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
 void Solver::initialise() {
+  if (contact_) update_positions();
   clear_forces();
   add_gravity();
   add_internal_and_joint_forces();
@@ -152,6 +162,7 @@ void Solver::initialise() {
 }
 
 void Solver::step() {
+  const auto start = std::chrono::steady_clock::now();
   kick_and_drift();  // also clears the forces and adds gravity (one node loop, issue 7)
   add_internal_and_joint_forces();
   add_contact_forces();
@@ -162,27 +173,63 @@ void Solver::step() {
   update_energy();
   check_stability();
   ++step_;
+  if (auto_parallel_) probe_parallel(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+void Solver::probe_parallel(double step_seconds) {
+  // The probe window is steps probe_start_ .. + 2 kProbeSteps - 1: the first half on one
+  // thread, the second with OpenMP; then the faster mode runs until the next probe.
+  const long k = step_ - 1 - probe_start_;  // position of the step just done in the window
+  if (k == -1) use_parallel(false);  // the window starts with the next step
+  if (k < 0) return;
+  if (k >= 2 * kProbeSteps) {  // e.g. after a restore: start a window now
+    probe_start_ = step_;
+    use_parallel(false);
+    return;
+  }
+  probe_time_[k < kProbeSteps ? 0 : 1] += step_seconds;
+  if (k + 1 == kProbeSteps) {
+    use_parallel(true);
+  } else if (k + 1 == 2 * kProbeSteps) {
+    use_parallel(probe_time_[1] < probe_time_[0]);
+    probe_time_[0] = probe_time_[1] = 0.0;
+    probe_start_ = step_ + kProbeInterval;
+  }
 }
 
 void Solver::kick_and_drift() {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
   const Vec2 g = settings_.gravity;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.v[i] += 0.5 * dt * n.a[i];
-  const double t_half = time_ + 0.5 * dt;
-  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+  const bool contact = contact_ != nullptr;
+  // One node loop (one parallel region) for the kick, the drift, clearing the forces,
+  // gravity and the contact positions: each parallel region is a fork and a join, and
+  // on a loaded machine every join waits for the slowest thread (issue 7).
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+    n.v[i] += 0.5 * dt * n.a[i];
     u_prev_[i] = n.u[i];
     n.u[i] += dt * n.v[i];
-    // clear_forces() and add_gravity() of the new step, fused into this loop.
     n.f[i] = n.m[i] * g;
     damping_force_[i].setZero();
+    if (contact) positions_[i] = n.X[i] + n.u[i];
   }
+  // Prescribed velocities, and the drift of those nodes redone with them (the same
+  // expression u_prev + dt v as above, so bit-identical to prescribing before the drift).
+  const double t_half = time_ + 0.5 * dt;
+  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+  for (const auto& d : constraints_) n.u[d.node][d.dir] = u_prev_[d.node][d.dir] + dt * n.v[d.node][d.dir];
   time_ += dt;
   for (const auto& d : constraints_)
     if (d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(time_ - d.t_start);
+  if (contact)
+    for (const auto& d : constraints_) positions_[d.node] = n.X[d.node] + n.u[d.node];
+}
+
+void Solver::update_positions() {
+  auto& n = model_.nodes;
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) positions_[i] = n.X[i] + n.u[i];
 }
 
 void Solver::clear_forces() {
@@ -239,7 +286,7 @@ void Solver::add_internal_and_joint_forces() {
       if (!(r.detF > 0.0)) inverted = 1;
     }
     if (joints)
-      evaluate_joints(n, J, model_.joint_properties, time_, settings_.failure, thickness, joint_buf_, broken_now);
+      evaluate_joints(n, J, time_, settings_.failure, thickness, joint_buf_, broken_now);
 #pragma omp barrier
     // Gather per node in a fixed order (elements, then joints): bit-identical for any
     // thread count. A broken joint's slots stay zero.
@@ -283,9 +330,7 @@ bool Solver::bonded(Index i, Index j) const {
 
 void Solver::add_contact_forces() {
   if (!contact_) return;
-  auto& n = model_.nodes;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) positions_[i] = n.X[i] + n.u[i];
+  auto& n = model_.nodes;  // positions_ were updated by kick_and_drift (or initialise)
   const ContactSetup& cs = model_.contact;
   const contact::ContactInput in{positions_, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
                                  model_.triangles.group, cs.body};

@@ -94,12 +94,24 @@ class Solver {
   bool bonded(Index i, Index j) const;
   // OpenMP on or off for this model's loops (default: on above kParallelThreshold
   // triangles). Results are bit-identical either way and for any thread count.
-  void set_parallel(bool on) { parallel_ = on; }
+  // Setting it by hand turns the automatic choice below off.
+  void set_parallel(bool on) {
+    auto_parallel_ = false;
+    use_parallel(on);
+  }
   bool parallel() const { return parallel_; }
+  // Large models on more than one thread choose between OpenMP and one thread by
+  // timing both now and then (kProbeSteps steps each, every kProbeInterval steps), and
+  // keep the faster: on a machine shared with other busy processes the threads of a
+  // parallel region wait for each other at every barrier, and a run can be 10x slower
+  // than on one thread (issue 7, Dr2 measured). Results are bit-identical either way.
+  static constexpr long kProbeInterval = 4000;
+  static constexpr int kProbeSteps = 8;
 
  private:
   // Phases of one step, in order.
-  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions
+  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions, contact positions
+  void update_positions();        // contact positions X + u (kick_and_drift does it in a step)
   void clear_forces();
   void add_gravity();
   // Triangles, objective CST (DESIGN.md §2), and cohesive joints, breaking for good
@@ -114,12 +126,21 @@ class Solver {
   void update_energy();
   void check_stability();
 
+  void use_parallel(bool on) {
+    parallel_ = on;
+    if (contact_) contact_->set_parallel(on);
+  }
+  void probe_parallel(double step_seconds);  // the automatic choice, after each step
+
   void build_node_incidence();
   void build_joint_incidence();
 
   Model& model_;
   // Small models run serially: a parallel region costs more than it saves there.
   bool parallel_ = false;
+  bool auto_parallel_ = false;           // choose parallel_ by timing (see kProbeInterval)
+  long probe_start_ = kProbeSteps;       // step at which the next probe starts (after a warm-up)
+  double probe_time_[2] = {0.0, 0.0};    // summed step times, serial [0] and parallel [1], s
   StepSettings settings_;
   std::vector<PrescribedDof> constraints_;
   EnergyLedger energy_;

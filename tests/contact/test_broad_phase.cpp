@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "alloc_counter.hpp"
+#include "common/alloc_counter.hpp"
 #include "contact/broad_phase.hpp"
 #include "contact/narrow_phase.hpp"
 

@@ -13,7 +13,7 @@
 #include <omp.h>
 #endif
 
-#include "alloc_counter.hpp"
+#include "common/alloc_counter.hpp"
 #include "contact/contact_forces.hpp"
 #include "contact/shape_map.hpp"
 

@@ -2,7 +2,7 @@
 // ends, deterministic lookups, no allocation once warm (DESIGN.md §4).
 #include <gtest/gtest.h>
 
-#include "alloc_counter.hpp"
+#include "common/alloc_counter.hpp"
 #include "contact/contact_history.hpp"
 
 using namespace dsdem;

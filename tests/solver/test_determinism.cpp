@@ -3,6 +3,7 @@
 // OpenMP threads, gives bit-identical node positions and velocities.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -10,8 +11,7 @@
 #include <omp.h>
 #endif
 
-#include "mesh/model_builder.hpp"
-#include "mesh/structured.hpp"
+#include "common/block_on_ground.hpp"
 #include "solver/constraints.hpp"
 #include "solver/solver.hpp"
 
@@ -19,38 +19,13 @@ using namespace dsdem;
 
 namespace {
 
-// A discrete block (joints on every interior edge, contact on) hitting a contact ground
-// slab at 20 m/s: the impact breaks joints within a few hundred steps.
+// The block of tests/common/block_on_ground.hpp: joints on every interior edge,
+// contact on, hitting the ground at 20 m/s, so joints break within a few hundred steps.
 Model impact_model(int nx, int ny) {
-  const double h = 0.01;
-  RawMesh raw = mesh::rectangle_mesh(nx, ny, nx * h, ny * h, mesh::Diagonal::Alternate, 0.0, 0.02 * h, "block");
-  RawMesh ground = mesh::rectangle_mesh(nx, 2, nx * h, 2 * h, mesh::Diagonal::Alternate, 0.0, -2 * h, "ground");
-  for (auto& g : ground.groups)
-    if (g.dim == 1) g.name = "ground_" + g.name;
-  mesh::append_mesh(raw, ground);
-  io::Scenario sc;
-  sc.file = "(test)";
-  Material rock;
-  rock.name = "rock";
-  rock.E = 21e9;
-  rock.nu = 0.2;
-  rock.rho = 2500;
-  sc.materials["rock"] = rock;
-  sc.regions.push_back(io::RegionSpec{"block", "rock", Zone::Discrete, {}, {}});
-  sc.regions.push_back(io::RegionSpec{"ground", "rock", Zone::ContactBedrock, {}, {}});
-  sc.joints.present = true;
-  sc.joints.defaults.ft = 2.5e6;
-  sc.joints.defaults.c = 10e6;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 50;
-  sc.joints.defaults.GII = 500;
-  sc.contact.friction = 0.5;
-  sc.contact.restitution = 0.5;
-  sc.stages.push_back(io::StageSpec{});
-  Model model = mesh::build_model(sc, raw);
-  for (Index t : model.groups[model.find_group("block")].triangles)
-    for (Index n : model.triangles.conn[t]) model.nodes.v[n] = Vec2(3.0, -20.0);
-  return model;
+  test::BlockOnGround b;
+  b.nx = nx;
+  b.ny = ny;
+  return test::block_on_ground(b);
 }
 
 struct RunResult {
@@ -60,13 +35,16 @@ struct RunResult {
   double kinetic = 0.0;
 };
 
-RunResult run(int threads, int steps) {
+// parallel: 1 on, 0 off (set_parallel), -1 the solver's own (timed) choice. modes: the
+// parallel() flag seen after each step, when given.
+RunResult run(int threads, int steps, int nx = 24, int ny = 12, int parallel = 1, std::vector<bool>* modes = nullptr) {
 #ifdef _OPENMP
   omp_set_num_threads(threads);
 #endif
-  Model model = impact_model(24, 12);
+  Model model = impact_model(nx, ny);
   solver::Solver s(model);
-  s.set_parallel(true);  // this model is below the size that switches OpenMP on by itself
+  // The 24 x 12 model is below the size that switches OpenMP on by itself.
+  if (parallel >= 0) s.set_parallel(parallel == 1);
   io::BoundarySpec fixed;
   fixed.group = "ground";
   fixed.type = io::BoundaryType::Fixed;
@@ -77,6 +55,7 @@ RunResult run(int threads, int steps) {
   for (int k = 0; k < steps; ++k) {
     s.step();
     r.contacts = std::max<long>(r.contacts, s.active_contacts());
+    if (modes) modes->push_back(s.parallel());
   }
   r.u = model.nodes.u;
   r.v = model.nodes.v;
@@ -111,4 +90,21 @@ TEST(Determinism, RepeatedRunsAreBitIdentical) {
   const RunResult a = run(2, 150);
   const RunResult b = run(2, 150);
   EXPECT_TRUE(bitwise_equal(a.u, b.u));
+}
+
+// Large models choose between OpenMP and one thread by timing both (Solver::kProbeSteps):
+// a run that switches mode mid-way gives the same bits as a serial one.
+TEST(Determinism, AutomaticSwitchBetweenSerialAndParallelKeepsTheBits) {
+#ifdef _OPENMP
+  const int steps = 3 * solver::Solver::kProbeSteps + 8;  // past the first probe window
+  std::vector<bool> modes;
+  const RunResult automatic = run(2, steps, 70, 30, -1, &modes);  // 4200 triangles: above kParallelThreshold
+  const RunResult serial = run(1, steps, 70, 30, 0);
+  EXPECT_NE(std::find(modes.begin(), modes.end(), true), modes.end()) << "never ran in parallel";
+  EXPECT_NE(std::find(modes.begin(), modes.end(), false), modes.end()) << "never ran on one thread";
+  EXPECT_TRUE(bitwise_equal(automatic.u, serial.u));
+  EXPECT_TRUE(bitwise_equal(automatic.v, serial.v));
+#else
+  GTEST_SKIP() << "built without OpenMP";
+#endif
 }
