@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <gmsh.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstdio>
@@ -22,13 +23,20 @@ std::mutex& gmsh_mutex() {
   return m;
 }
 
+// Gmsh sets the process's OpenMP thread count to its own General.NumThreads (1) when
+// it starts: the session puts the caller's count back, or every later parallel loop of
+// the solver would run on one thread.
 struct GmshSession {
-  GmshSession() {
+  GmshSession() : omp_threads(omp_get_max_threads()) {
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::option::setNumber("General.Verbosity", 0);
   }
-  ~GmshSession() { gmsh::finalize(); }
+  ~GmshSession() {
+    gmsh::finalize();
+    omp_set_num_threads(omp_threads);
+  }
+  int omp_threads;
 };
 
 constexpr int kGmshLine2 = 1;

@@ -42,6 +42,20 @@ TEST(Cli, RunWritesFieldsHistoriesLogAndSummary) {
   fs::remove_all(out);
 }
 
+// Regression: reading the mesh through the Gmsh API set the OpenMP thread count to 1,
+// so a run without --threads used one core whatever the machine had.
+TEST(Cli, RunWithoutThreadsOptionUsesTheOpenMPDefault) {
+  const fs::path out = fresh_dir("cli_threads");
+  setenv("OMP_NUM_THREADS", "3", 1);  // not the machine's count, so that a reset to 1 or nproc shows
+  const auto c = run_dsdem("run " + example("elastic_slope/scenario.yaml") + " -o " + out.string() +
+                           " --set time.end=0.002 -q --no-plots --no-fields");
+  setenv("OMP_NUM_THREADS", "1", 1);
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(read_text(out / "summary.json").find("\"threads\": 3"), std::string::npos)
+      << read_text(out / "summary.json");
+  fs::remove_all(out);
+}
+
 TEST(Cli, BadScenarioExitsWithCode2AndWritesNothing) {
   const fs::path dir = fresh_dir("cli_bad");
   fs::create_directories(dir);
