@@ -28,8 +28,13 @@ Definitions (all times from the start of the earthquake stage, i.e. the earthqua
   deposit_area_in_channel_m2       area of zone-A triangles (final frame) whose centroid is
                                    inside the channel: the open region of the original
                                    profile between the banks below 790 m
-  intake_blocked                   zone-A material that moved more than 5 m lies within
-                                   15 m of the intake (715, 750.8) in the final frame
+  intake_debris_height_m           final frame: highest point of moved zone-A material (moved
+                                   more than 5 m) over the original ground within 10 m
+                                   (horizontally) of the intake (715, 750.8)
+  intake_blocked                   intake_debris_height_m >= --block-height (the same 10 m as
+                                   for the river): debris covers the intake
+  intake_reached                   any moved zone-A material within 15 m of the intake (even
+                                   one fragment)
 Uses only numpy, meshio and matplotlib (Agg).
 """
 from __future__ import annotations
@@ -146,7 +151,8 @@ def surface_profile(P, tri, xs):
 
 
 SUMMARY_KEYS = ("gauges", "mean_max_displacement_m", "duration_s", "river_blocked_time_s",
-                "deposit_area_in_channel_m2", "intake_blocked", "river_block_height_m", "earthquake_start_s")
+                "deposit_area_in_channel_m2", "intake_blocked", "intake_debris_height_m", "intake_reached",
+                "river_block_height_m", "earthquake_start_s")
 
 
 def merge_summary(sp: Path, res: dict) -> None:
@@ -219,7 +225,7 @@ def main(argv=None) -> int:
                 blocked = tt
         prev = (tt, float(fh.min()))
     area_channel = None
-    intake_blocked = None
+    intake_blocked = intake_reached = intake_height = None
     if frames:
         P, tri, zone, mat, disp = load_frame(frames[-1][1])
         cen = P[tri].mean(axis=1)
@@ -228,7 +234,13 @@ def main(argv=None) -> int:
         area_channel = float(A[inch].sum())
         moved = np.linalg.norm(disp[tri].mean(axis=1), axis=1) > 5.0
         near = np.hypot(cen[:, 0] - INTAKE[0], cen[:, 1] - INTAKE[1]) < 15.0
-        intake_blocked = bool(np.any(moved & near & (zone == 0)))
+        intake_reached = bool(np.any(moved & near & (zone == 0)))
+        # Debris thickness over the original ground at the intake (|x - 715| <= 10 m).
+        pts = P[np.unique(tri[moved & (zone == 0)].ravel())]
+        m = np.abs(pts[:, 0] - INTAKE[0]) <= 10.0
+        intake_height = float(max(0.0, (pts[m, 1] - np.interp(pts[m, 0], GROUND[:, 0], GROUND[:, 1])).max())) \
+            if m.any() else 0.0
+        intake_blocked = intake_height >= args.block_height
 
     res = {
         "mode": mode,
@@ -241,6 +253,8 @@ def main(argv=None) -> int:
         "river_block_height_m": args.block_height,
         "deposit_area_in_channel_m2": area_channel,
         "intake_blocked": intake_blocked,
+        "intake_debris_height_m": intake_height,
+        "intake_reached": intake_reached,
         "broken_joints": summary.get("broken_joints"),
         "fragments": summary.get("fragments"),
         "elements": summary.get("elements"),
@@ -333,7 +347,8 @@ def main(argv=None) -> int:
 
     if not args.quiet:
         print(json.dumps({k: res[k] for k in ("mean_max_displacement_m", "duration_s", "river_blocked_time_s",
-                                              "deposit_area_in_channel_m2", "intake_blocked")}, indent=1))
+                                              "deposit_area_in_channel_m2", "intake_blocked",
+                                              "intake_debris_height_m", "intake_reached")}, indent=1))
         for g in gauges:
             print(f"  {g['name']}: umax {g['max_displacement_m']:.1f} m, vpeak {g['peak_velocity_mps']:.1f} m/s "
                   f"at {g['time_of_peak_velocity_s']:.1f} s")
