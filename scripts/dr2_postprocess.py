@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Post-processing of a Dr2 slope run (examples/dr2, docs/dr2.md).
 
-    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--quiet]
+    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--quiet] [--movie [--dsdem EXE]]
 
 Reads OUT/history.csv, OUT/fields.pvd (+ OUT/fields/*.vtu) and OUT/summary.json and
 writes OUT/dr2.json, merges its keys into OUT/summary.json (the runner's keys kept; its
@@ -11,6 +11,7 @@ own gauge list renamed `gauges_from_run_start`) and writes plots in OUT/dr2_plot
   snapshots.png  the broken mass at the paper's stages (Figs. 16/18/20)
   deposit.png    final deposit profile over the original ground
   energy.png     kinetic energy of the run and the 1 % duration threshold
+  (--movie)      OUT/render/material.mp4 and its frames, made by `dsdem render`
 
 Definitions (all times from the start of the earthquake stage, i.e. the earthquake's t = 0):
   gauges[].max_displacement_m      max |u(t) - u(t0)| over the dynamic stage (t0 = its start),
@@ -150,6 +151,20 @@ def surface_profile(P, tri, xs):
     return top
 
 
+def make_movie(out: Path, dsdem: str | None, quiet: bool) -> None:
+    """Animation of the run: `dsdem render OUT --field material --movie` over the slope."""
+    import shutil
+    import subprocess
+    exe = dsdem or str(Path(__file__).resolve().parent.parent / "build" / "dsdem")
+    if not Path(exe).exists():
+        exe = shutil.which("dsdem") or exe
+    cmd = [exe, "render", str(out), "--field", "material", "--movie", "--bbox", "330,900,720,1100",
+           "--width", "960", "--jobs", "1"] + (["-q"] if quiet else [])
+    r = subprocess.run(cmd)
+    if r.returncode != 0:
+        print(f"warning: `{' '.join(cmd)}` failed ({r.returncode}); no animation", file=sys.stderr)
+
+
 SUMMARY_KEYS = ("gauges", "mean_max_displacement_m", "duration_s", "river_blocked_time_s",
                 "deposit_area_in_channel_m2", "intake_blocked", "intake_debris_height_m", "intake_reached",
                 "river_block_height_m", "earthquake_start_s")
@@ -178,6 +193,9 @@ def main(argv=None) -> int:
     ap.add_argument("--block-height", type=float, default=10.0, help="debris height over the river bed that blocks it, m")
     ap.add_argument("--mode", default=None, help="shear_sliding | local_collapse | slip_j1 (default: from the scenario name)")
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--movie", action="store_true",
+                    help="also make the animation OUT/render/material.mp4 with `dsdem render` (needs ffmpeg)")
+    ap.add_argument("--dsdem", default=None, help="dsdem executable for --movie (default: build/dsdem, then PATH)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     sp = out / "summary.json"
@@ -344,6 +362,9 @@ def main(argv=None) -> int:
         fig.tight_layout()
         fig.savefig(pd / "deposit.png", dpi=110)
         plt.close(fig)
+
+    if args.movie and frames:
+        make_movie(out, args.dsdem, args.quiet)
 
     if not args.quiet:
         print(json.dumps({k: res[k] for k in ("mean_max_displacement_m", "duration_s", "river_blocked_time_s",
