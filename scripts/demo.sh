@@ -20,7 +20,7 @@ echo "dsdem demo: $SCENARIO"
 start=$(date +%s)
 "$DSDEM" run "$SCENARIO" -o "$OUT" "${SETS[@]}"
 if [ -f "$ROOT/scripts/dr2_postprocess.py" ] && [[ "$SCENARIO" == *dr2* ]]; then
-  /usr/bin/python3 "$ROOT/scripts/dr2_postprocess.py" "$OUT" || echo "warning: Dr2 post-processing failed"
+  /usr/bin/python3 "$ROOT/scripts/dr2_postprocess.py" "$OUT" --movie --dsdem "$DSDEM" || echo "warning: Dr2 post-processing failed"
 fi
 "$DSDEM" report "$OUT" > /dev/null || echo "warning: the HTML report could not be made"
 end=$(date +%s)
@@ -31,3 +31,8 @@ echo "  history.csv      gauges and energies over time"
 echo "  fields.pvd       open in ParaView (deformed mesh, stress, velocity)"
 echo "  plots/           PNG plots of the histories"
 echo "  report.html      everything on one page"
+if [ -f "$OUT/dr2.json" ]; then
+  echo "  dr2.json         Dr2 numbers (also merged into summary.json); docs/dr2.md compares them with the paper"
+  echo "  dr2_plots/       gauges.png, snapshots.png, deposit.png (final deposit over the original ground), energy.png"
+  echo "  render/material.mp4  animation"
+fi

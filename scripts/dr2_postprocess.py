@@ -1,15 +1,17 @@
 #!/usr/bin/python3
 """Post-processing of a Dr2 slope run (examples/dr2, docs/dr2.md).
 
-    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--quiet]
+    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--quiet] [--movie [--dsdem EXE]]
 
 Reads OUT/history.csv, OUT/fields.pvd (+ OUT/fields/*.vtu) and OUT/summary.json and
-writes OUT/dr2.json and plots in OUT/dr2_plots/:
+writes OUT/dr2.json, merges its keys into OUT/summary.json (the runner's keys kept; its
+own gauge list renamed `gauges_from_run_start`) and writes plots in OUT/dr2_plots/:
 
   gauges.png     gauge displacement and velocity magnitudes against time (paper Figs. 17/19/21)
   snapshots.png  the broken mass at the paper's stages (Figs. 16/18/20)
   deposit.png    final deposit profile over the original ground
   energy.png     kinetic energy of the run and the 1 % duration threshold
+  (--movie)      OUT/render/material.mp4 and its frames, made by `dsdem render`
 
 Definitions (all times from the start of the earthquake stage, i.e. the earthquake's t = 0):
   gauges[].max_displacement_m      max |u(t) - u(t0)| over the dynamic stage (t0 = its start),
@@ -27,8 +29,13 @@ Definitions (all times from the start of the earthquake stage, i.e. the earthqua
   deposit_area_in_channel_m2       area of zone-A triangles (final frame) whose centroid is
                                    inside the channel: the open region of the original
                                    profile between the banks below 790 m
-  intake_blocked                   zone-A material that moved more than 5 m lies within
-                                   15 m of the intake (715, 750.8) in the final frame
+  intake_debris_height_m           final frame: highest point of moved zone-A material (moved
+                                   more than 5 m) over the original ground within 10 m
+                                   (horizontally) of the intake (715, 750.8)
+  intake_blocked                   intake_debris_height_m >= --block-height (the same 10 m as
+                                   for the river): debris covers the intake
+  intake_reached                   any moved zone-A material within 15 m of the intake (even
+                                   one fragment)
 Uses only numpy, meshio and matplotlib (Agg).
 """
 from __future__ import annotations
@@ -144,12 +151,51 @@ def surface_profile(P, tri, xs):
     return top
 
 
+def make_movie(out: Path, dsdem: str | None, quiet: bool) -> None:
+    """Animation of the run: `dsdem render OUT --field material --movie` over the slope."""
+    import shutil
+    import subprocess
+    exe = dsdem or str(Path(__file__).resolve().parent.parent / "build" / "dsdem")
+    if not Path(exe).exists():
+        exe = shutil.which("dsdem") or exe
+    cmd = [exe, "render", str(out), "--field", "material", "--movie", "--bbox", "330,900,720,1100",
+           "--width", "960", "--jobs", "1"] + (["-q"] if quiet else [])
+    r = subprocess.run(cmd)
+    if r.returncode != 0:
+        print(f"warning: `{' '.join(cmd)}` failed ({r.returncode}); no animation", file=sys.stderr)
+
+
+SUMMARY_KEYS = ("gauges", "mean_max_displacement_m", "duration_s", "river_blocked_time_s",
+                "deposit_area_in_channel_m2", "intake_blocked", "intake_debris_height_m", "intake_reached",
+                "river_block_height_m", "earthquake_start_s")
+
+
+def merge_summary(sp: Path, res: dict) -> None:
+    """Merge the Dr2 keys into the runner's OUT/summary.json (temp file + rename).
+
+    The runner's own keys are kept; its `gauges` (times from the start of the run,
+    displacement from t = 0) is kept as `gauges_from_run_start` and `gauges` becomes the
+    Dr2 definition above (from the start of the earthquake). Running this twice is safe."""
+    summary = json.loads(sp.read_text())
+    if "gauges" in summary and "gauges_from_run_start" not in summary:
+        summary["gauges_from_run_start"] = summary["gauges"]
+    for k in SUMMARY_KEYS:
+        summary[k] = res[k]
+    summary["dr2_postprocess"] = {"mode": res["mode"], "definitions": "scripts/dr2_postprocess.py docstring"}
+    tmp = sp.with_name(sp.name + ".tmp")
+    tmp.write_text(json.dumps(summary, indent=2))
+    tmp.replace(sp)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out")
     ap.add_argument("--block-height", type=float, default=10.0, help="debris height over the river bed that blocks it, m")
     ap.add_argument("--mode", default=None, help="shear_sliding | local_collapse | slip_j1 (default: from the scenario name)")
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--movie", action="store_true",
+                    help="also make the animation OUT/render/material.mp4 with `dsdem render` (needs ffmpeg)")
+    ap.add_argument("--dsdem", default=None, help="dsdem executable for --movie (default: build/dsdem, then PATH)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     sp = out / "summary.json"
@@ -197,7 +243,7 @@ def main(argv=None) -> int:
                 blocked = tt
         prev = (tt, float(fh.min()))
     area_channel = None
-    intake_blocked = None
+    intake_blocked = intake_reached = intake_height = None
     if frames:
         P, tri, zone, mat, disp = load_frame(frames[-1][1])
         cen = P[tri].mean(axis=1)
@@ -206,7 +252,13 @@ def main(argv=None) -> int:
         area_channel = float(A[inch].sum())
         moved = np.linalg.norm(disp[tri].mean(axis=1), axis=1) > 5.0
         near = np.hypot(cen[:, 0] - INTAKE[0], cen[:, 1] - INTAKE[1]) < 15.0
-        intake_blocked = bool(np.any(moved & near & (zone == 0)))
+        intake_reached = bool(np.any(moved & near & (zone == 0)))
+        # Debris thickness over the original ground at the intake (|x - 715| <= 10 m).
+        pts = P[np.unique(tri[moved & (zone == 0)].ravel())]
+        m = np.abs(pts[:, 0] - INTAKE[0]) <= 10.0
+        intake_height = float(max(0.0, (pts[m, 1] - np.interp(pts[m, 0], GROUND[:, 0], GROUND[:, 1])).max())) \
+            if m.any() else 0.0
+        intake_blocked = intake_height >= args.block_height
 
     res = {
         "mode": mode,
@@ -219,6 +271,8 @@ def main(argv=None) -> int:
         "river_block_height_m": args.block_height,
         "deposit_area_in_channel_m2": area_channel,
         "intake_blocked": intake_blocked,
+        "intake_debris_height_m": intake_height,
+        "intake_reached": intake_reached,
         "broken_joints": summary.get("broken_joints"),
         "fragments": summary.get("fragments"),
         "elements": summary.get("elements"),
@@ -230,6 +284,8 @@ def main(argv=None) -> int:
         "paper": PAPER.get(mode),
     }
     (out / "dr2.json").write_text(json.dumps(res, indent=2))
+    if sp.exists():
+        merge_summary(sp, res)
 
     pd = out / "dr2_plots"
     pd.mkdir(exist_ok=True)
@@ -307,9 +363,13 @@ def main(argv=None) -> int:
         fig.savefig(pd / "deposit.png", dpi=110)
         plt.close(fig)
 
+    if args.movie and frames:
+        make_movie(out, args.dsdem, args.quiet)
+
     if not args.quiet:
         print(json.dumps({k: res[k] for k in ("mean_max_displacement_m", "duration_s", "river_blocked_time_s",
-                                              "deposit_area_in_channel_m2", "intake_blocked")}, indent=1))
+                                              "deposit_area_in_channel_m2", "intake_blocked",
+                                              "intake_debris_height_m", "intake_reached")}, indent=1))
         for g in gauges:
             print(f"  {g['name']}: umax {g['max_displacement_m']:.1f} m, vpeak {g['peak_velocity_mps']:.1f} m/s "
                   f"at {g['time_of_peak_velocity_s']:.1f} s")
