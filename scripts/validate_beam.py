@@ -269,8 +269,12 @@ def main() -> int:
     merge_summary(out, {
         "max_midspan_deflection_m": result["max_midspan_deflection_m"],
         "fragments": n_pieces,
-        "crack_sequence": [{"time_s": c["time_s"], "x_m": c["x_m"], "y_m": c["y_m"], "mode": c["mode"],
-                            "joints": c["joints"], "origin": c["origin"]} for c in major],
+        # mode: the dominant mode of the crack's joints (share of the opening in the
+        # failure criterion, see the docstring); the solver's label of its first joint
+        # is kept as solver_mode. x from mid-span, y from the bottom face.
+        "crack_sequence": [{"time_s": c["time_s"], "x_m": c["x_m"], "y_m": c["y_m"],
+                            "mode": "tension" if c["tension_dominated_fraction"] >= 0.5 else "shear",
+                            "solver_mode": c["mode"], "joints": c["joints"], "origin": c["origin"]} for c in major],
     }, renamed={"fragments": "fragments_all_bodies"})
 
     if not args.no_plots:

@@ -197,12 +197,24 @@ def merge_summary(out: str, keys: dict, renamed: dict | None = None) -> None:
         raise
 
 
+def disc_mask(f: dp.Fields) -> np.ndarray:
+    """Triangles of the disc: the discrete zone; for a run with a continuous disc (zone
+    'contact', no joints: the elastic reference of docs/validation.md), the surface
+    group with the largest area."""
+    mask = f.zone == 0
+    if mask.any():
+        return mask
+    groups = np.unique(f.group)
+    big = groups[int(np.argmax([f.area0[f.group == g].sum() for g in groups]))]
+    return f.group == big
+
+
 def stress_check(fc: dp.Fields, centre: np.ndarray, R: float, P_mean: float, t: float, E: float, nu: float) -> dict:
     """The elastic stress check of one frame (module docstring): numbers for the JSON and,
     under the key '_curves', the arrays for the plot."""
     scale = math.pi * 2 * R * t / 2
     sigma0 = P_mean / scale
-    disc = fc.zone == 0
+    disc = disc_mask(fc)
     b_meas = measured_half_width(fc, disc, centre, R)
     b_mean = float(np.mean(b_meas))
     alpha_hertz = hertz_half_angle(P_mean / t, R, E, nu)
@@ -252,6 +264,8 @@ def stress_check(fc: dp.Fields, centre: np.ndarray, R: float, P_mean: float, t: 
             "against_closed_form_on_the_line": {
                 "max_error_sigma_xx": float(np.nanmax(err_line[inside, 0])),
                 "max_error_sigma_yy": float(np.nanmax(err_line[inside, 1]))},
+            "profile": {"rho": rho, "num_xx": num[:, 0], "num_yy": num[:, 1], "an_xx": an[:, 0], "an_yy": an[:, 1],
+                        "error_xx": err[:, 0], "error_yy": err[:, 1]},
             "single_triangles": {
                 "count": int(crossed.sum()),
                 "max_error_sigma_xx": float(err_el[:, 0].max()),
@@ -396,7 +410,7 @@ def main() -> int:
     frames = dp.read_pvd(out, "fields")
     crack_frames = dp.read_pvd(out, "cracks")
     f0 = dp.Fields(frames[0][1])
-    disc0 = f0.zone == 0
+    disc0 = disc_mask(f0)
     # Disc geometry from the mesh: centre and radius of the discrete zone.
     pts_disc = f0.X[np.unique(f0.tri[disc0])]
     centre = 0.5 * (pts_disc.min(axis=0) + pts_disc.max(axis=0))
@@ -407,7 +421,7 @@ def main() -> int:
     # Plate displacement from the prescribed velocity history: integrate the plate's
     # velocity = the frames' displacement of the plate nodes; use the history time and
     # the frames to build u(t) (frames are exact, interpolate in between).
-    plate_nodes = np.unique(f0.tri[(f0.zone != 0) & (f0.centroid0[:, 1] > centre[1])])
+    plate_nodes = np.unique(f0.tri[(~disc0) & (f0.centroid0[:, 1] > centre[1])])
     u_frames = []
     for tf, path in frames:
         import meshio
@@ -472,7 +486,7 @@ def main() -> int:
     pieces_end = None
     f_end = dp.Fields(frames[-1][1])
     if f_end.fragment is not None:
-        pieces_end = (f_end.pieces(f_end.zone == 0) / disc_area).tolist()
+        pieces_end = (f_end.pieces(disc_mask(f_end)) / disc_area).tolist()
 
     # Stress check before cracking: frame nearest 50 % of the peak (on the rising branch),
     # or the frame nearest --check-time.
@@ -595,7 +609,7 @@ def main() -> int:
             f = dp.Fields(path)
             seg = dp.read_segments(dp.frame_nearest(crack_frames, tf)[1])
             fig, ax = plt.subplots(figsize=(5.2, 5.6))
-            pc = draw_state(ax, f, f.zone == 0, seg, title, 3 * ft)
+            pc = draw_state(ax, f, disc_mask(f), seg, title, 3 * ft)
             fig.colorbar(pc, ax=ax, shrink=0.7, label=r"$\sigma_{xx}$ (MPa)")
             fig.tight_layout()
             fig.savefig(os.path.join(plots, fname), dpi=130)
