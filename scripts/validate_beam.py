@@ -359,7 +359,7 @@ def main() -> int:
             ax.set_title(f"t = {tf * 1e3:.2f} ms: {int(br.sum())} broken joints, {npc} pieces", fontsize=8)
             ax.tick_params(labelsize=7)
         fig.colorbar(lc, ax=list(axs), shrink=0.5, label="time broken (ms)")
-        fig.savefig(os.path.join(plots, "cracks_sequence.png"), dpi=130)
+        fig.savefig(os.path.join(plots, "cracks_sequence.png"), dpi=100)
         plt.close(fig)
 
         # Crack map in the reference configuration (break positions) coloured by time.

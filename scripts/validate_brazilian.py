@@ -334,7 +334,10 @@ def plot_stress(path: str, st: dict, force_unit: str) -> None:
 
 
 
-def draw_state(ax, f: dp.Fields, disc: np.ndarray, seg: dict, title: str, scale_stress: float) -> None:
+def draw_state(ax, f: dp.Fields, disc: np.ndarray, seg: dict, title: str, scale_stress: float,
+               broken_by: float | None = None, softening: dict | None = None) -> None:
+    """sigma_xx of frame f with the broken joints of seg (those broken by broken_by if
+    given) in black and the softening joints of softening (damage > 0) in orange."""
     from matplotlib.collections import PolyCollection
 
     polys = f.x[f.tri]
@@ -345,6 +348,12 @@ def draw_state(ax, f: dp.Fields, disc: np.ndarray, seg: dict, title: str, scale_
     others = ~disc
     ax.add_collection(PolyCollection(polys[others], facecolors="0.6", edgecolors="0.3", linewidths=0.3))
     broken = seg["state"] == 1
+    if broken_by is not None and "time_broken" in seg:
+        broken &= seg["time_broken"] <= broken_by
+    if softening is not None:
+        soft = (softening["damage"] > 0) & (softening["state"] != 1)
+        ax.add_collection(LineCollection(np.stack([softening["a"][soft], softening["b"][soft]], axis=1),
+                                         colors="darkorange", linewidths=1.2))
     lines = np.stack([seg["a"][broken], seg["b"][broken]], axis=1)
     ax.add_collection(LineCollection(lines, colors="k", linewidths=1.6))
     ax.set_aspect("equal")
@@ -596,23 +605,31 @@ def main() -> int:
 
         plot_stress(os.path.join(plots, "stress_diameters.png"), st, force_unit)
 
-        # Crack snapshots.
+        # Crack snapshots. The crack runs through the disc within tens of microseconds,
+        # less than the frame interval: the first-crack picture is the last frame before
+        # the first joint broke (its sigma_xx, and its softening joints in orange) with
+        # the joints broken by then (time_broken from the next crack frame) in black.
         snaps = []
         if first is not None:
-            fr = dp.frame_after(frames, first["time_s"]) or frames[-1]
-            snaps.append(("cracks_first.png", fr, f"first crack: joint broken at t = {first['time_s'] * 1e3:.2f} ms; "
-                                                  f"frame t = {fr[0] * 1e3:.2f} ms"))
+            fb = dp.frame_before(frames, first["time_s"]) or frames[0]
+            fa = dp.frame_after(frames, first["time_s"]) or frames[-1]
+            snaps.append(("cracks_first.png", fb, dp.frame_nearest(crack_frames, fa[0])[1], first["time_s"] + 1e-6,
+                          dp.frame_nearest(crack_frames, fb[0])[1],
+                          f"first crack: joint broken at t = {first['time_s'] * 1e3:.2f} ms (black);\n"
+                          f"sigma_xx and softening joints (orange) at t = {fb[0] * 1e3:.2f} ms"))
         if frame_through is not None:
-            snaps.append(("cracks_through.png", frame_through,
+            snaps.append(("cracks_through.png", frame_through, dp.frame_nearest(crack_frames, frame_through[0])[1],
+                          None, None,
                           f"through crack at t = {t_through * 1e3:.2f} ms; frame t = {frame_through[0] * 1e3:.2f} ms"))
-        for fname, (tf, path), title in snaps:
+        for fname, (tf, path), seg_path, broken_by, soft_path, title in snaps:
             f = dp.Fields(path)
-            seg = dp.read_segments(dp.frame_nearest(crack_frames, tf)[1])
+            seg = dp.read_segments(seg_path)
+            soft = dp.read_segments(soft_path) if soft_path else None
             fig, ax = plt.subplots(figsize=(5.2, 5.6))
-            pc = draw_state(ax, f, disc_mask(f), seg, title, 3 * ft)
+            pc = draw_state(ax, f, disc_mask(f), seg, title, 3 * ft, broken_by, soft)
             fig.colorbar(pc, ax=ax, shrink=0.7, label=r"$\sigma_{xx}$ (MPa)")
             fig.tight_layout()
-            fig.savefig(os.path.join(plots, fname), dpi=130)
+            fig.savefig(os.path.join(plots, fname), dpi=110)
             plt.close(fig)
 
     def fmt(v, f="{:.4g}"):
