@@ -23,12 +23,13 @@ Definitions (docs/validation.md):
                        (en^2 / (en^2 + es^2) at failure); >= 0.5: tension-dominated. The
                        solver's own label is 'mixed' as soon as the slip passed its
                        (tiny) elastic limit, which on inclined edges is nearly always.
-  cracks               broken joints grouped by position along the beam: joints within
-                       0.05 m (in x) of each other belong to one crack; each crack is
-                       reported with the time, position and mode of its first joint,
-                       its x extent, the height it reached, and whether it grew upward
-                       (first joint within 0.2 H of the bottom face and the height of
-                       its joints rising with time)
+  cracks               broken joints (crushing apart) linked by single linkage: break
+                       positions within two element sizes of each other belong to one
+                       crack; each crack is reported with the time, position and mode of
+                       its first joint, its x extent, where it started (bottom / top
+                       face: first joint within 0.2 H of it), the height it reached and
+                       the rank correlation of height with time (grew upward: from the
+                       bottom with correlation > 0.5)
 """
 from __future__ import annotations
 
@@ -49,21 +50,70 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 
-def group_cracks(cracks: list[dict], gap: float) -> list[list[dict]]:
-    """Clusters of broken joints: single linkage in x with the given gap."""
-    if not cracks:
-        return []
-    order = sorted(cracks, key=lambda c: c["x_m"])
-    groups = [[order[0]]]
-    for c in order[1:]:
-        if c["x_m"] - groups[-1][-1]["x_m"] <= gap:
-            groups[-1].append(c)
-        else:
-            groups.append([c])
-    for g in groups:
-        g.sort(key=lambda c: c["time_s"])
-    groups.sort(key=lambda g: g[0]["time_s"])
-    return groups
+def merge_summary(out: str, keys: dict, renamed: dict | None = None) -> None:
+    """Merge keys into OUT/summary.json, keeping the runner's keys: the file is read,
+    updated and written to a temporary file in the same folder, then renamed over it
+    (atomic: a reader never sees half a file). renamed: runner keys that the case
+    redefines, kept under a new name ({old: new})."""
+    import json
+    import tempfile
+
+    path = os.path.join(out, "summary.json")
+    with open(path) as f:
+        data = json.load(f)
+    for old, new in (renamed or {}).items():
+        if old in data and new not in data:
+            data[new] = data[old]
+    data.update(keys)
+    fd, tmp = tempfile.mkstemp(prefix=".summary.", suffix=".json", dir=out)
+    try:
+        with os.fdopen(fd, "w") as f:
+            json.dump(data, f, indent=2, default=dp._plain)
+            f.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def group_cracks(cracks: list[dict], link: float) -> list[list[dict]]:
+    """Cracks: broken joints linked by single linkage in the plane (break positions
+    within `link` of each other), each in order of breaking; cracks in order of their
+    first joint."""
+    n = len(cracks)
+    parent = list(range(n))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    xy = np.array([[c["x_m"], c["y_m"]] for c in cracks]) if n else np.zeros((0, 2))
+    for i in range(n):
+        d = np.hypot(xy[i + 1:, 0] - xy[i, 0], xy[i + 1:, 1] - xy[i, 1])
+        for j in np.nonzero(d <= link)[0]:
+            a, b = root(i), root(i + 1 + int(j))
+            if a != b:
+                parent[max(a, b)] = min(a, b)
+    groups: dict[int, list[dict]] = {}
+    for i in range(n):
+        groups.setdefault(root(i), []).append(cracks[i])
+    out = [sorted(g, key=lambda c: c["time_s"]) for g in groups.values()]
+    out.sort(key=lambda g: g[0]["time_s"])
+    return out
+
+
+def rank_correlation(a: np.ndarray, b: np.ndarray) -> float:
+    """Spearman rank correlation (no ties handling needed for times and heights)."""
+    if len(a) < 2:
+        return 0.0
+    ra = np.argsort(np.argsort(a)).astype(float)
+    rb = np.argsort(np.argsort(b)).astype(float)
+    if ra.std() == 0 or rb.std() == 0:
+        return 0.0
+    return float(np.corrcoef(ra, rb)[0, 1])
 
 
 def main() -> int:
@@ -75,11 +125,15 @@ def main() -> int:
     ap.add_argument("--head-spacing", type=float, default=0.203, help="distance between the impactor heads, m")
     ap.add_argument("--head-radius", type=float, default=0.025, help="radius of the impactor heads, m")
     ap.add_argument("--span", type=float, default=1.422, help="distance between the supports, m")
+    ap.add_argument("--element-size", type=float, default=None,
+                    help="link distance / 2 for grouping joints into cracks (default: mesh.element_size)")
     ap.add_argument("--no-plots", action="store_true")
     args = ap.parse_args()
     out = args.out
 
     sc = dp.load_scenario(out, args.scenario)
+    if args.element_size is None:
+        args.element_size = float(sc["mesh"]["element_size"])
     summary = dp.read_summary(out)
     hist = dp.read_history(out)
     time = hist["time_s"]
@@ -106,7 +160,7 @@ def main() -> int:
         return min(math.hypot(c["x_m"] - xc - s * heads, c["y_m"] - y_top) for s in (-1, 1)) <= 2 * args.head_radius
     crushing = [c for c in all_cracks if near_head(c)]
     cracks = [c for c in all_cracks if not near_head(c)]
-    groups = group_cracks(cracks, 0.05)
+    groups = group_cracks(cracks, 2.0 * args.element_size)
 
     # Pieces at the end.
     f_end = dp.Fields(frames[-1][1])
@@ -138,7 +192,10 @@ def main() -> int:
         modes = {}
         for c in g:
             modes[c["mode"]] = modes.get(c["mode"], 0) + 1
-        upward = bool(len(g) >= 3 and (first["y_m"] - y_bot) <= 0.2 * H and np.corrcoef(ts, ys)[0, 1] > 0.3)
+        trend = rank_correlation(ts, ys)
+        origin = "bottom" if ys[0] <= 0.2 * H else ("top" if ys[0] >= 0.8 * H else "inside")
+        upward = bool(len(g) >= 3 and origin == "bottom" and trend > 0.5)
+        downward = bool(len(g) >= 3 and origin == "top" and trend < -0.5)
         crack_list.append({
             "time_s": first["time_s"],
             "x_m": first["x_m"] - xc,
@@ -148,10 +205,14 @@ def main() -> int:
             "x_range_m": [min(c["x_m"] for c in g) - xc, max(c["x_m"] for c in g) - xc],
             "height_reached_m": float(ys.max()),
             "height_reached_over_H": float(ys.max() / H),
+            "y_range_over_H": [float(ys.min() / H), float(ys.max() / H)],
             "last_time_s": float(ts.max()),
             "modes": modes,
             "tension_dominated_fraction": float(np.mean([share.get(c["joint"], 0.5) >= 0.5 for c in g])),
+            "origin": origin,
+            "height_time_rank_correlation": trend,
             "grew_upward_from_bottom": upward,
+            "grew_downward_from_top": downward,
         })
     # Keep the cracks that matter (>= 3 joints, i.e. more than a chipped corner).
     major = [c for c in crack_list if c["joints"] >= 3]
@@ -202,9 +263,41 @@ def main() -> int:
     plots = os.path.join(out, "plots")
     os.makedirs(plots, exist_ok=True)
     dp.write_json(os.path.join(out, "validation.json"), result)
+    # The runner's 'fragments' counts every body (impactor, supports, debris); the case's
+    # 'fragments' is the beam's pieces (>= 1 % of its area): the runner's number is kept
+    # as 'fragments_all_bodies'.
+    merge_summary(out, {
+        "max_midspan_deflection_m": result["max_midspan_deflection_m"],
+        "fragments": n_pieces,
+        # mode: the dominant mode of the crack's joints (share of the opening in the
+        # failure criterion, see the docstring); the solver's label of its first joint
+        # is kept as solver_mode. x from mid-span, y from the bottom face.
+        "crack_sequence": [{"time_s": c["time_s"], "x_m": c["x_m"], "y_m": c["y_m"],
+                            "mode": "tension" if c["tension_dominated_fraction"] >= 0.5 else "shear",
+                            "solver_mode": c["mode"], "joints": c["joints"], "origin": c["origin"]} for c in major],
+    }, renamed={"fragments": "fragments_all_bodies"})
 
     if not args.no_plots:
-        fig, axs = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
+        fig = plt.figure(figsize=(7, 10))
+        gs = fig.add_gridspec(4, 1)
+        ax_zoom = fig.add_subplot(gs[0])
+        axs = [fig.add_subplot(gs[k]) for k in (1, 2, 3)]
+        for ax in axs[1:]:
+            ax.sharex(axs[0])
+        t_zoom = 3.0 * (first["time_s"] if first else time[-1] / 4)
+        zm = time <= t_zoom
+        ax_zoom.plot(time[zm] * 1e3, defl[zm] * 1e3, lw=1.2)
+        for c in major[:12]:
+            ax_zoom.axvline(c["time_s"] * 1e3, color="0.7", lw=0.6)
+        if crushing:
+            ax_zoom.axvline(crushing[0]["time_s"] * 1e3, color="r", lw=0.8, ls=":", label="crushing under a head")
+        if first:
+            ax_zoom.axvline(first["time_s"] * 1e3, color="k", lw=0.8, label="first crack")
+        ax_zoom.legend(fontsize=7)
+        ax_zoom.set_ylabel("deflection (mm)")
+        ax_zoom.set_xlabel("time (ms)")
+        ax_zoom.grid(alpha=0.3)
+        ax_zoom.set_title(f"Mid-span deflection, first {t_zoom * 1e3:.1f} ms (grey: crack onsets)", fontsize=9)
         axs[0].plot(time * 1e3, defl * 1e3, lw=1.2)
         axs[0].set_ylabel("mid-span deflection (mm)")
         if t_first_split is not None:
@@ -212,8 +305,7 @@ def main() -> int:
                 ax.axvline(t_first_split * 1e3, color="C3", lw=0.8, ls="--")
         for c in major[:12]:
             axs[0].axvline(c["time_s"] * 1e3, color="0.7", lw=0.6)
-        axs[0].set_title("Impact beam: mid-span deflection (grey: crack onsets, red: beam first in two pieces)",
-                         fontsize=9)
+        axs[0].set_title("Whole run (red: beam first in two pieces, to the frame interval)", fontsize=9)
         gname = next((n for n in hist if n.startswith("impactor_velocity_y")), None)
         if gname:
             axs[1].plot(time * 1e3, hist[gname], lw=1.2, color="C1")
@@ -267,7 +359,7 @@ def main() -> int:
             ax.set_title(f"t = {tf * 1e3:.2f} ms: {int(br.sum())} broken joints, {npc} pieces", fontsize=8)
             ax.tick_params(labelsize=7)
         fig.colorbar(lc, ax=list(axs), shrink=0.5, label="time broken (ms)")
-        fig.savefig(os.path.join(plots, "cracks_sequence.png"), dpi=130)
+        fig.savefig(os.path.join(plots, "cracks_sequence.png"), dpi=100)
         plt.close(fig)
 
         # Crack map in the reference configuration (break positions) coloured by time.
@@ -276,7 +368,7 @@ def main() -> int:
         if crushing:
             ax.scatter([c["x_m"] - xc for c in crushing], [c["y_m"] - y_bot for c in crushing], s=10, marker="x",
                        color="r", lw=0.8, label="crushing under the heads")
-            ax.legend(fontsize=7, loc="lower left")
+            ax.legend(fontsize=7, loc="lower right", bbox_to_anchor=(1.0, 1.02), borderaxespad=0)
         if cracks:
             xs = np.array([c["x_m"] - xc for c in cracks])
             ys = np.array([c["y_m"] - y_bot for c in cracks])
@@ -292,7 +384,7 @@ def main() -> int:
         ax.set_ylim(-0.05, H + 0.05)
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
-        ax.set_title("Where and when joints broke (break position; the beam may have moved by then)", fontsize=9)
+        ax.set_title("Where and when joints broke\n(break position; the beam may have moved by then)", fontsize=9, loc="left")
         fig.tight_layout()
         fig.savefig(os.path.join(plots, "crack_map.png"), dpi=130)
         plt.close(fig)
@@ -308,7 +400,8 @@ def main() -> int:
     for c in major:
         print(f"  crack t = {1e3 * c['time_s']:7.3f} ms  x = {c['x_m']:+.3f} m  y = {c['y_m']:.3f} m  {c['mode']:<8}"
               f" joints {c['joints']:4d} ({100 * c['tension_dominated_fraction']:.0f} % tension-dominated)"
-              f"  height {c['height_reached_over_H']:.2f} H  upward {c['grew_upward_from_bottom']}")
+              f"  from the {c['origin']:<6} reached {c['height_reached_over_H']:.2f} H, height-time rank corr."
+              f" {c['height_time_rank_correlation']:+.2f}")
     for k, v in result["expected"].items():
         print(f"  {'YES' if v else 'NO '}  {k}")
     return 0

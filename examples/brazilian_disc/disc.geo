@@ -5,8 +5,8 @@
 // edges (joints); by symmetry the Brazilian crack runs along the loaded diameter, and
 // this mesh lets it do so. On a mesh without that line (disc_unaligned.geo) the crack
 // has to zigzag along inclined edges, in mixed mode against c = 20 MPa and
-// GII = 1500 N/m, and the peak load comes out about 8 % higher: a discretisation
-// effect measured and discussed in docs/validation.md.
+// GII = 1500 N/m, and the peak load comes out 8 % to over 60 % higher depending on
+// the mesh: a discretisation effect measured and discussed in docs/validation.md §1.5.
 //
 // Units: metres. The disc centre is the origin; the loaded
 // diameter is the y axis.
