@@ -49,6 +49,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import dsdem_post as dp  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -171,20 +174,14 @@ SUMMARY_KEYS = ("gauges", "mean_max_displacement_m", "duration_s", "river_blocke
 
 
 def merge_summary(sp: Path, res: dict) -> None:
-    """Merge the Dr2 keys into the runner's OUT/summary.json (temp file + rename).
+    """Merge the Dr2 keys into the runner's OUT/summary.json (dsdem_post.merge_summary).
 
     The runner's own keys are kept; its `gauges` (times from the start of the run,
     displacement from t = 0) is kept as `gauges_from_run_start` and `gauges` becomes the
     Dr2 definition above (from the start of the earthquake). Running this twice is safe."""
-    summary = json.loads(sp.read_text())
-    if "gauges" in summary and "gauges_from_run_start" not in summary:
-        summary["gauges_from_run_start"] = summary["gauges"]
-    for k in SUMMARY_KEYS:
-        summary[k] = res[k]
-    summary["dr2_postprocess"] = {"mode": res["mode"], "definitions": "scripts/dr2_postprocess.py docstring"}
-    tmp = sp.with_name(sp.name + ".tmp")
-    tmp.write_text(json.dumps(summary, indent=2))
-    tmp.replace(sp)
+    keys = {k: res[k] for k in SUMMARY_KEYS}
+    keys["dr2_postprocess"] = {"mode": res["mode"], "definitions": "scripts/dr2_postprocess.py docstring"}
+    dp.merge_summary(str(sp.parent), keys, renamed={"gauges": "gauges_from_run_start"})
 
 
 def main(argv=None) -> int:

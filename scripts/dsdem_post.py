@@ -160,6 +160,32 @@ def write_json(path: str, data: dict) -> None:
         f.write("\n")
 
 
+def merge_summary(out: str, keys: dict, renamed: dict | None = None) -> None:
+    """Merge a case's keys into OUT/summary.json, keeping the runner's keys: the file is
+    read, updated and written to a temporary file in the same folder, then renamed over it
+    (atomic: a reader never sees half a file). renamed: runner keys that the case
+    redefines, kept under a new name ({old: new}); running it twice is safe."""
+    import tempfile
+
+    path = os.path.join(out, "summary.json")
+    with open(path) as f:
+        data = json.load(f)
+    for old, new in (renamed or {}).items():
+        if old in data and new not in data:
+            data[new] = data[old]
+    data.update(keys)
+    fd, tmp = tempfile.mkstemp(prefix=".summary.", suffix=".json", dir=out)
+    try:
+        with os.fdopen(fd, "w") as f:
+            json.dump(data, f, indent=2, default=_plain)
+            f.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
 def failure_shares(seg: dict, joints: list[int], ft: float, GI: float, c: float, GII: float,
                    kn: float | None = None) -> np.ndarray:
     """Share of the opening in the failure criterion (eq. 9) of broken joints: en^2 /

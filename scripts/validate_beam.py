@@ -50,33 +50,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 
-def merge_summary(out: str, keys: dict, renamed: dict | None = None) -> None:
-    """Merge keys into OUT/summary.json, keeping the runner's keys: the file is read,
-    updated and written to a temporary file in the same folder, then renamed over it
-    (atomic: a reader never sees half a file). renamed: runner keys that the case
-    redefines, kept under a new name ({old: new})."""
-    import json
-    import tempfile
-
-    path = os.path.join(out, "summary.json")
-    with open(path) as f:
-        data = json.load(f)
-    for old, new in (renamed or {}).items():
-        if old in data and new not in data:
-            data[new] = data[old]
-    data.update(keys)
-    fd, tmp = tempfile.mkstemp(prefix=".summary.", suffix=".json", dir=out)
-    try:
-        with os.fdopen(fd, "w") as f:
-            json.dump(data, f, indent=2, default=dp._plain)
-            f.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def group_cracks(cracks: list[dict], link: float) -> list[list[dict]]:
     """Cracks: broken joints linked by single linkage in the plane (break positions
     within `link` of each other), each in order of breaking; cracks in order of their
@@ -266,7 +239,7 @@ def main() -> int:
     # The runner's 'fragments' counts every body (impactor, supports, debris); the case's
     # 'fragments' is the beam's pieces (>= 1 % of its area): the runner's number is kept
     # as 'fragments_all_bodies'.
-    merge_summary(out, {
+    dp.merge_summary(out, {
         "max_midspan_deflection_m": result["max_midspan_deflection_m"],
         "fragments": n_pieces,
         # mode: the dominant mode of the crack's joints (share of the opening in the

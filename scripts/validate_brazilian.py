@@ -170,33 +170,6 @@ def band_mean(c: np.ndarray, a: np.ndarray, h: np.ndarray, values: list[np.ndarr
     return out
 
 
-def merge_summary(out: str, keys: dict, renamed: dict | None = None) -> None:
-    """Merge keys into OUT/summary.json, keeping the runner's keys: the file is read,
-    updated and written to a temporary file in the same folder, then renamed over it
-    (atomic: a reader never sees half a file). renamed: runner keys that the case
-    redefines, kept under a new name ({old: new})."""
-    import json
-    import tempfile
-
-    path = os.path.join(out, "summary.json")
-    with open(path) as f:
-        data = json.load(f)
-    for old, new in (renamed or {}).items():
-        if old in data and new not in data:
-            data[new] = data[old]
-    data.update(keys)
-    fd, tmp = tempfile.mkstemp(prefix=".summary.", suffix=".json", dir=out)
-    try:
-        with os.fdopen(fd, "w") as f:
-            json.dump(data, f, indent=2, default=dp._plain)
-            f.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def disc_mask(f: dp.Fields) -> np.ndarray:
     """Triangles of the disc: the discrete zone; for a run with a continuous disc (zone
     'contact', no joints: the elastic reference of docs/validation.md), the surface
@@ -575,7 +548,7 @@ def main() -> int:
     plots = os.path.join(out, "plots")
     os.makedirs(plots, exist_ok=True)
     dp.write_json(os.path.join(out, "validation.json"), result)
-    merge_summary(out, {k: result[k] for k in (
+    dp.merge_summary(out, {k: result[k] for k in (
         "peak_load_N", "tensile_strength_Pa", "input_tensile_strength_Pa", "relative_error",
         "t_first_crack_s", "first_crack_position_m", "t_through_crack_s")})
 
