@@ -700,6 +700,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
           else if (!options.quiet)
             fmt::print(stderr, "{}\n", line);
           file_sink->log(spdlog::details::log_msg("dsdem", spdlog::level::info, line));
+          file_sink->flush();  // a direct sink call skips the logger's flush_on: `tail -f` must see it
           last_progress = now;
           steps_at_last_progress = solver.step_count();
         }
