@@ -29,7 +29,7 @@ class InstabilityError : public std::runtime_error {
   double time;
 };
 
-constexpr std::size_t kParallelThreshold = 4000;
+constexpr std::size_t kParallelThreshold = 1000;
 
 struct StepSettings {
   Vec2 gravity = Vec2(0.0, -9.81);
