@@ -15,9 +15,10 @@ struct Command {
   std::string output;  // stdout and stderr
 };
 
-inline Command run_dsdem(const std::string& args) {
+// Runs a shell command line, stdout and stderr captured.
+inline Command run_command(const std::string& command_line) {
   Command c;
-  const std::string cmd = std::string(DSDEM_BINARY) + " " + args + " 2>&1";
+  const std::string cmd = command_line + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return c;
   char buf[4096];
@@ -27,6 +28,8 @@ inline Command run_dsdem(const std::string& args) {
   c.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return c;
 }
+
+inline Command run_dsdem(const std::string& args) { return run_command(std::string(DSDEM_BINARY) + " " + args); }
 
 inline std::string read_text(const std::filesystem::path& p) {
   std::ifstream in(p);

@@ -73,15 +73,7 @@ bool wait_for_frames(const fs::path& out, int frames) {
 }
 
 Command check_outputs(const fs::path& out) {
-  Command c;
-  const std::string cmd = "python3 " + std::string(DSDEM_SOURCE_DIR) + "/tests/app/check_outputs.py " + out.string() + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) c.output.append(buf, n);
-  const int status = pclose(p);
-  c.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return c;
+  return run_command("python3 " + std::string(DSDEM_SOURCE_DIR) + "/tests/app/check_outputs.py " + out.string());
 }
 
 void expect_diagnosis(const fs::path& out, const Command& c, const std::string& kind, const std::string& entity) {
