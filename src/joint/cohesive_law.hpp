@@ -60,8 +60,12 @@ struct JointLawConstants {
   double wt = 0.0;       // ft / kn: opening at the tensile strength (eq. 6)
   double wn = 0.0;       // 2 GI / ft: mode I softening length (area = GI)
   double tiny = 0.0;     // 1e-12 (c + ft): division guard for inadmissible properties
+  bool scale_ks = false;  // ks follows a joint's stiffness_scale (penalty ks, not given)
 };
 JointLawConstants law_constants(const JointProperties& p);
+// The constants of one joint whose stiffness is s times its property's (local penalty
+// size, DESIGN.md §3): kn (and ks when scale_ks) times s, wt = ft / kn again.
+JointLawConstants scaled(const JointLawConstants& k, double s);
 
 // dn: opening (m, > 0 opens), ds: slip (m), p: properties (validate() must pass),
 // old: history from the previous evaluation. With damage_enabled = false (gravity
