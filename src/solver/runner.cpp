@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 #include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <sys/statvfs.h>
@@ -33,11 +34,44 @@ namespace dsdem::solver {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+namespace {
+
+// Routes the default logger into a buffer while it lives (restored on any exit).
+class BuildLogCapture {
+ public:
+  BuildLogCapture()
+      : previous_(spdlog::default_logger()), sink_(std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(100000)) {
+    auto logger = std::make_shared<spdlog::logger>("dsdem-build", sink_);
+    logger->set_level(spdlog::level::info);
+    spdlog::set_default_logger(logger);
+  }
+  ~BuildLogCapture() { spdlog::set_default_logger(previous_); }
+  BuildLogCapture(const BuildLogCapture&) = delete;
+  BuildLogCapture& operator=(const BuildLogCapture&) = delete;
+  std::vector<PreparedRun::LogLine> lines() const {
+    std::vector<PreparedRun::LogLine> out;
+    for (const auto& m : sink_->last_raw())
+      out.push_back({static_cast<int>(m.level), std::string(m.payload.begin(), m.payload.end())});
+    return out;
+  }
+
+ private:
+  std::shared_ptr<spdlog::logger> previous_;
+  std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> sink_;
+};
+
+}  // namespace
+
 PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_dir) {
   PreparedRun run;
   run.scenario = scenario;
-  const RawMesh raw = mesh::load_mesh(scenario, work_dir);
-  run.model = mesh::build_model(scenario, raw);
+  RawMesh raw;
+  {
+    BuildLogCapture capture;
+    raw = mesh::load_mesh(scenario, work_dir);
+    run.model = mesh::build_model(scenario, raw);
+    run.build_log = capture.lines();
+  }
   run.mesh_file = raw.msh_file;
 
   // Gauges must sit in (or within half an element of) the model.
@@ -251,6 +285,8 @@ std::string check_report(PreparedRun& run) {
   for (const auto& mat : m.materials)
     r += fmt::format("material   {:<12} E = {:.4g} Pa, nu = {}, rho = {} kg/m^3, cp = {:.5g} m/s, cs = {:.5g} m/s\n",
                      mat.name, mat.E, mat.nu, mat.rho, mat.cp(), mat.cs());
+  for (const auto& line : run.build_log)
+    r += fmt::format("{}{}\n", line.level >= static_cast<int>(spdlog::level::warn) ? "warning: " : "model      ", line.text);
   r += fmt::format("stable dt  {:.4g} s, controlled by {}\n", run.stable.dt, run.stable.controlled_by);
   r += fmt::format("time step  {:.4g} s ({}), {} steps for {} s in {} stage{}\n", run.dt,
                    sc.dt ? "fixed" : fmt::format("safety {}", sc.safety), run.estimated_steps, sc.end_time(),
@@ -436,6 +472,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   io::Scenario& sc = prepared.scenario;
   Model& model = prepared.model;
   log->info("dsdem {} ({}), {} threads", DSDEM_VERSION, DSDEM_GIT_COMMIT, threads);
+  for (const auto& line : prepared.build_log) log->log(static_cast<spdlog::level::level_enum>(line.level), "{}", line.text);
   log->info("scenario {}: {} nodes, {} triangles, {} joints", sc.file, model.nodes.size(), model.triangles.size(),
             model.joints.size());
   log->info("dt = {:.4g} s ({} x stable {:.4g} s, controlled by {})", prepared.dt, sc.dt ? 1.0 : sc.safety,

@@ -42,6 +42,14 @@ struct PreparedRun {
   std::string mesh_file;  // the .msh the model came from (meshed from the .geo when one was given)
   // Earthquake records resampled to dt (DESIGN.md §5), when the scenario has them.
   std::optional<seismic::Accelerogram> quake_horizontal, quake_vertical;
+  // What meshing and model building logged (penalty joint stiffnesses, contact
+  // stiffness, ...): it happens before run() opens dsdem.log, so run() replays these
+  // there and check_report() prints them. level: spdlog's level number.
+  struct LogLine {
+    int level = 2;
+    std::string text;
+  };
+  std::vector<LogLine> build_log;
 };
 
 // Loads or generates one earthquake component and resamples it to dt.

@@ -1,6 +1,8 @@
 // The command line: version, check, run, and bad input that exits cleanly (issue 2).
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "cli_util.hpp"
 
 using namespace dsdem::test;
@@ -87,4 +89,35 @@ TEST(Cli, TooLargeFixedTimeStepIsRejectedNamingTheElement) {
   const auto c = run_dsdem("check " + example("elastic_slope/scenario.yaml") + " --set time.dt=0.01");
   EXPECT_EQ(c.exit_code, 2) << c.output;
   EXPECT_NE(c.output.find("exceeds the stable time step"), std::string::npos) << c.output;
+}
+
+// Regression: what model building logs (the penalty joint stiffness, which DESIGN §3
+// asks to report) went to the terminal before dsdem.log was opened: missing from the
+// log, and printed even with -q. Now it is in the log, in `check`, and quiet stays quiet.
+TEST(Cli, ModelBuildingMessagesReachTheLogAndCheckButNotAQuietTerminal) {
+  const fs::path dir = fresh_dir("cli_build_log");
+  fs::create_directories(dir);
+  fs::copy_file(std::string(DSDEM_TEST_DATA_DIR) + "/mesh/square.geo", dir / "square.geo");
+  std::ofstream(dir / "s.yaml") << R"(mesh: {file: square.geo, element_size: 0.25}
+materials:
+  rock: {E: 10.0e9, nu: 0.25, rho: 2500}
+regions:
+  - {group: block, material: rock, zone: discrete}
+joints:
+  default: {ft: 1.0e6, c: 4.0e6, phi: 30, GI: 100, GII: 1000, penalty: 10}
+boundaries:
+  - {group: bottom, type: fixed}
+time: {end: 0.001}
+)";
+  const auto chk = run_dsdem("check " + (dir / "s.yaml").string());
+  ASSERT_EQ(chk.exit_code, 0) << chk.output;
+  EXPECT_NE(chk.output.find("model      joints 'block': kn = p*E/h from the penalty rule with h the local element size"),
+            std::string::npos) << chk.output;
+  const fs::path out = dir / "out";
+  const auto c = run_dsdem("run " + (dir / "s.yaml").string() + " -o " + out.string() + " -q --no-plots --threads 1");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_EQ(c.output.find("penalty rule"), std::string::npos) << c.output;
+  const std::string log = read_text(out / "dsdem.log");
+  EXPECT_NE(log.find("joints 'block': kn = p*E/h from the penalty rule"), std::string::npos) << log;
+  fs::remove_all(dir);
 }
