@@ -13,7 +13,6 @@ JointLawConstants law_constants(const JointProperties& p) {
   k.c = p.c;
   k.GII = p.GII;
   k.tan_phi = std::tan(p.phi);
-  k.wt = p.ft / p.kn;
   k.wn = 2.0 * p.GI / p.ft;
   k.tiny = 1e-12 * (p.c + p.ft);
   k.scale_ks = p.penalty_h > 0.0 && !p.ks_given;
@@ -24,7 +23,6 @@ JointLawConstants scaled(const JointLawConstants& k, double s) {
   JointLawConstants r = k;
   r.kn = k.kn * s;
   if (k.scale_ks) r.ks = k.ks * s;
-  r.wt = k.ft / r.kn;
   return r;
 }
 

@@ -47,8 +47,8 @@ struct CohesiveResponse {
   bool failed_now = false;   // damage reached 1 in this evaluation
   BreakMode mode = BreakMode::None;  // when failed_now: which softening branches were entered
   double fs = 0.0;    // current shear strength, Pa
-  double ws = 0.0;    // current elastic slip limit fs/ks, m
-  double wsII = 0.0;  // current shear softening length, m
+  double ws = 0.0;    // current elastic slip limit fs/ks, m (0 from the elastic fast path)
+  double wsII = 0.0;  // current shear softening length, m (0 from the elastic fast path)
 };
 
 // Everything of the law that depends on the properties only, computed once per
@@ -57,14 +57,13 @@ struct CohesiveResponse {
 struct JointLawConstants {
   double kn = 0.0, ks = 0.0, ft = 0.0, c = 0.0, GII = 0.0;
   double tan_phi = 0.0;  // tan(phi)
-  double wt = 0.0;       // ft / kn: opening at the tensile strength (eq. 6)
   double wn = 0.0;       // 2 GI / ft: mode I softening length (area = GI)
   double tiny = 0.0;     // 1e-12 (c + ft): division guard for inadmissible properties
   bool scale_ks = false;  // ks follows a joint's stiffness_scale (penalty ks, not given)
 };
 JointLawConstants law_constants(const JointProperties& p);
 // The constants of one joint whose stiffness is s times its property's (local penalty
-// size, DESIGN.md §3): kn (and ks when scale_ks) times s, wt = ft / kn again.
+// size, DESIGN.md §3): kn (and ks when scale_ks) times s.
 JointLawConstants scaled(const JointLawConstants& k, double s);
 
 // dn: opening (m, > 0 opens), ds: slip (m), p: properties (validate() must pass),
@@ -86,7 +85,6 @@ inline CohesiveResponse cohesive_law(double dn, double ds, const JointLawConstan
   JointPointState st = old;
   const double s = std::abs(ds);
   const double tan_phi = p.tan_phi;
-  const double wt = p.wt;  // opening at the tensile strength (eq. 6)
   const double wn = p.wn;  // mode I softening length: area = GI
 
   // Fast path, most joints most of the time: an undamaged point whose largest opening
@@ -98,7 +96,7 @@ inline CohesiveResponse cohesive_law(double dn, double ds, const JointLawConstan
     const double s_max = damage_enabled ? std::max(old.s_max, s) : old.s_max;
     const double sn = p.kn * dn;
     const double fs = std::max(p.c - std::min(sn, p.ft) * tan_phi, p.tiny);  // eq. 8
-    if (dn_max <= wt && s_max * p.ks <= fs) {
+    if (dn_max * p.kn <= p.ft && s_max * p.ks <= fs) {  // dn_max <= wt = ft/kn, s_max <= ws
       r.sn = sn;
       r.ss = p.ks * ds;
       r.energy = 0.5 * (sn * dn + r.ss * ds);
@@ -110,12 +108,11 @@ inline CohesiveResponse cohesive_law(double dn, double ds, const JointLawConstan
       st.ss = r.ss;
       st.ks_sec = p.ks;
       r.state = st;
-      r.fs = fs;
-      r.ws = fs / p.ks;
-      r.wsII = 2.0 * p.GII / std::max(fs - std::max(-sn, 0.0) * tan_phi, p.tiny);
+      r.fs = fs;  // ws and wsII are left 0 here: two divisions nobody needs while elastic
       return r;
     }
   }
+  const double wt = p.ft / p.kn;  // opening at the tensile strength (eq. 6)
   if (damage_enabled) {
     st.dn_max = std::max(old.dn_max, dn);
     st.s_max = std::max(old.s_max, s);

@@ -158,7 +158,6 @@ TEST(JointPhase, StiffnessScaleMultipliesPenaltyStiffnessButNotStrength) {
     const JointLawConstants ref = law_constants(p2);
     EXPECT_EQ(k2.kn, ref.kn);
     EXPECT_EQ(k2.ks, ref.ks);
-    EXPECT_EQ(k2.wt, ref.wt);
     EXPECT_EQ(k2.ft, k.ft);
     EXPECT_EQ(k2.wn, k.wn);
     EXPECT_EQ(joint_end_stiffness(p, 2.0, 2.5), std::max(p2.kn, p2.ks));
