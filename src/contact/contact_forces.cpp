@@ -54,6 +54,8 @@ void check_size(std::size_t got, std::size_t want, const char* what) {
 bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   const std::size_t nn = in.x.size();
   const std::size_t nt = in.conn.size();
+  const NodePositions x = in.positions();
+  if (!in.u.empty()) check_size(in.u.size(), nn, "u");
   check_size(n_forces, nn, "f");
   check_size(in.v.size(), nn, "v");
   check_size(in.mass.size(), nn, "mass");
@@ -70,7 +72,7 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
       for (std::size_t t = 0; t < nt; ++t) {
         if (!in.active[t]) continue;
         const auto& c = in.conn[t];
-        sum += incircle(in.x[c[0]], in.x[c[1]], in.x[c[2]]).radius;
+        sum += incircle(x[c[0]], x[c[1]], x[c[2]]).radius;
         ++n;
       }
       skin_ = n > 0 && sum > 0.0 ? 0.5 * sum / static_cast<double>(n) : 1.0;
@@ -78,14 +80,14 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   }
 
   bool rebuilt = false;
-  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(in.x)) {
+  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(x, in.conn)) {
     const auto conn = in.conn;
     const auto body = in.body;
     if (body.empty()) {
-      broad_.build(in.x, in.conn, in.active, skin_,
+      broad_.build(x, in.conn, in.active, skin_,
                    [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
     } else {
-      broad_.build(in.x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
+      broad_.build(x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
         return (body[i] >= 0 && body[i] == body[j]) || shares_node(conn[i], conn[j]);
       });
     }
@@ -101,15 +103,15 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   }
 
   sp_.resize(nt);
-  edges_.resize(nt);
+  edge_scales_.resize(nt);
   box_.resize(nt);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_tris_.size());
 #pragma omp parallel for schedule(static) if (settings_.parallel && n > 4096)
   for (std::ptrdiff_t s = 0; s < n; ++s) {
     const Index t = shape_tris_[s];
     const auto& c = in.conn[t];
-    sp_[t] = make_spheropolygon(in.x[c[0]], in.x[c[1]], in.x[c[2]], in.rounding_radius[t]);
-    edges_[t] = core_edges(sp_[t].core);
+    sp_[t] = make_spheropolygon(x[c[0]], x[c[1]], x[c[2]], in.rounding_radius[t]);
+    edge_scales_[t] = core_edge_scales(sp_[t].core);
     box_[t] = bounding_box(sp_[t]);
   }
   return rebuilt;
@@ -129,8 +131,10 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
                                  ContactHistory::Cursor& cursor,
                                  std::vector<ContactRecord>& out) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
-  const int n = narrow_phase(sp_[i], edges_[i], sp_[j], edges_[j], geo);
+  const int n = narrow_phase(sp_[i], expand(sp_[i].core, edge_scales_[i]), sp_[j],
+                             expand(sp_[j].core, edge_scales_[j]), geo);
   if (n == 0) return;
+  const NodePositions x = in.positions();
   const auto& ci = in.conn[i];
   const auto& cj = in.conn[j];
   const ContactLawParams& p = params.get(in.group[i], in.group[j]);
@@ -143,8 +147,8 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.overlap = g.overlap;
     r.normal = g.normal;
     r.point = g.point;
-    r.Ni = barycentric(g.point, in.x[ci[0]], in.x[ci[1]], in.x[ci[2]]);
-    r.Nj = barycentric(g.point, in.x[cj[0]], in.x[cj[1]], in.x[cj[2]]);
+    r.Ni = barycentric(g.point, x[ci[0]], x[ci[1]], x[ci[2]]);
+    r.Nj = barycentric(g.point, x[cj[0]], x[cj[1]], x[cj[2]]);
     const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
     // Dashpot mass: the two triangles' masses (a contact softer than the elements moves
     // each element as a whole, so the set restitution holds for element impacts), capped

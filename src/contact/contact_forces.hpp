@@ -21,6 +21,7 @@
 #include "contact/contact_history.hpp"
 #include "contact/contact_law.hpp"
 #include "contact/narrow_phase.hpp"
+#include "contact/positions.hpp"
 #include "contact/spheropolygon.hpp"
 
 namespace dsdem::contact {
@@ -57,10 +58,10 @@ struct ContactSettings {
   bool parallel = true;
 };
 
-// The model arrays the contact phase reads (sizes: nodes for x, v, mass; triangles
-// for conn, active, rounding_radius, group).
+// The model arrays the contact phase reads (sizes: nodes for x, v, mass, u; triangles
+// for conn, active, rounding_radius, group, body).
 struct ContactInput {
-  std::span<const Vec2> x;       // current node positions, m
+  std::span<const Vec2> x;       // current node positions, m (reference positions when u is given)
   std::span<const Vec2> v;       // node velocities, m/s (the half-step ones in Verlet)
   std::span<const double> mass;  // lumped node masses, kg (per unit thickness)
   std::span<const std::array<Index, 3>> conn;
@@ -71,6 +72,9 @@ struct ContactInput {
   // (e.g. 0 for every zone-C triangle: one continuous mesh that cannot separate), and
   // such pairs are left out of the broad phase. Empty: only the shared-node rule.
   std::span<const Index> body = {};
+  // Optional node displacements, m: the current positions are then x + u (NodePositions).
+  std::span<const Vec2> u = {};
+  NodePositions positions() const { return {x, u}; }
 };
 
 // One contact of the last call.
@@ -177,7 +181,7 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
-  std::vector<CoreEdges> edges_;  // of sp_[t].core
+  std::vector<CoreEdgeScales> edge_scales_;  // of sp_[t].core; expand() per pair (issue 7 memory)
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
   // Triangles in some candidate pair (ascending), set at each broad-phase build: only
   // their shapes are updated each step. A contact zone's interior (one body, no pairs)

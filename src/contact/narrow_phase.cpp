@@ -6,8 +6,8 @@
 
 namespace dsdem::contact {
 
-CoreEdges core_edges(const std::array<Vec2, 3>& core) {
-  CoreEdges ce;
+CoreEdgeScales core_edge_scales(const std::array<Vec2, 3>& core) {
+  CoreEdgeScales s;
   const double area2 = cross(core[1] - core[0], core[2] - core[0]);
   const double orient = area2 >= 0.0 ? 1.0 : -1.0;  // outward = right of the edge if CCW
   double max_len2 = 0.0;
@@ -15,15 +15,14 @@ CoreEdges core_edges(const std::array<Vec2, 3>& core) {
     const Vec2 e = core[(k + 1) % 3] - core[k];
     const double len2 = e.squaredNorm();
     max_len2 = std::max(max_len2, len2);
-    ce.e[k] = e;
-    ce.inv_len2[k] = len2 > 0.0 ? 1.0 / len2 : 0.0;
-    ce.n_out[k] = len2 > 0.0 ? Vec2((orient / std::sqrt(len2)) * Vec2(e.y(), -e.x())) : Vec2::Zero();
+    s.inv_len2[k] = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    s.n_scale[k] = len2 > 0.0 ? orient / std::sqrt(len2) : 0.0;
   }
-  ce.proper = std::abs(area2) > 1e-14 * max_len2;
-  ce.lo = core[0].cwiseMin(core[1]).cwiseMin(core[2]);
-  ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
-  return ce;
+  s.proper = std::abs(area2) > 1e-14 * max_len2;
+  return s;
 }
+
+CoreEdges core_edges(const std::array<Vec2, 3>& core) { return expand(core, core_edge_scales(core)); }
 
 CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
   CoreClosest c;

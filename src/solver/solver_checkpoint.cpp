@@ -4,6 +4,8 @@
 
 #include "solver/solver.hpp"
 
+#include <algorithm>
+
 namespace dsdem::solver {
 
 namespace {
@@ -62,8 +64,11 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("nodes/u", vec2s(n.u));
   out.put("nodes/v", vec2s(n.v));
   out.put("nodes/a", vec2s(n.a));
-  out.put("nodes/u_prev", vec2s(u_prev_));
-  out.put("nodes/damping_force_prev", vec2s(damping_force_prev_));
+  // Undamped, the solver holds no per-node damping buffers: the file keeps its layout
+  // with zeros (u_prev is rewritten by the next step's drift before any use).
+  const std::vector<Vec2> zeros(damped() ? 0 : n.size(), Vec2::Zero());
+  out.put("nodes/u_prev", vec2s(damped() ? u_prev_ : zeros));
+  out.put("nodes/damping_force_prev", vec2s(damped() ? damping_force_prev_ : zeros));
   out.put("triangles/stress", vec3s(tri.stress));
   out.put("triangles/strain", vec3s(tri.strain));
   out.put("triangles/stress0", vec3s(tri.stress0));
@@ -132,8 +137,19 @@ void Solver::restore(const io::CheckpointReader& in) {
   read_vec2s(in, "nodes/u", n.u);
   read_vec2s(in, "nodes/v", n.v);
   read_vec2s(in, "nodes/a", n.a);
-  read_vec2s(in, "nodes/u_prev", u_prev_);
-  read_vec2s(in, "nodes/damping_force_prev", damping_force_prev_);
+  {
+    // The previous step's damping forces matter (the damping work of the next step) when
+    // any is non-zero: then the buffers are needed even if this stage is undamped.
+    std::vector<Vec2> u_prev(n.size()), df_prev(n.size());
+    read_vec2s(in, "nodes/u_prev", u_prev);
+    read_vec2s(in, "nodes/damping_force_prev", df_prev);
+    const bool any = std::any_of(df_prev.begin(), df_prev.end(), [](const Vec2& f) { return f.x() != 0.0 || f.y() != 0.0; });
+    if (any) allocate_damping_buffers();
+    if (damped()) {
+      u_prev_ = std::move(u_prev);
+      damping_force_prev_ = std::move(df_prev);
+    }
+  }
   read_vec3s(in, "triangles/stress", tri.stress);
   read_vec3s(in, "triangles/strain", tri.strain);
   read_vec3s(in, "triangles/stress0", tri.stress0);

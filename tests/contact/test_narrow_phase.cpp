@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -233,4 +234,36 @@ TEST(NarrowPhase, SwappingTheBodiesGivesTheSameContactsReversed) {
     }
   }
   EXPECT_GT(total, 500);  // the trials did produce contacts
+}
+
+TEST(CoreEdgeScales, ExpandGivesTheDirectEdgeDataBitForBit) {
+  // The per-triangle cache keeps only inv_len2, the normal scales and the proper flag;
+  // expand() must rebuild exactly what the direct formulas give (the contact results
+  // depend on every bit). Random cores of both orientations, plus degenerate ones.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> d(-2.0, 2.0);
+  std::vector<std::array<Vec2, 3>> cores;
+  for (int k = 0; k < 2000; ++k) cores.push_back({Vec2(d(rng), d(rng)), Vec2(d(rng), d(rng)), Vec2(d(rng), d(rng))});
+  cores.push_back({Vec2(1, 1), Vec2(1, 1), Vec2(1, 1)});  // collapsed to a point
+  cores.push_back({Vec2(0, 0), Vec2(1, 0), Vec2(1, 0)});  // a zero-length edge
+  cores.push_back({Vec2(0, 0), Vec2(1, 1), Vec2(2, 2)});  // collinear
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (const auto& c : cores) {
+    const CoreEdges ce = expand(c, core_edge_scales(c));
+    const double area2 = cross(c[1] - c[0], c[2] - c[0]);
+    const double orient = area2 >= 0.0 ? 1.0 : -1.0;
+    double max_len2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 e = c[(k + 1) % 3] - c[k];
+      const double len2 = e.squaredNorm();
+      max_len2 = std::max(max_len2, len2);
+      const Vec2 n = len2 > 0.0 ? Vec2((orient / std::sqrt(len2)) * Vec2(e.y(), -e.x())) : Vec2::Zero();
+      EXPECT_TRUE(same(ce.e[k].x(), e.x()) && same(ce.e[k].y(), e.y()));
+      EXPECT_TRUE(same(ce.inv_len2[k], len2 > 0.0 ? 1.0 / len2 : 0.0));
+      EXPECT_TRUE(same(ce.n_out[k].x(), n.x()) && same(ce.n_out[k].y(), n.y()));
+    }
+    EXPECT_EQ(ce.proper, std::abs(area2) > 1e-14 * max_len2);
+    const Vec2 lo = c[0].cwiseMin(c[1]).cwiseMin(c[2]), hi = c[0].cwiseMax(c[1]).cwiseMax(c[2]);
+    EXPECT_TRUE(same(ce.lo.x(), lo.x()) && same(ce.lo.y(), lo.y()) && same(ce.hi.x(), hi.x()) && same(ce.hi.y(), hi.y()));
+  }
 }
