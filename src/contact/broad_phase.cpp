@@ -7,18 +7,22 @@
 
 namespace dsdem::contact {
 
-bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn) const {
+bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
+                               bool parallel) const {
   if (builds_ == 0 || x.size() != n_nodes_) return true;
-  const std::size_t ns = tris_.size();
-  for (std::size_t s = 0; s < ns; ++s) {
+  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(tris_.size());
+  int out = 0;  // a flag, so any thread count gives the same answer
+#pragma omp parallel for schedule(static) reduction(| : out) if (parallel && ns > 4096)
+  for (std::ptrdiff_t s = 0; s < ns; ++s) {
+    if (out) continue;
     const auto& c = conn[tris_[s]];
     const Aabb& b = boxes_[s];
     for (int k = 0; k < 3; ++k) {
       const Vec2 p = x[c[k]];
-      if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) return true;
+      if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) out = 1;
     }
   }
-  return false;
+  return out != 0;
 }
 
 void BroadPhase::bin(const NodePositions& x, std::span<const std::array<Index, 3>> conn,

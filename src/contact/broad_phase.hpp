@@ -39,8 +39,9 @@ class BroadPhase {
 
   // True when some active triangle of the last build has a node outside its enlarged
   // box of the build (or there was no build, or the node count changed). conn must be
-  // the connectivity of the build.
-  bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn) const;
+  // the connectivity of the build. parallel: OpenMP over the triangles of large sets.
+  bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
+                     bool parallel = false) const;
 
   std::span<const ContactPair> pairs() const { return pairs_; }
   double skin() const { return skin_; }

@@ -80,7 +80,7 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   }
 
   bool rebuilt = false;
-  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(x, in.conn)) {
+  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(x, in.conn, settings_.parallel)) {
     const auto conn = in.conn;
     const auto body = in.body;
     if (body.empty()) {
@@ -131,8 +131,7 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
                                  ContactHistory::Cursor& cursor,
                                  std::vector<ContactRecord>& out) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
-  const int n = narrow_phase(sp_[i], expand(sp_[i].core, edge_scales_[i]), sp_[j],
-                             expand(sp_[j].core, edge_scales_[j]), geo);
+  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo);
   if (n == 0) return;
   const NodePositions x = in.positions();
   const auto& ci = in.conn[i];

@@ -97,13 +97,44 @@ CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const
 
 }  // namespace
 
+namespace {
+
+// All of q beyond p's edge k by more than `limit` along its outward unit normal n (p lies
+// on the inner side of the edge line, at or below p[k] . n): stops at q's first vertex
+// that is not, which is where most pairs that are not apart end.
+bool beyond_edge(const Vec2& n, const std::array<Vec2, 3>& p, int k, const std::array<Vec2, 3>& q, double limit) {
+  const double pk = p[k].dot(n);
+  return q[0].dot(n) - pk > limit && q[1].dot(n) - pk > limit && q[2].dot(n) - pk > limit;
+}
+
+}  // namespace
+
+bool cores_apart(const Spheropolygon& a, const std::array<Vec2, 3>& na, const Spheropolygon& b,
+                 const std::array<Vec2, 3>& nb) {
+  // The distance of two convex sets is at least their gap along any unit axis. The
+  // computed vertex distances (and the edge line's position, p[k] or p[k+1]) err by a
+  // few ulps of the coordinates: the margin covers that many times over, so a pair
+  // rejected here has no contact in narrow_phase(). A zero normal (zero-length edge)
+  // never rejects.
+  const double scale = std::abs(a.core[0].x()) + std::abs(a.core[0].y()) + std::abs(b.core[0].x()) + std::abs(b.core[0].y());
+  const double limit = (a.r + b.r) * (1.0 + 1e-6) + 1e-12 * scale;
+  for (int k = 0; k < 3; ++k) {
+    if (beyond_edge(na[k], a.core, k, b.core, limit)) return true;
+    if (beyond_edge(nb[k], b.core, k, a.core, limit)) return true;
+  }
+  return false;
+}
+
 int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
                  std::array<ContactGeometry, kMaxContactsPerPair>& out) {
   return narrow_phase(a, core_edges(a.core), b, core_edges(b.core), out);
 }
 
-int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
-                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+namespace {
+
+// narrow_phase() after the cores_apart() rejection.
+int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
+                std::array<ContactGeometry, kMaxContactsPerPair>& out) {
   const double rsum = a.r + b.r;
   std::array<CoreClosest, 3> ca, cb;  // vertex of a on core of b, vertex of b on core of a
   for (int v = 0; v < 3; ++v) {
@@ -149,6 +180,22 @@ int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygo
     g.point = c.point + (0.5 * (c.distance + a.r - b.r)) * c.normal;
   }
   return n;
+}
+
+}  // namespace
+
+int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
+                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+  if (cores_apart(a, ea, b, eb)) return 0;
+  return contacts_of(a, ea, b, eb, out);
+}
+
+int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
+                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+  const std::array<Vec2, 3> na{edge_normal(a.core, sa, 0), edge_normal(a.core, sa, 1), edge_normal(a.core, sa, 2)};
+  const std::array<Vec2, 3> nb{edge_normal(b.core, sb, 0), edge_normal(b.core, sb, 1), edge_normal(b.core, sb, 2)};
+  if (cores_apart(a, na, b, nb)) return 0;
+  return contacts_of(a, expand(a.core, sa, na), b, expand(b.core, sb, nb), out);
 }
 
 }  // namespace dsdem::contact

@@ -295,13 +295,16 @@ void Solver::add_internal_and_joint_forces() {
       in.thickness = thickness;
       in.S0 = tri.stress0[t];
       in.beta = beta;
+      in.cauchy = !stress_on_demand_;
       fem::TriangleResponse r;
       std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
       fem::triangle_internal_force(in, elastic_[tri.material[t]], r,
                                    element_damping ? element_damping_force_[t] : no_damping);
       element_force_[t] = r.force;
-      tri.stress[t] = r.cauchy;
-      tri.strain[t] = r.green;
+      if (!stress_on_demand_) {
+        tri.stress[t] = r.cauchy;
+        tri.strain[t] = r.green;
+      }
       element_strain_energy_[t] = r.strain_energy;
       // check_stability() finds the element when this flag is set.
       if (!(r.detF > 0.0)) inverted = 1;
@@ -338,6 +341,28 @@ void Solver::add_internal_and_joint_forces() {
     energy_.joint_elastic = sums[0];
     energy_.fracture_dissipated += sums[1];
     broken_joints_ += broken_now;
+  }
+}
+
+void Solver::update_stress() {
+  auto& n = model_.nodes;
+  auto& tri = model_.triangles;
+  // The element loop's kernel on the same inputs (positions unchanged since the step):
+  // the same stress and strain bits. Damping does not enter the Cauchy stress.
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::ptrdiff_t t = 0; t < ssize(tri.size()); ++t) {
+    const auto& c = tri.conn[t];
+    fem::TriangleInput in;
+    for (int k = 0; k < 3; ++k) in.x[k] = n.X[c[k]] + n.u[c[k]];
+    in.Dm_inv = tri.Dm_inv[t];
+    in.area0 = tri.area0[t];
+    in.thickness = model_.thickness;
+    in.S0 = tri.stress0[t];
+    fem::TriangleResponse r;
+    std::array<Vec2, 3> no_damping;
+    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);
+    tri.stress[t] = r.cauchy;
+    tri.strain[t] = r.green;
   }
 }
 

@@ -102,6 +102,11 @@ class Solver {
     use_parallel(on);
   }
   bool parallel() const { return parallel_; }
+  // Triangles' stress and strain are output only: with on_demand the step leaves them
+  // (the Cauchy stress is 3 % of a Dr2 step, issue 7) and update_stress() computes them,
+  // for the current state, the same as a step would have. Off by default.
+  void set_stress_on_demand(bool on) { stress_on_demand_ = on; }
+  void update_stress();
   // Large models on more than one thread choose between OpenMP and one thread by
   // timing both now and then (kProbeSteps steps each, every kProbeInterval steps), and
   // keep the faster: on a machine shared with other busy processes the threads of a
@@ -176,6 +181,7 @@ class Solver {
   std::vector<std::array<Vec2, 3>> element_damping_force_;
   std::vector<double> element_strain_energy_;
   bool inverted_ = false;  // some element had det F <= 0 in the last element loop (check_stability finds it)
+  bool stress_on_demand_ = false;
   // Joints: per-joint forces before the gather, node -> (joint * 4 + k) incidence (CSR).
   JointPhaseBuffers joint_buf_;
   std::vector<Index> joint_incidence_offset_, joint_incidence_entry_;
