@@ -100,6 +100,10 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
     if (shape_tris_.capacity() < nt) shape_tris_.reserve(nt);  // once: rebuilds happen in the time loop
     for (std::size_t t = 0; t < nt; ++t)
       if (in_pair_[t]) shape_tris_.push_back(static_cast<Index>(t));
+    // New pairs: every one checked at its first step; motions counted from the build.
+    reserve_with_headroom(skip_below_, broad_.pairs().size());
+    skip_below_.assign(broad_.pairs().size(), 0.0f);
+    motion_.assign(nt, 0.0);
   }
 
   sp_.resize(nt);
@@ -110,7 +114,16 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   for (std::ptrdiff_t s = 0; s < n; ++s) {
     const Index t = shape_tris_[s];
     const auto& c = in.conn[t];
+    const Spheropolygon old = sp_[t];
     sp_[t] = make_spheropolygon(x[c[0]], x[c[1]], x[c[2]], in.rounding_radius[t]);
+    // The largest core-vertex displacement since the last step bounds how much any gap
+    // measured between this core and another can have shrunk (triangle inequality). At
+    // a build the motions restart from these shapes (some were not updated before).
+    if (!rebuilt) {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
+      motion_[t] += std::sqrt(d2);
+    }
     edge_scales_[t] = core_edge_scales(sp_[t].core);
     box_[t] = bounding_box(sp_[t]);
   }
@@ -126,20 +139,21 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
   return nt;
 }
 
-void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
-                                 const ContactParamTable& params, double dt,
-                                 ContactHistory::Cursor& cursor,
-                                 std::vector<ContactRecord>& out) const {
+double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
+                                   const ContactParamTable& params, double dt,
+                                   ContactHistory::Cursor& cursor,
+                                   std::vector<ContactRecord>& out) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
-  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo);
-  if (n == 0) return;
+  double clearance = 0.0;
+  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance);
+  if (n == 0) return clearance;
   const NodePositions x = in.positions();
   const auto& ci = in.conn[i];
   const auto& cj = in.conn[j];
   const ContactLawParams& p = params.get(in.group[i], in.group[j]);
   for (int k = 0; k < n; ++k) {
     const ContactGeometry& g = geo[k];
-    ContactRecord r;
+    ContactRecord& r = out.emplace_back();  // filled in place: no copy of the record
     r.key = {i, j, g.feature};
     r.kind = g.kind;
     r.other = g.other;
@@ -170,8 +184,8 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.elastic_energy = law.elastic_energy;
     r.friction_dissipation = law.friction_dissipation;
     r.damping_dissipation = law.damping_dissipation;
-    out.push_back(r);
   }
+  return 0.0;
 }
 
 ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {

@@ -99,18 +99,25 @@ CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const
 
 namespace {
 
-// All of q beyond p's edge k by more than `limit` along its outward unit normal n (p lies
-// on the inner side of the edge line, at or below p[k] . n): stops at q's first vertex
-// that is not, which is where most pairs that are not apart end.
-bool beyond_edge(const Vec2& n, const std::array<Vec2, 3>& p, int k, const std::array<Vec2, 3>& q, double limit) {
+// How far all of q lies beyond p's edge k, past `limit`, along its outward unit normal n
+// (p lies on the inner side of the edge line, at or below p[k] . n); 0 when some vertex
+// of q is not beyond, found at q's first such vertex (where most pairs not apart end).
+[[gnu::always_inline]] inline double beyond_edge(const Vec2& n, const std::array<Vec2, 3>& p, int k,
+                                                 const std::array<Vec2, 3>& q, double limit) {
   const double pk = p[k].dot(n);
-  return q[0].dot(n) - pk > limit && q[1].dot(n) - pk > limit && q[2].dot(n) - pk > limit;
+  const double d0 = q[0].dot(n) - pk;
+  if (!(d0 > limit)) return 0.0;
+  const double d1 = q[1].dot(n) - pk;
+  if (!(d1 > limit)) return 0.0;
+  const double d2 = q[2].dot(n) - pk;
+  if (!(d2 > limit)) return 0.0;
+  return std::min({d0, d1, d2}) - limit;
 }
 
 }  // namespace
 
-bool cores_apart(const Spheropolygon& a, const std::array<Vec2, 3>& na, const Spheropolygon& b,
-                 const std::array<Vec2, 3>& nb) {
+double cores_clearance(const Spheropolygon& a, const std::array<Vec2, 3>& na, const Spheropolygon& b,
+                       const std::array<Vec2, 3>& nb) {
   // The distance of two convex sets is at least their gap along any unit axis. The
   // computed vertex distances (and the edge line's position, p[k] or p[k+1]) err by a
   // few ulps of the coordinates: the margin covers that many times over, so a pair
@@ -119,10 +126,12 @@ bool cores_apart(const Spheropolygon& a, const std::array<Vec2, 3>& na, const Sp
   const double scale = std::abs(a.core[0].x()) + std::abs(a.core[0].y()) + std::abs(b.core[0].x()) + std::abs(b.core[0].y());
   const double limit = (a.r + b.r) * (1.0 + 1e-6) + 1e-12 * scale;
   for (int k = 0; k < 3; ++k) {
-    if (beyond_edge(na[k], a.core, k, b.core, limit)) return true;
-    if (beyond_edge(nb[k], b.core, k, a.core, limit)) return true;
+    const double ca = beyond_edge(na[k], a.core, k, b.core, limit);
+    if (ca > 0.0) return ca;
+    const double cb = beyond_edge(nb[k], b.core, k, a.core, limit);
+    if (cb > 0.0) return cb;
   }
-  return false;
+  return 0.0;
 }
 
 int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
@@ -191,10 +200,13 @@ int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygo
 }
 
 int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
-                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
+                 double* clearance) {
   const std::array<Vec2, 3> na{edge_normal(a.core, sa, 0), edge_normal(a.core, sa, 1), edge_normal(a.core, sa, 2)};
   const std::array<Vec2, 3> nb{edge_normal(b.core, sb, 0), edge_normal(b.core, sb, 1), edge_normal(b.core, sb, 2)};
-  if (cores_apart(a, na, b, nb)) return 0;
+  const double c = cores_clearance(a, na, b, nb);
+  if (clearance) *clearance = c;
+  if (c > 0.0) return 0;
   return contacts_of(a, expand(a.core, sa, na), b, expand(b.core, sb, nb), out);
 }
 

@@ -88,10 +88,13 @@ constexpr int kMaxContactsPerPair = 6;
 // narrow_phase() would find no contact. Most candidate pairs of a discrete mesh are
 // triangles meeting at a vertex that never touch (issue 7, Dr2 profile): this rejects
 // them with dot products instead of six closest-point queries.
-bool cores_apart(const Spheropolygon& a, const std::array<Vec2, 3>& a_normals, const Spheropolygon& b,
-                 const std::array<Vec2, 3>& b_normals);
+// cores_clearance() > 0 is that test, and says by how much more than the limit the cores
+// are apart along the first separating normal found: while the two cores' vertices move
+// less than that in all, the pair still has no contact (ContactForces skips it).
+double cores_clearance(const Spheropolygon& a, const std::array<Vec2, 3>& a_normals, const Spheropolygon& b,
+                       const std::array<Vec2, 3>& b_normals);
 inline bool cores_apart(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb) {
-  return cores_apart(a, ea.n_out, b, eb.n_out);
+  return cores_clearance(a, ea.n_out, b, eb.n_out) > 0.0;
 }
 
 // One contact between spheropolygons i and j.
@@ -117,8 +120,10 @@ int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
 int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
                  const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out);
 // Same, from the cached scales: the edge data are expanded only for pairs that
-// cores_apart() does not reject (the contact phase's per-pair call).
+// cores_apart() does not reject (the contact phase's per-pair call). clearance, if
+// given, receives cores_clearance() (0 when not apart).
 int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
-                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out);
+                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
+                 double* clearance = nullptr);
 
 }  // namespace dsdem::contact

@@ -47,9 +47,12 @@ struct Triangles {
   std::vector<double> area0;  // reference area, m^2
   std::vector<Vec3> stress;   // Cauchy stress (xx, yy, xy), Pa
   std::vector<Vec3> strain;   // Green-Lagrange strain (xx, yy, 2*xy engineering shear)
-  std::vector<Vec3> stress0;  // initial (in-situ) stress kept from an earlier stage, Pa
+  // Initial (in-situ) stress kept from an earlier stage, Pa; empty = zero everywhere (the
+  // usual case: 24 B per triangle saved, issue 7). Read it through initial_stress().
+  std::vector<Vec3> stress0;
 
   std::size_t size() const { return conn.size(); }
+  Vec3 initial_stress(std::size_t t) const { return stress0.empty() ? Vec3(Vec3::Zero()) : stress0[t]; }
   void resize(std::size_t n) {
     conn.resize(n, {kNoIndex, kNoIndex, kNoIndex});
     group.resize(n, kNoIndex);
@@ -59,7 +62,6 @@ struct Triangles {
     area0.resize(n, 0.0);
     stress.resize(n, Vec3::Zero());
     strain.resize(n, Vec3::Zero());
-    stress0.resize(n, Vec3::Zero());
   }
 };
 

@@ -288,12 +288,12 @@ void Solver::add_internal_and_joint_forces() {
       fem::TriangleInput in;
       for (int k = 0; k < 3; ++k) {
         in.x[k] = n.X[c[k]] + n.u[c[k]];
-        in.v[k] = n.v[c[k]];
+        if (element_damping) in.v[k] = n.v[c[k]];  // the kernel reads v only when beta > 0
       }
       in.Dm_inv = tri.Dm_inv[t];
       in.area0 = tri.area0[t];
       in.thickness = thickness;
-      in.S0 = tri.stress0[t];
+      in.S0 = tri.initial_stress(t);
       in.beta = beta;
       in.cauchy = !stress_on_demand_;
       fem::TriangleResponse r;
@@ -357,7 +357,7 @@ void Solver::update_stress() {
     in.Dm_inv = tri.Dm_inv[t];
     in.area0 = tri.area0[t];
     in.thickness = model_.thickness;
-    in.S0 = tri.stress0[t];
+    in.S0 = tri.initial_stress(t);
     fem::TriangleResponse r;
     std::array<Vec2, 3> no_damping;
     fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);

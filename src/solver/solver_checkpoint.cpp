@@ -5,6 +5,7 @@
 #include "solver/solver.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace dsdem::solver {
 
@@ -71,7 +72,8 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("nodes/damping_force_prev", vec2s(damped() ? damping_force_prev_ : zeros));
   out.put("triangles/stress", vec3s(tri.stress));
   out.put("triangles/strain", vec3s(tri.strain));
-  out.put("triangles/stress0", vec3s(tri.stress0));
+  // Initial stresses: zeros when the model holds none (the file layout stays the same).
+  out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
   // Joints: per end point dn_max, s_max, damage, dn, ds, sn, ss, ks_sec, mode.
   std::vector<double> js(J.size() * 2 * kJointStateWidth);
   std::vector<double> jd(J.size() * 6);
@@ -152,7 +154,15 @@ void Solver::restore(const io::CheckpointReader& in) {
   }
   read_vec3s(in, "triangles/stress", tri.stress);
   read_vec3s(in, "triangles/strain", tri.strain);
-  read_vec3s(in, "triangles/stress0", tri.stress0);
+  {
+    std::vector<Vec3> s0(tri.size(), Vec3::Zero());
+    read_vec3s(in, "triangles/stress0", s0);
+    // Anything but +0 (even -0) is kept, so the kernel sees exactly the saved values.
+    const bool any = std::any_of(s0.begin(), s0.end(), [](const Vec3& s) {
+      return std::signbit(s[0]) || std::signbit(s[1]) || std::signbit(s[2]) || s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0;
+    });
+    if (any || !tri.stress0.empty()) tri.stress0 = std::move(s0);
+  }
   const auto js = in.doubles("joints/state");
   const auto jd = in.doubles("joints/data");
   const auto modes = in.integers("joints/break_mode");
