@@ -78,7 +78,7 @@ void BM_TriangleInternalForce(benchmark::State& state) {
       }
       in.Dm_inv = tri.Dm_inv[t];
       in.area0 = tri.area0[t];
-      in.S0 = tri.stress0[t];
+      in.S0 = tri.initial_stress(t);
       in.beta = damping ? 1e-6 : 0.0;
       fem::TriangleResponse r;
       fem::triangle_internal_force(in, c, r, dforce[t]);

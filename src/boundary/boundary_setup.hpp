@@ -22,6 +22,7 @@ struct BoundaryNode {
   bool free_field = true;
   Vec2 static_force = Vec2::Zero();  // reaction of the previous stage's supports, kept as a load, N
   Vec2 u_ref = Vec2::Zero();         // displacement when the boundary was attached, m
+  Vec2 u_prev = Vec2::Zero();        // displacement before this step's drift, m (solver scratch, for the work)
 };
 
 // All nodes of the viscous-spring curve groups in `boundaries`. Throws io::ScenarioError

@@ -7,54 +7,56 @@
 
 namespace dsdem::contact {
 
-bool BroadPhase::needs_rebuild(std::span<const Vec2> x) const {
+bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
+                               bool parallel) const {
   if (builds_ == 0 || x.size() != n_nodes_) return true;
-  const double lim2 = 0.25 * skin_ * skin_;
-  for (std::size_t k = 0; k < tracked_.size(); ++k) {
-    if ((x[tracked_[k]] - x_build_[k]).squaredNorm() > lim2) return true;
-  }
-  return false;
+  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(tris_.size());
+  // pos(i) is x[i] or X[i] + u[i], chosen once for the loop rather than per node.
+  auto scan = [&](auto pos) {
+    int out = 0;  // a flag, so any thread count gives the same answer
+#pragma omp parallel for schedule(static) reduction(| : out) if (parallel && ns > 4096)
+    for (std::ptrdiff_t s = 0; s < ns; ++s) {
+      if (out) continue;
+      const auto& c = conn[tris_[s]];
+      const Aabb& b = boxes_[s];
+      for (int k = 0; k < 3; ++k) {
+        const Vec2 p = pos(c[k]);
+        if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) out = 1;
+      }
+    }
+    return out != 0;
+  };
+  if (x.u.empty()) return scan([&x](Index i) { return Vec2(x.x[i]); });
+  return scan([&x](Index i) { return Vec2(x.x[i] + x.u[i]); });
 }
 
-void BroadPhase::bin(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+void BroadPhase::bin(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
                      std::span<const std::uint8_t> active, double skin) {
   ++builds_;
   skin_ = skin;
   n_nodes_ = x.size();
   const double half = 0.5 * skin;
 
-  // Active triangles, their enlarged boxes, and the nodes to watch for the rebuild test.
+  // Active triangles and their enlarged boxes (also what the rebuild test checks).
   tris_.clear();
   boxes_.clear();
   reserve_with_headroom(tris_, conn.size());
   reserve_with_headroom(boxes_, conn.size());
-  reserve_with_headroom(mark_, x.size());
-  mark_.assign(x.size(), 0);
   Vec2 dlo = Vec2::Constant(std::numeric_limits<double>::infinity());
   Vec2 dhi = -dlo;
   double extent_sum = 0.0;
   for (std::size_t t = 0; t < conn.size(); ++t) {
     if (!active[t]) continue;
     const auto& c = conn[t];
+    const Vec2 p0 = x[c[0]], p1 = x[c[1]], p2 = x[c[2]];
     Aabb b;
-    b.lo = x[c[0]].cwiseMin(x[c[1]]).cwiseMin(x[c[2]]).array() - half;
-    b.hi = x[c[0]].cwiseMax(x[c[1]]).cwiseMax(x[c[2]]).array() + half;
+    b.lo = p0.cwiseMin(p1).cwiseMin(p2).array() - half;
+    b.hi = p0.cwiseMax(p1).cwiseMax(p2).array() + half;
     tris_.push_back(static_cast<Index>(t));
     boxes_.push_back(b);
-    mark_[c[0]] = mark_[c[1]] = mark_[c[2]] = 1;
     dlo = dlo.cwiseMin(b.lo);
     dhi = dhi.cwiseMax(b.hi);
     extent_sum += (b.hi - b.lo).maxCoeff();
-  }
-  tracked_.clear();
-  x_build_.clear();
-  reserve_with_headroom(tracked_, x.size());
-  reserve_with_headroom(x_build_, x.size());
-  for (std::size_t n = 0; n < x.size(); ++n) {
-    if (mark_[n]) {
-      tracked_.push_back(static_cast<Index>(n));
-      x_build_.push_back(x[n]);
-    }
   }
 
   const std::size_t ns = tris_.size();

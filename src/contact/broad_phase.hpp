@@ -2,9 +2,10 @@
 // Broad phase (DESIGN.md §4): candidate pairs of triangles whose bounding boxes,
 // enlarged by half the skin on every side, overlap. Uniform cell grid built by a
 // counting sort, O(N) time and memory; pairs in ascending (i, j), i < j. The list
-// stays valid until some node has moved more than half the skin since the build: then
-// every pair whose current triangles' boxes overlap is still in it, and since the
-// rounded shape lies inside its triangle, so is every contact.
+// stays valid while every active triangle's current box lies inside its enlarged box of
+// the build: then every pair whose current triangles' boxes overlap is still in it, and
+// since the rounded shape lies inside its triangle, so is every contact. (A node moving
+// less than half the skin always keeps that; the test needs no copy of the positions.)
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "contact/buffer.hpp"
+#include "contact/positions.hpp"
 #include "contact/spheropolygon.hpp"
 
 namespace dsdem::contact {
@@ -27,17 +29,19 @@ class BroadPhase {
   // node positions x. skip(i, j) -> true leaves the pair out (a callable inlined in
   // the pair loop; it must stay true until the next build, since the list is reused).
   template <class Skip>
-  void build(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+  void build(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
              std::span<const std::uint8_t> active, double skin, Skip&& skip);
 
-  void build(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+  void build(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
              std::span<const std::uint8_t> active, double skin) {
     build(x, conn, active, skin, [](Index, Index) { return false; });
   }
 
-  // True when some node of an active triangle has moved more than skin/2 since the
-  // last build (or there was none, or the node count changed).
-  bool needs_rebuild(std::span<const Vec2> x) const;
+  // True when some active triangle of the last build has a node outside its enlarged
+  // box of the build (or there was no build, or the node count changed). conn must be
+  // the connectivity of the build. parallel: OpenMP over the triangles of large sets.
+  bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
+                     bool parallel = false) const;
 
   std::span<const ContactPair> pairs() const { return pairs_; }
   double skin() const { return skin_; }
@@ -51,7 +55,7 @@ class BroadPhase {
 
  private:
   // Boxes, grid, cell lists (non-template part, in the .cpp).
-  void bin(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+  void bin(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
            std::span<const std::uint8_t> active, double skin);
   int cell_x(double v) const {
     return std::clamp(static_cast<int>((v - origin_.x()) * inv_h_), 0, nx_ - 1);
@@ -65,9 +69,6 @@ class BroadPhase {
   std::vector<Index> cell_start_;  // CSR over cells (nx*ny + 1)
   std::vector<Index> cell_items_;  // slots, ascending within a cell
   std::vector<Index> fill_;        // scratch: write cursor per cell
-  std::vector<std::uint8_t> mark_;  // scratch: node used by an active triangle
-  std::vector<Index> tracked_;     // nodes of active triangles
-  std::vector<Vec2> x_build_;      // their positions at the build
   std::vector<ContactPair> pairs_;
   Vec2 origin_ = Vec2::Zero();
   double cell_size_ = 1.0, inv_h_ = 1.0, skin_ = 0.0;
@@ -77,7 +78,7 @@ class BroadPhase {
 };
 
 template <class Skip>
-void BroadPhase::build(std::span<const Vec2> x, std::span<const std::array<Index, 3>> conn,
+void BroadPhase::build(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
                        std::span<const std::uint8_t> active, double skin, Skip&& skip) {
   bin(x, conn, active, skin);
   pairs_.clear();

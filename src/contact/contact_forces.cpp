@@ -54,6 +54,8 @@ void check_size(std::size_t got, std::size_t want, const char* what) {
 bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   const std::size_t nn = in.x.size();
   const std::size_t nt = in.conn.size();
+  const NodePositions x = in.positions();
+  if (!in.u.empty()) check_size(in.u.size(), nn, "u");
   check_size(n_forces, nn, "f");
   check_size(in.v.size(), nn, "v");
   check_size(in.mass.size(), nn, "mass");
@@ -70,7 +72,7 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
       for (std::size_t t = 0; t < nt; ++t) {
         if (!in.active[t]) continue;
         const auto& c = in.conn[t];
-        sum += incircle(in.x[c[0]], in.x[c[1]], in.x[c[2]]).radius;
+        sum += incircle(x[c[0]], x[c[1]], x[c[2]]).radius;
         ++n;
       }
       skin_ = n > 0 && sum > 0.0 ? 0.5 * sum / static_cast<double>(n) : 1.0;
@@ -78,14 +80,14 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   }
 
   bool rebuilt = false;
-  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(in.x)) {
+  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(x, in.conn, settings_.parallel)) {
     const auto conn = in.conn;
     const auto body = in.body;
     if (body.empty()) {
-      broad_.build(in.x, in.conn, in.active, skin_,
+      broad_.build(x, in.conn, in.active, skin_,
                    [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
     } else {
-      broad_.build(in.x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
+      broad_.build(x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
         return (body[i] >= 0 && body[i] == body[j]) || shares_node(conn[i], conn[j]);
       });
     }
@@ -98,18 +100,31 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
     if (shape_tris_.capacity() < nt) shape_tris_.reserve(nt);  // once: rebuilds happen in the time loop
     for (std::size_t t = 0; t < nt; ++t)
       if (in_pair_[t]) shape_tris_.push_back(static_cast<Index>(t));
+    // New pairs: every one checked at its first step; motions counted from the build.
+    reserve_with_headroom(skip_below_, broad_.pairs().size());
+    skip_below_.assign(broad_.pairs().size(), 0.0f);
+    motion_.assign(nt, 0.0);
   }
 
   sp_.resize(nt);
-  edges_.resize(nt);
+  edge_scales_.resize(nt);
   box_.resize(nt);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_tris_.size());
 #pragma omp parallel for schedule(static) if (settings_.parallel && n > 4096)
   for (std::ptrdiff_t s = 0; s < n; ++s) {
     const Index t = shape_tris_[s];
     const auto& c = in.conn[t];
-    sp_[t] = make_spheropolygon(in.x[c[0]], in.x[c[1]], in.x[c[2]], in.rounding_radius[t]);
-    edges_[t] = core_edges(sp_[t].core);
+    const Spheropolygon old = sp_[t];
+    sp_[t] = make_spheropolygon(x[c[0]], x[c[1]], x[c[2]], in.rounding_radius[t]);
+    // The largest core-vertex displacement since the last step bounds how much any gap
+    // measured between this core and another can have shrunk (triangle inequality). At
+    // a build the motions restart from these shapes (some were not updated before).
+    if (!rebuilt) {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
+      motion_[t] += std::sqrt(d2);
+    }
+    edge_scales_[t] = core_edge_scales(sp_[t].core);
     box_[t] = bounding_box(sp_[t]);
   }
   return rebuilt;
@@ -124,27 +139,29 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
   return nt;
 }
 
-void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
-                                 const ContactParamTable& params, double dt,
-                                 ContactHistory::Cursor& cursor,
-                                 std::vector<ContactRecord>& out) const {
+double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
+                                   const ContactParamTable& params, double dt,
+                                   ContactHistory::Cursor& cursor,
+                                   std::vector<ContactRecord>& out) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
-  const int n = narrow_phase(sp_[i], edges_[i], sp_[j], edges_[j], geo);
-  if (n == 0) return;
+  double clearance = 0.0;
+  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance);
+  if (n == 0) return clearance;
+  const NodePositions x = in.positions();
   const auto& ci = in.conn[i];
   const auto& cj = in.conn[j];
   const ContactLawParams& p = params.get(in.group[i], in.group[j]);
   for (int k = 0; k < n; ++k) {
     const ContactGeometry& g = geo[k];
-    ContactRecord r;
+    ContactRecord& r = out.emplace_back();  // filled in place: no copy of the record
     r.key = {i, j, g.feature};
     r.kind = g.kind;
     r.other = g.other;
     r.overlap = g.overlap;
     r.normal = g.normal;
     r.point = g.point;
-    r.Ni = barycentric(g.point, in.x[ci[0]], in.x[ci[1]], in.x[ci[2]]);
-    r.Nj = barycentric(g.point, in.x[cj[0]], in.x[cj[1]], in.x[cj[2]]);
+    r.Ni = barycentric(g.point, x[ci[0]], x[ci[1]], x[ci[2]]);
+    r.Nj = barycentric(g.point, x[cj[0]], x[cj[1]], x[cj[2]]);
     const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
     // Dashpot mass: the two triangles' masses (a contact softer than the elements moves
     // each element as a whole, so the set restitution holds for element impacts), capped
@@ -167,8 +184,8 @@ void ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.elastic_energy = law.elastic_energy;
     r.friction_dissipation = law.friction_dissipation;
     r.damping_dissipation = law.damping_dissipation;
-    out.push_back(r);
   }
+  return 0.0;
 }
 
 ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {

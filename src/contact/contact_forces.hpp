@@ -9,7 +9,9 @@
 // are added to the nodes serially in pair/feature order, so the result does not
 // depend on the thread count.
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -21,6 +23,7 @@
 #include "contact/contact_history.hpp"
 #include "contact/contact_law.hpp"
 #include "contact/narrow_phase.hpp"
+#include "contact/positions.hpp"
 #include "contact/spheropolygon.hpp"
 
 namespace dsdem::contact {
@@ -57,10 +60,10 @@ struct ContactSettings {
   bool parallel = true;
 };
 
-// The model arrays the contact phase reads (sizes: nodes for x, v, mass; triangles
-// for conn, active, rounding_radius, group).
+// The model arrays the contact phase reads (sizes: nodes for x, v, mass, u; triangles
+// for conn, active, rounding_radius, group, body).
 struct ContactInput {
-  std::span<const Vec2> x;       // current node positions, m
+  std::span<const Vec2> x;       // current node positions, m (reference positions when u is given)
   std::span<const Vec2> v;       // node velocities, m/s (the half-step ones in Verlet)
   std::span<const double> mass;  // lumped node masses, kg (per unit thickness)
   std::span<const std::array<Index, 3>> conn;
@@ -71,6 +74,9 @@ struct ContactInput {
   // (e.g. 0 for every zone-C triangle: one continuous mesh that cannot separate), and
   // such pairs are left out of the broad phase. Empty: only the shared-node rule.
   std::span<const Index> body = {};
+  // Optional node displacements, m: the current positions are then x + u (NodePositions).
+  std::span<const Vec2> u = {};
+  NodePositions positions() const { return {x, u}; }
 };
 
 // One contact of the last call.
@@ -96,6 +102,7 @@ struct ContactStepStats {
   Index active_contacts = 0;
   Index sliding_contacts = 0;
   Index candidate_pairs = 0;
+  Index skipped_pairs = 0;               // candidates whose cores were known to be apart (not examined)
   bool rebuilt = false;                  // the broad phase was rebuilt this call
   double elastic_energy = 0.0;           // stored in all contacts now, J/m
   double elastic_energy_increment = 0.0; // change since the previous call, J/m
@@ -110,8 +117,9 @@ class ContactForces {
   // Adds the contact forces to f (size = node count) and returns the step's counts
   // and energies. Pairs of triangles sharing a node (continuous mesh) or a body id
   // never interact. skip(i, j), i < j, is asked every step for every candidate pair
-  // whose rounded boxes overlap (so a joint that breaks lets its pair into contact at
-  // once); it must be cheap, thread-safe and must not throw. conn, active and body are
+  // whose rounded boxes overlap and whose cores are not known to be apart (so a joint
+  // that breaks lets its pair into contact at once); it must be cheap, thread-safe and
+  // must not throw. conn, active and body are
   // read when the broad phase is rebuilt: call invalidate() after changing them.
   template <class Skip>
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
@@ -163,10 +171,11 @@ class ContactForces {
   bool prepare(const ContactInput& in, std::size_t n_forces);
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
-  // Narrow phase + law of one pair whose rounded boxes overlap, appended to out.
-  void process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
-                    double dt, ContactHistory::Cursor& cursor,
-                    std::vector<ContactRecord>& out) const;
+  // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
+  // the cores' clearance (narrow_phase) when they are apart, else 0.
+  double process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
+                      double dt, ContactHistory::Cursor& cursor,
+                      std::vector<ContactRecord>& out) const;
   // Serial, in order: history, node forces, sums.
   ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
 
@@ -177,17 +186,32 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
-  std::vector<CoreEdges> edges_;  // of sp_[t].core
+  std::vector<CoreEdgeScales> edge_scales_;  // of sp_[t].core; expand() per pair (issue 7 memory)
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
   // Triangles in some candidate pair (ascending), set at each broad-phase build: only
   // their shapes are updated each step. A contact zone's interior (one body, no pairs)
   // is skipped: on Dr2 that was most of the 12 % the shapes took (issue 7 profile).
   std::vector<Index> shape_tris_;
   std::vector<std::uint8_t> in_pair_;  // scratch of the build: per triangle
+  // Pairs whose cores were found apart by some clearance are skipped until their cores
+  // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
+  // are vertex neighbours that never touch). motion_[t]: summed largest core-vertex
+  // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
+  // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
+  // the narrow phase would find without contact, so results do not change.
+  std::vector<double> motion_;
+  std::vector<float> skip_below_;
   std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;
 };
+
+// x as a float no larger than x (a skip threshold must not grow by the rounding).
+inline float below(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
 
 template <class Skip>
 ContactStepStats ContactForces::compute(const ContactInput& in, const ContactParamTable& params,
@@ -196,7 +220,8 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
   const std::span<const ContactPair> pairs = broad_.pairs();
   const std::size_t np = pairs.size();
   const int nt = begin_pairs(np);
-#pragma omp parallel num_threads(nt) if (nt > 1)
+  Index skipped = 0;
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
   {
     int t = 0, T = 1;
 #ifdef _OPENMP
@@ -212,13 +237,21 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
       if (!overlaps(box_[pr.i], box_[pr.j])) continue;  // cheap reject of the skin's extras
+      const double moved = motion_[pr.i] + motion_[pr.j];
+      if (moved < skip_below_[p]) {  // still apart (see skip_below_)
+        ++skipped;
+        continue;
+      }
       if (skip(pr.i, pr.j)) continue;
-      process_pair(pr.i, pr.j, in, params, dt, cursor, out);
+      const double clearance = process_pair(pr.i, pr.j, in, params, dt, cursor, out);
+      // Half the clearance: margin for the float and for the sums' rounding.
+      if (clearance > 0.0) skip_below_[p] = below(moved + 0.5 * clearance);
     }
   }
   ContactStepStats st = finish(in, f);
   st.rebuilt = rebuilt;
   st.candidate_pairs = static_cast<Index>(np);
+  st.skipped_pairs = skipped;
   return st;
 }
 

@@ -6,8 +6,8 @@
 
 namespace dsdem::contact {
 
-CoreEdges core_edges(const std::array<Vec2, 3>& core) {
-  CoreEdges ce;
+CoreEdgeScales core_edge_scales(const std::array<Vec2, 3>& core) {
+  CoreEdgeScales s;
   const double area2 = cross(core[1] - core[0], core[2] - core[0]);
   const double orient = area2 >= 0.0 ? 1.0 : -1.0;  // outward = right of the edge if CCW
   double max_len2 = 0.0;
@@ -15,15 +15,14 @@ CoreEdges core_edges(const std::array<Vec2, 3>& core) {
     const Vec2 e = core[(k + 1) % 3] - core[k];
     const double len2 = e.squaredNorm();
     max_len2 = std::max(max_len2, len2);
-    ce.e[k] = e;
-    ce.inv_len2[k] = len2 > 0.0 ? 1.0 / len2 : 0.0;
-    ce.n_out[k] = len2 > 0.0 ? Vec2((orient / std::sqrt(len2)) * Vec2(e.y(), -e.x())) : Vec2::Zero();
+    s.inv_len2[k] = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    s.n_scale[k] = len2 > 0.0 ? orient / std::sqrt(len2) : 0.0;
   }
-  ce.proper = std::abs(area2) > 1e-14 * max_len2;
-  ce.lo = core[0].cwiseMin(core[1]).cwiseMin(core[2]);
-  ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
-  return ce;
+  s.proper = std::abs(area2) > 1e-14 * max_len2;
+  return s;
 }
+
+CoreEdges core_edges(const std::array<Vec2, 3>& core) { return expand(core, core_edge_scales(core)); }
 
 CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
   CoreClosest c;
@@ -98,13 +97,53 @@ CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const
 
 }  // namespace
 
+namespace {
+
+// How far all of q lies beyond p's edge k, past `limit`, along its outward unit normal n
+// (p lies on the inner side of the edge line, at or below p[k] . n); 0 when some vertex
+// of q is not beyond, found at q's first such vertex (where most pairs not apart end).
+[[gnu::always_inline]] inline double beyond_edge(const Vec2& n, const std::array<Vec2, 3>& p, int k,
+                                                 const std::array<Vec2, 3>& q, double limit) {
+  const double pk = p[k].dot(n);
+  const double d0 = q[0].dot(n) - pk;
+  if (!(d0 > limit)) return 0.0;
+  const double d1 = q[1].dot(n) - pk;
+  if (!(d1 > limit)) return 0.0;
+  const double d2 = q[2].dot(n) - pk;
+  if (!(d2 > limit)) return 0.0;
+  return std::min({d0, d1, d2}) - limit;
+}
+
+}  // namespace
+
+double cores_clearance(const Spheropolygon& a, const std::array<Vec2, 3>& na, const Spheropolygon& b,
+                       const std::array<Vec2, 3>& nb) {
+  // The distance of two convex sets is at least their gap along any unit axis. The
+  // computed vertex distances (and the edge line's position, p[k] or p[k+1]) err by a
+  // few ulps of the coordinates: the margin covers that many times over, so a pair
+  // rejected here has no contact in narrow_phase(). A zero normal (zero-length edge)
+  // never rejects.
+  const double scale = std::abs(a.core[0].x()) + std::abs(a.core[0].y()) + std::abs(b.core[0].x()) + std::abs(b.core[0].y());
+  const double limit = (a.r + b.r) * (1.0 + 1e-6) + 1e-12 * scale;
+  for (int k = 0; k < 3; ++k) {
+    const double ca = beyond_edge(na[k], a.core, k, b.core, limit);
+    if (ca > 0.0) return ca;
+    const double cb = beyond_edge(nb[k], b.core, k, a.core, limit);
+    if (cb > 0.0) return cb;
+  }
+  return 0.0;
+}
+
 int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
                  std::array<ContactGeometry, kMaxContactsPerPair>& out) {
   return narrow_phase(a, core_edges(a.core), b, core_edges(b.core), out);
 }
 
-int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
-                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+namespace {
+
+// narrow_phase() after the cores_apart() rejection.
+int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
+                std::array<ContactGeometry, kMaxContactsPerPair>& out) {
   const double rsum = a.r + b.r;
   std::array<CoreClosest, 3> ca, cb;  // vertex of a on core of b, vertex of b on core of a
   for (int v = 0; v < 3; ++v) {
@@ -150,6 +189,25 @@ int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygo
     g.point = c.point + (0.5 * (c.distance + a.r - b.r)) * c.normal;
   }
   return n;
+}
+
+}  // namespace
+
+int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
+                 const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+  if (cores_apart(a, ea, b, eb)) return 0;
+  return contacts_of(a, ea, b, eb, out);
+}
+
+int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
+                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
+                 double* clearance) {
+  const std::array<Vec2, 3> na{edge_normal(a.core, sa, 0), edge_normal(a.core, sa, 1), edge_normal(a.core, sa, 2)};
+  const std::array<Vec2, 3> nb{edge_normal(b.core, sb, 0), edge_normal(b.core, sb, 1), edge_normal(b.core, sb, 2)};
+  const double c = cores_clearance(a, na, b, nb);
+  if (clearance) *clearance = c;
+  if (c > 0.0) return 0;
+  return contacts_of(a, expand(a.core, sa, na), b, expand(b.core, sb, nb), out);
 }
 
 }  // namespace dsdem::contact

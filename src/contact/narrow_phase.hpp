@@ -41,6 +41,38 @@ struct CoreEdges {
 };
 CoreEdges core_edges(const std::array<Vec2, 3>& core);
 
+// What core_edges computes with a square root or a division, kept per triangle between
+// the shape update and the pair loop (56 B instead of CoreEdges' 160, issue 7 memory):
+// expand() redoes the rest (edge vectors, normals from the scales, box) with the same
+// operations, so expand(core, core_edge_scales(core)) equals core_edges(core) bit for bit.
+struct CoreEdgeScales {
+  std::array<double, 3> inv_len2;  // as CoreEdges::inv_len2
+  std::array<double, 3> n_scale;   // n_out[k] = n_scale[k] * (e.y, -e.x); 0 for a zero-length edge
+  bool proper = false;
+};
+CoreEdgeScales core_edge_scales(const std::array<Vec2, 3>& core);
+// Unit outward edge normal k, as CoreEdges::n_out[k].
+inline Vec2 edge_normal(const std::array<Vec2, 3>& core, const CoreEdgeScales& s, int k) {
+  const Vec2 e = core[(k + 1) % 3] - core[k];
+  return s.inv_len2[k] > 0.0 ? Vec2(s.n_scale[k] * Vec2(e.y(), -e.x())) : Vec2(Vec2::Zero());
+}
+// The normals when already computed (edge_normal of each edge).
+inline CoreEdges expand(const std::array<Vec2, 3>& core, const CoreEdgeScales& s, const std::array<Vec2, 3>& normals) {
+  CoreEdges ce;
+  for (int k = 0; k < 3; ++k) {
+    ce.e[k] = core[(k + 1) % 3] - core[k];
+    ce.inv_len2[k] = s.inv_len2[k];
+    ce.n_out[k] = normals[k];
+  }
+  ce.proper = s.proper;
+  ce.lo = core[0].cwiseMin(core[1]).cwiseMin(core[2]);
+  ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
+  return ce;
+}
+inline CoreEdges expand(const std::array<Vec2, 3>& core, const CoreEdgeScales& s) {
+  return expand(core, s, {edge_normal(core, s, 0), edge_normal(core, s, 1), edge_normal(core, s, 2)});
+}
+
 // Closest point on the core (either orientation) to p. Outside the core it is the
 // nearest point of the three edges; inside (deep penetration) it is the foot on the
 // nearest edge with the outward normal, so the contact pushes p out, not through.
@@ -50,6 +82,20 @@ inline CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& cor
 }
 
 constexpr int kMaxContactsPerPair = 6;
+
+// True when an edge normal of either core separates the two cores by more than
+// a.r + b.r (plus a margin far above rounding), so the rounded shapes cannot touch and
+// narrow_phase() would find no contact. Most candidate pairs of a discrete mesh are
+// triangles meeting at a vertex that never touch (issue 7, Dr2 profile): this rejects
+// them with dot products instead of six closest-point queries.
+// cores_clearance() > 0 is that test, and says by how much more than the limit the cores
+// are apart along the first separating normal found: while the two cores' vertices move
+// less than that in all, the pair still has no contact (ContactForces skips it).
+double cores_clearance(const Spheropolygon& a, const std::array<Vec2, 3>& a_normals, const Spheropolygon& b,
+                       const std::array<Vec2, 3>& b_normals);
+inline bool cores_apart(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb) {
+  return cores_clearance(a, ea.n_out, b, eb.n_out) > 0.0;
+}
 
 // One contact between spheropolygons i and j.
 struct ContactGeometry {
@@ -73,5 +119,11 @@ int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
 // Same, with the cores' edge data computed beforehand (once per triangle and step).
 int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b,
                  const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out);
+// Same, from the cached scales: the edge data are expanded only for pairs that
+// cores_apart() does not reject (the contact phase's per-pair call). clearance, if
+// given, receives cores_clearance() (0 when not apart).
+int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
+                 const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
+                 double* clearance = nullptr);
 
 }  // namespace dsdem::contact

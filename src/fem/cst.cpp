@@ -62,7 +62,7 @@ void triangle_internal_force(const TriangleInput& in, const ElasticConstants& c,
   const double scale = in.area0 * in.thickness;
   nodal_forces(F * to_tensor(S), in.Dm_inv, scale, out.force);
   out.green = E;
-  out.cauchy = cauchy_from_pk2(F, S);
+  if (in.cauchy) out.cauchy = cauchy_from_pk2(F, S);
   const Vec3 DE = svk_stress(E, c);
   out.strain_energy = scale * (in.S0.dot(E) + 0.5 * (DE[0] * E[0] + DE[1] * E[1] + DE[2] * E[2]));
 

@@ -50,6 +50,7 @@ struct TriangleInput {
   double thickness = 1.0;  // m
   Vec3 S0 = Vec3::Zero();  // initial stress, kept from an earlier stage (PK2 in reference frame)
   double beta = 0.0;       // Rayleigh stiffness coefficient, s
+  bool cauchy = true;      // false: out.cauchy is left as it was (a solver that needs it only for output)
 };
 void triangle_internal_force(const TriangleInput& in, const ElasticConstants& c,
                              TriangleResponse& out, std::array<Vec2, 3>& damping_force);

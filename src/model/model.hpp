@@ -15,9 +15,6 @@ namespace dsdem {
 // whose surface takes part in contact.
 enum class Zone : std::uint8_t { Discrete = 0, Bedrock = 1, ContactBedrock = 2 };
 
-// Per-node fixity bits.
-enum : std::uint8_t { kFixX = 1, kFixY = 2 };
-
 struct Nodes {
   std::vector<Vec2> X;    // reference position, m
   std::vector<Vec2> u;    // displacement, m (current position x = X + u)
@@ -25,9 +22,8 @@ struct Nodes {
   std::vector<Vec2> a;    // acceleration, m/s^2
   std::vector<Vec2> f;    // total force this step, N (per unit thickness in plane strain)
   std::vector<double> m;  // lumped mass, kg
-  std::vector<std::uint8_t> fix;   // kFixX | kFixY: velocity prescribed in that direction
-  std::vector<Vec2> v_prescribed;  // prescribed velocity where fixed, m/s
   std::vector<Index> origin;       // the mesh node this node was split from (joint insertion)
+  // Prescribed motions are solver::PrescribedDof lists (per stage), not per-node arrays.
 
   std::size_t size() const { return X.size(); }
   void resize(std::size_t n) {
@@ -37,8 +33,6 @@ struct Nodes {
     a.resize(n, Vec2::Zero());
     f.resize(n, Vec2::Zero());
     m.resize(n, 0.0);
-    fix.resize(n, 0);
-    v_prescribed.resize(n, Vec2::Zero());
     origin.resize(n, kNoIndex);
   }
   Vec2 x(Index i) const { return X[i] + u[i]; }
@@ -53,9 +47,12 @@ struct Triangles {
   std::vector<double> area0;  // reference area, m^2
   std::vector<Vec3> stress;   // Cauchy stress (xx, yy, xy), Pa
   std::vector<Vec3> strain;   // Green-Lagrange strain (xx, yy, 2*xy engineering shear)
-  std::vector<Vec3> stress0;  // initial (in-situ) stress kept from an earlier stage, Pa
+  // Initial (in-situ) stress kept from an earlier stage, Pa; empty = zero everywhere (the
+  // usual case: 24 B per triangle saved, issue 7). Read it through initial_stress().
+  std::vector<Vec3> stress0;
 
   std::size_t size() const { return conn.size(); }
+  Vec3 initial_stress(std::size_t t) const { return stress0.empty() ? Vec3(Vec3::Zero()) : stress0[t]; }
   void resize(std::size_t n) {
     conn.resize(n, {kNoIndex, kNoIndex, kNoIndex});
     group.resize(n, kNoIndex);
@@ -65,7 +62,6 @@ struct Triangles {
     area0.resize(n, 0.0);
     stress.resize(n, Vec3::Zero());
     strain.resize(n, Vec3::Zero());
-    stress0.resize(n, Vec3::Zero());
   }
 };
 

@@ -18,6 +18,7 @@ struct PrescribedDof {
   double u_start = 0.0;    // displacement at the start of the stage (displacement histories are relative)
   double t_start = 0.0;    // stage start time: histories run on stage time
   double reaction_prev = 0.0;  // reaction force at the previous step, N (for the work it does)
+  double u_prev = 0.0;         // the dof's displacement before this step's drift, m (solver scratch)
 };
 
 // Later conditions in the list override earlier ones on shared nodes; "free" releases.

@@ -201,15 +201,15 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
 std::size_t estimate_memory_bytes(const PreparedRun& run) {
   const Model& m = run.model;
   // Per entity, from the data structures (model + solver scratch + output buffers):
-  //   node: Nodes (X u v a f v_prescribed: 6 Vec2, m, fix, origin) ~ 120 B, solver
-  //         (damping forces x2, u_prev, contact positions, incidence) ~ 90 B, VTU frame ~ 100 B;
+  //   node: Nodes (X u v a f: 5 Vec2, m, origin) ~ 92 B, solver (incidence; damping forces
+  //         x2 and u_prev in a damped stage) ~ 60 B, VTU frame ~ 100 B;
   //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0, 3 Vec3 tensors) ~ 150 B,
-  //         solver (element forces x2, energy, det F, incidence, joints) ~ 150 B, contact
-  //         shape and broad-phase entries ~ 250 B, VTU frame ~ 250 B;
+  //         solver (element forces, energy, incidence, joints; damping forces when beta > 0)
+  //         ~ 130 B, contact shape and broad-phase entries ~ 220 B, VTU frame ~ 250 B;
   //   joint: Joints (4 nodes, 2 triangles, state, damage, lengths, tractions) ~ 250 B,
   //         crack output ~ 100 B.
   // Plus ~60 MB for the program and its libraries (VTK, Gmsh, HDF5).
-  constexpr std::size_t kNode = 310, kTriangle = 800, kJoint = 350, kBase = 60u << 20;
+  constexpr std::size_t kNode = 260, kTriangle = 750, kJoint = 350, kBase = 60u << 20;
   std::size_t bytes = kBase + m.nodes.size() * kNode + m.triangles.size() * kTriangle + m.joints.size() * kJoint;
   for (const auto& rec : {run.quake_horizontal, run.quake_vertical})
     if (rec) bytes += rec->a.size() * 3 * sizeof(double);
@@ -492,6 +492,9 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
             prepared.stable.dt, prepared.stable.controlled_by);
 
   Solver solver(model);
+  // Stress and strain are needed by the field frames and the checkpoint only: computed
+  // there (write_fields, save_checkpoint) instead of every step.
+  solver.set_stress_on_demand(true);
   const bool plane_strain = !model.plane_stress;
   const std::string energy_unit = plane_strain ? "J_per_m" : "J";
 
@@ -599,6 +602,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   };
   auto write_fields = [&] {
     if (!options.write_fields) return;
+    solver.update_stress();  // on demand (see below)
     const fs::path file = fields.frame_path(fields.size());
     io::VtuOptions vo;
     vo.time_s = solver.time();
@@ -653,6 +657,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   // The history on disk must hold exactly the rows written so far: a resumed run keeps
   // that many rows and appends after them.
   auto save_checkpoint = [&] {
+    solver.update_stress();
     history.flush();
     state.time = solver.time();
     state.history_rows = history.rows_written();

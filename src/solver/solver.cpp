@@ -85,14 +85,9 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
 #ifdef _OPENMP
   auto_parallel_ = parallel_ && omp_get_max_threads() > 1;
 #endif
-  const std::size_t ne = model_.triangles.size(), nn = model_.nodes.size();
+  const std::size_t ne = model_.triangles.size();
   element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
-  element_damping_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   element_strain_energy_.assign(ne, 0.0);
-  element_detF_.assign(ne, 1.0);
-  damping_force_.assign(nn, Vec2::Zero());
-  damping_force_prev_.assign(nn, Vec2::Zero());
-  u_prev_.assign(nn, Vec2::Zero());
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
   build_node_incidence();
   build_joint_incidence();
@@ -104,7 +99,6 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
     contact_ = std::make_unique<contact::ContactForces>(cs);
     contact_params_.set_default(model_.contact.defaults);
     for (const auto& p : model_.contact.pairs) contact_params_.set(p.group_a, p.group_b, p.props);
-    positions_.assign(nn, Vec2::Zero());
     triangle_joints_.assign(ne, {kNoIndex, kNoIndex, kNoIndex});
     const auto& J = model_.joints;
     for (std::size_t j = 0; j < J.size(); ++j)
@@ -144,8 +138,34 @@ void Solver::build_joint_incidence() {
 
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
+void Solver::set_settings(const StepSettings& s) {
+  settings_ = s;
+  if (s.alpha > 0.0 || s.beta > 0.0) allocate_damping_buffers();
+  // The element buffer only feeds this step's gather: it can go as soon as beta is 0.
+  if (!(s.beta > 0.0)) std::vector<std::array<Vec2, 3>>().swap(element_damping_force_);
+}
+
+void Solver::allocate_damping_buffers() {
+  const std::size_t nn = model_.nodes.size();
+  if (damping_force_.empty()) {
+    damping_force_.assign(nn, Vec2::Zero());
+    damping_force_prev_.assign(nn, Vec2::Zero());
+    u_prev_.assign(nn, Vec2::Zero());
+  }
+  if (settings_.beta > 0.0 && element_damping_force_.empty())
+    element_damping_force_.assign(model_.triangles.size(), {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+}
+
+void Solver::release_damping_buffers_if_unused() {
+  // After an undamped step the previous damping forces are all +0, so the damping-work
+  // term 0.5 (f_prev + f) . du is +0 at every node and leaves the energy ledger unchanged.
+  if (settings_.alpha > 0.0 || settings_.beta > 0.0 || !damped()) return;
+  std::vector<Vec2>().swap(damping_force_);
+  std::vector<Vec2>().swap(damping_force_prev_);
+  std::vector<Vec2>().swap(u_prev_);
+}
+
 void Solver::initialise() {
-  if (contact_) update_positions();
   clear_forces();
   add_gravity();
   add_internal_and_joint_forces();
@@ -156,7 +176,7 @@ void Solver::initialise() {
   auto& n = model_.nodes;
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
-  damping_force_prev_ = damping_force_;
+  if (damped()) damping_force_prev_ = damping_force_;
   update_energy();
   energy_.initial_total = energy_.mechanical() + energy_.dissipated() - energy_.external_work;
 }
@@ -201,43 +221,41 @@ void Solver::kick_and_drift() {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
   const Vec2 g = settings_.gravity;
-  const bool contact = contact_ != nullptr;
-  // One node loop (one parallel region) for the kick, the drift, clearing the forces,
-  // gravity and the contact positions: each parallel region is a fork and a join, and
-  // on a loaded machine every join waits for the slowest thread (issue 7).
+  const bool damped = this->damped();
+  // The displacements before the drift that the work of the supports and of the
+  // viscous boundary needs (a few nodes; the damping work needs all, then in u_prev_).
+  for (auto& d : constraints_) d.u_prev = n.u[d.node][d.dir];
+  for (auto& bn : boundary_) bn.u_prev = n.u[bn.node];
+  // One node loop (one parallel region) for the kick, the drift, clearing the forces
+  // and gravity: each parallel region is a fork and a join, and on a loaded machine
+  // every join waits for the slowest thread (issue 7).
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     n.v[i] += 0.5 * dt * n.a[i];
-    u_prev_[i] = n.u[i];
+    if (damped) {
+      u_prev_[i] = n.u[i];
+      damping_force_[i].setZero();
+    }
     n.u[i] += dt * n.v[i];
     n.f[i] = n.m[i] * g;
-    damping_force_[i].setZero();
-    if (contact) positions_[i] = n.X[i] + n.u[i];
   }
   // Prescribed velocities, and the drift of those nodes redone with them (the same
   // expression u_prev + dt v as above, so bit-identical to prescribing before the drift).
   const double t_half = time_ + 0.5 * dt;
   for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
-  for (const auto& d : constraints_) n.u[d.node][d.dir] = u_prev_[d.node][d.dir] + dt * n.v[d.node][d.dir];
+  for (const auto& d : constraints_) n.u[d.node][d.dir] = d.u_prev + dt * n.v[d.node][d.dir];
   time_ += dt;
   for (const auto& d : constraints_)
     if (d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(time_ - d.t_start);
-  if (contact)
-    for (const auto& d : constraints_) positions_[d.node] = n.X[d.node] + n.u[d.node];
-}
-
-void Solver::update_positions() {
-  auto& n = model_.nodes;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) positions_[i] = n.X[i] + n.u[i];
 }
 
 void Solver::clear_forces() {
   auto& n = model_.nodes;
+  const bool damped = this->damped();
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     n.f[i].setZero();
-    damping_force_[i].setZero();
+    if (damped) damping_force_[i].setZero();
   }
 }
 
@@ -255,6 +273,8 @@ void Solver::add_internal_and_joint_forces() {
   const double beta = settings_.beta;
   const double thickness = model_.thickness;
   const bool joints = J.size() > 0;
+  const bool damped = this->damped();
+  const bool element_damping = !element_damping_force_.empty();  // beta > 0
   const std::ptrdiff_t ne = ssize(tri.size()), nn = ssize(n.size());
   int inverted = 0;
   Index broken_now = 0;
@@ -268,21 +288,25 @@ void Solver::add_internal_and_joint_forces() {
       fem::TriangleInput in;
       for (int k = 0; k < 3; ++k) {
         in.x[k] = n.X[c[k]] + n.u[c[k]];
-        in.v[k] = n.v[c[k]];
+        if (element_damping) in.v[k] = n.v[c[k]];  // the kernel reads v only when beta > 0
       }
       in.Dm_inv = tri.Dm_inv[t];
       in.area0 = tri.area0[t];
       in.thickness = thickness;
-      in.S0 = tri.stress0[t];
+      in.S0 = tri.initial_stress(t);
       in.beta = beta;
+      in.cauchy = !stress_on_demand_;
       fem::TriangleResponse r;
-      fem::triangle_internal_force(in, elastic_[tri.material[t]], r, element_damping_force_[t]);
+      std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
+      fem::triangle_internal_force(in, elastic_[tri.material[t]], r,
+                                   element_damping ? element_damping_force_[t] : no_damping);
       element_force_[t] = r.force;
-      tri.stress[t] = r.cauchy;
-      tri.strain[t] = r.green;
+      if (!stress_on_demand_) {
+        tri.stress[t] = r.cauchy;
+        tri.strain[t] = r.green;
+      }
       element_strain_energy_[t] = r.strain_energy;
-      element_detF_[t] = r.detF;
-      // check_stability() scans the elements only when this flag is set.
+      // check_stability() finds the element when this flag is set.
       if (!(r.detF > 0.0)) inverted = 1;
     }
     if (joints)
@@ -297,15 +321,16 @@ void Solver::add_internal_and_joint_forces() {
 #pragma omp for schedule(static)
     for (std::ptrdiff_t i = 0; i < nn; ++i) {
       Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
+      // Without beta fd stays +0, the sum of the kernel's zeros it replaces (bit-identical).
       for (Index k = incidence_offset_[i]; k < incidence_offset_[i + 1]; ++k) {
         const Index e = incidence_entry_[k];
         f += ef[e];
-        fd += edf[e];
+        if (edf) fd += edf[e];
       }
       Vec2 fj = Vec2::Zero();
       for (Index k = joint_incidence_offset_[i]; k < joint_incidence_offset_[i + 1]; ++k) fj += jf[joint_incidence_entry_[k]];
       n.f[i] += f + fd + fj;
-      damping_force_[i] += fd;
+      if (damped) damping_force_[i] += fd;
     }
   }
   inverted_ = inverted != 0;
@@ -316,6 +341,28 @@ void Solver::add_internal_and_joint_forces() {
     energy_.joint_elastic = sums[0];
     energy_.fracture_dissipated += sums[1];
     broken_joints_ += broken_now;
+  }
+}
+
+void Solver::update_stress() {
+  auto& n = model_.nodes;
+  auto& tri = model_.triangles;
+  // The element loop's kernel on the same inputs (positions unchanged since the step):
+  // the same stress and strain bits. Damping does not enter the Cauchy stress.
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::ptrdiff_t t = 0; t < ssize(tri.size()); ++t) {
+    const auto& c = tri.conn[t];
+    fem::TriangleInput in;
+    for (int k = 0; k < 3; ++k) in.x[k] = n.X[c[k]] + n.u[c[k]];
+    in.Dm_inv = tri.Dm_inv[t];
+    in.area0 = tri.area0[t];
+    in.thickness = model_.thickness;
+    in.S0 = tri.initial_stress(t);
+    fem::TriangleResponse r;
+    std::array<Vec2, 3> no_damping;
+    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);
+    tri.stress[t] = r.cauchy;
+    tri.strain[t] = r.green;
   }
 }
 
@@ -330,10 +377,10 @@ bool Solver::bonded(Index i, Index j) const {
 
 void Solver::add_contact_forces() {
   if (!contact_) return;
-  auto& n = model_.nodes;  // positions_ were updated by kick_and_drift (or initialise)
+  auto& n = model_.nodes;
   const ContactSetup& cs = model_.contact;
-  const contact::ContactInput in{positions_, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
-                                 model_.triangles.group, cs.body};
+  const contact::ContactInput in{n.X, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
+                                 model_.triangles.group, cs.body, n.u};
   contact_stats_ = contact_->compute(in, contact_params_, settings_.dt,
                                      [this](Index i, Index j) { return bonded(i, j); }, n.f);
   energy_.contact_elastic = contact_stats_.elastic_energy;
@@ -378,7 +425,7 @@ void Solver::add_boundary_forces() {
     }
     n.f[i] += F;
     // Everything the boundary does (springs, dashpots, input) is booked as external work.
-    work += 0.5 * (boundary_force_prev_[k] + F).dot(n.u[i] - u_prev_[i]);
+    work += 0.5 * (boundary_force_prev_[k] + F).dot(n.u[i] - bn.u_prev);
     boundary_force_prev_[k] = F;
   }
   energy_.external_work += work;
@@ -402,7 +449,7 @@ void Solver::apply_constraints() {
     // The reaction makes the node follow its prescribed acceleration.
     const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.f[d.node][d.dir];
     n.f[d.node][d.dir] += reaction;
-    energy_.external_work += 0.5 * (d.reaction_prev + reaction) * (n.u[d.node][d.dir] - u_prev_[d.node][d.dir]);
+    energy_.external_work += 0.5 * (d.reaction_prev + reaction) * (n.u[d.node][d.dir] - d.u_prev);
     d.reaction_prev = reaction;
   }
 }
@@ -421,21 +468,35 @@ void Solver::finish_velocities() {
 void Solver::update_energy() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
-  // The three node sums in one pass (one parallel region), fixed chunks: deterministic.
-  const auto node_sums = deterministic_sums<3>(
-      n.size(),
-      [&](std::size_t i) {
-        return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
-                                     0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
-      },
-      reduction_scratch_, parallel_);
-  energy_.kinetic = node_sums[0];
-  energy_.gravity_potential = node_sums[1];
-  energy_.damping_dissipated -= node_sums[2];
+  // The node sums in one pass (one parallel region), fixed chunks: deterministic. Each
+  // sum is accumulated on its own, so leaving the damping work out changes no other sum;
+  // undamped, its terms would all be +0 and the sum +0.
+  if (damped()) {
+    const auto node_sums = deterministic_sums<3>(
+        n.size(),
+        [&](std::size_t i) {
+          return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
+                                       0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
+        },
+        reduction_scratch_, parallel_);
+    energy_.kinetic = node_sums[0];
+    energy_.gravity_potential = node_sums[1];
+    energy_.damping_dissipated -= node_sums[2];
+  } else {
+    const auto node_sums = deterministic_sums<2>(
+        n.size(),
+        [&](std::size_t i) {
+          return std::array<double, 2>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i])};
+        },
+        reduction_scratch_, parallel_);
+    energy_.kinetic = node_sums[0];
+    energy_.gravity_potential = node_sums[1];
+  }
   energy_.strain = deterministic_sums<1>(
       element_strain_energy_.size(), [&](std::size_t t) { return std::array<double, 1>{element_strain_energy_[t]}; },
       reduction_scratch_, parallel_)[0];
   std::swap(damping_force_prev_, damping_force_);
+  release_damping_buffers_if_unused();
 }
 
 Vec2 Solver::reaction_on(const std::vector<Index>& nodes) const {
@@ -457,15 +518,17 @@ void Solver::check_stability() {
     throw InstabilityError(fmt::format("non-finite energy at step {}, t = {:.6g} s", step_ + 1, time_), "non_finite",
                            kNoIndex, Vec2::Zero(), step_ + 1, time_);
   }
-  if (inverted_) {  // the element loop saw a det F <= 0: find and name it
+  if (inverted_) {  // the element loop saw a det F <= 0: find it (same det F as the kernel's) and name it
     for (std::size_t t = 0; t < tri.size(); ++t) {
-      if (!(element_detF_[t] > 0.0)) {
-        const auto& c = tri.conn[t];
+      const auto& c = tri.conn[t];
+      const double detF = fem::deformation_gradient(n.X[c[0]] + n.u[c[0]], n.X[c[1]] + n.u[c[1]], n.X[c[2]] + n.u[c[2]],
+                                                    tri.Dm_inv[t]).determinant();
+      if (!(detF > 0.0)) {
         const Vec2 p = (n.x(c[0]) + n.x(c[1]) + n.x(c[2])) / 3.0;
         throw InstabilityError(
             fmt::format("inverted element {} (det F = {:.3g}) at ({:.6g}, {:.6g}) m, step {}, t = {:.6g} s: the time "
                         "step is too large or the element is crushed",
-                        t, element_detF_[t], p.x(), p.y(), step_ + 1, time_),
+                        t, detF, p.x(), p.y(), step_ + 1, time_),
             "inverted_element", static_cast<Index>(t), p, step_ + 1, time_);
       }
     }

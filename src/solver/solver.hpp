@@ -52,7 +52,9 @@ class Solver {
  public:
   explicit Solver(Model& model);
 
-  void set_settings(const StepSettings& s) { settings_ = s; }
+  // Sizes the Rayleigh-damping buffers when alpha or beta > 0 (a stage start, not in the
+  // time loop); an undamped run never holds them (issue 7, memory per element).
+  void set_settings(const StepSettings& s);
   const StepSettings& settings() const { return settings_; }
   // Replaces the prescribed motions (a new stage); keeps the state.
   void set_constraints(std::vector<PrescribedDof> dofs);
@@ -100,6 +102,11 @@ class Solver {
     use_parallel(on);
   }
   bool parallel() const { return parallel_; }
+  // Triangles' stress and strain are output only: with on_demand the step leaves them
+  // (the Cauchy stress is 3 % of a Dr2 step, issue 7) and update_stress() computes them,
+  // for the current state, the same as a step would have. Off by default.
+  void set_stress_on_demand(bool on) { stress_on_demand_ = on; }
+  void update_stress();
   // Large models on more than one thread choose between OpenMP and one thread by
   // timing both now and then (kProbeSteps steps each, every kProbeInterval steps), and
   // keep the faster: on a machine shared with other busy processes the threads of a
@@ -110,8 +117,7 @@ class Solver {
 
  private:
   // Phases of one step, in order.
-  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions, contact positions
-  void update_positions();        // contact positions X + u (kick_and_drift does it in a step)
+  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions
   void clear_forces();
   void add_gravity();
   // Triangles, objective CST (DESIGN.md §2), and cohesive joints, breaking for good
@@ -125,6 +131,12 @@ class Solver {
   void finish_velocities();       // a(n+1) = f/m, v(n+1)
   void update_energy();
   void check_stability();
+
+  // Damping buffers held: set_settings allocates them for a damped stage; update_energy
+  // frees them after the first undamped step (its previous damping forces are then zero).
+  bool damped() const { return !damping_force_.empty(); }
+  void allocate_damping_buffers();
+  void release_damping_buffers_if_unused();
 
   void use_parallel(bool on) {
     parallel_ = on;
@@ -150,11 +162,11 @@ class Solver {
   int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
   double created_prev_ = 0.0;    // energy created (not put in) at the previous step
 
-  // Contact: driver, pair parameters, current positions (contiguous), joints per triangle.
+  // Contact: driver, pair parameters, joints per triangle. The contact phase reads the
+  // positions as X + u (no copy of them: 16 B per node, issue 7).
   std::unique_ptr<contact::ContactForces> contact_;
   contact::ContactParamTable contact_params_;
   contact::ContactStepStats contact_stats_;
-  std::vector<Vec2> positions_;
   std::vector<std::array<Index, 3>> triangle_joints_;
 
   // Viscous-spring boundary and earthquake.
@@ -164,17 +176,20 @@ class Solver {
   double quake_start_ = 0.0;
 
   // Per-element scratch (no allocation in the loop): nodal forces before the gather.
+  // The stiffness-damping forces only while beta > 0 (else empty).
   std::vector<std::array<Vec2, 3>> element_force_;
   std::vector<std::array<Vec2, 3>> element_damping_force_;
   std::vector<double> element_strain_energy_;
-  std::vector<double> element_detF_;
-  bool inverted_ = false;  // some element had det F <= 0 in the last element loop
+  bool inverted_ = false;  // some element had det F <= 0 in the last element loop (check_stability finds it)
+  bool stress_on_demand_ = false;
   // Joints: per-joint forces before the gather, node -> (joint * 4 + k) incidence (CSR).
   JointPhaseBuffers joint_buf_;
   std::vector<Index> joint_incidence_offset_, joint_incidence_entry_;
   // Node -> (element * 3 + local) incidence, CSR, for a deterministic parallel gather.
   std::vector<Index> incidence_offset_, incidence_entry_;
-  // Non-conservative nodal forces of the previous and current step (trapezoidal work).
+  // Damping forces of the previous and current step and the displacement before the
+  // drift (trapezoidal work of the damping), per node; empty when undamped (see damped()).
+  // Constrained and boundary nodes keep their own u_prev (PrescribedDof, BoundaryNode).
   std::vector<Vec2> damping_force_, damping_force_prev_;
   std::vector<Vec2> u_prev_;
   std::vector<double> reduction_scratch_;

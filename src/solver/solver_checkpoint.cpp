@@ -4,6 +4,9 @@
 
 #include "solver/solver.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace dsdem::solver {
 
 namespace {
@@ -62,11 +65,15 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("nodes/u", vec2s(n.u));
   out.put("nodes/v", vec2s(n.v));
   out.put("nodes/a", vec2s(n.a));
-  out.put("nodes/u_prev", vec2s(u_prev_));
-  out.put("nodes/damping_force_prev", vec2s(damping_force_prev_));
+  // Undamped, the solver holds no per-node damping buffers: the file keeps its layout
+  // with zeros (u_prev is rewritten by the next step's drift before any use).
+  const std::vector<Vec2> zeros(damped() ? 0 : n.size(), Vec2::Zero());
+  out.put("nodes/u_prev", vec2s(damped() ? u_prev_ : zeros));
+  out.put("nodes/damping_force_prev", vec2s(damped() ? damping_force_prev_ : zeros));
   out.put("triangles/stress", vec3s(tri.stress));
   out.put("triangles/strain", vec3s(tri.strain));
-  out.put("triangles/stress0", vec3s(tri.stress0));
+  // Initial stresses: zeros when the model holds none (the file layout stays the same).
+  out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
   // Joints: per end point dn_max, s_max, damage, dn, ds, sn, ss, ks_sec, mode.
   std::vector<double> js(J.size() * 2 * kJointStateWidth);
   std::vector<double> jd(J.size() * 6);
@@ -132,11 +139,30 @@ void Solver::restore(const io::CheckpointReader& in) {
   read_vec2s(in, "nodes/u", n.u);
   read_vec2s(in, "nodes/v", n.v);
   read_vec2s(in, "nodes/a", n.a);
-  read_vec2s(in, "nodes/u_prev", u_prev_);
-  read_vec2s(in, "nodes/damping_force_prev", damping_force_prev_);
+  {
+    // The previous step's damping forces matter (the damping work of the next step) when
+    // any is non-zero: then the buffers are needed even if this stage is undamped.
+    std::vector<Vec2> u_prev(n.size()), df_prev(n.size());
+    read_vec2s(in, "nodes/u_prev", u_prev);
+    read_vec2s(in, "nodes/damping_force_prev", df_prev);
+    const bool any = std::any_of(df_prev.begin(), df_prev.end(), [](const Vec2& f) { return f.x() != 0.0 || f.y() != 0.0; });
+    if (any) allocate_damping_buffers();
+    if (damped()) {
+      u_prev_ = std::move(u_prev);
+      damping_force_prev_ = std::move(df_prev);
+    }
+  }
   read_vec3s(in, "triangles/stress", tri.stress);
   read_vec3s(in, "triangles/strain", tri.strain);
-  read_vec3s(in, "triangles/stress0", tri.stress0);
+  {
+    std::vector<Vec3> s0(tri.size(), Vec3::Zero());
+    read_vec3s(in, "triangles/stress0", s0);
+    // Anything but +0 (even -0) is kept, so the kernel sees exactly the saved values.
+    const bool any = std::any_of(s0.begin(), s0.end(), [](const Vec3& s) {
+      return std::signbit(s[0]) || std::signbit(s[1]) || std::signbit(s[2]) || s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0;
+    });
+    if (any || !tri.stress0.empty()) tri.stress0 = std::move(s0);
+  }
   const auto js = in.doubles("joints/state");
   const auto jd = in.doubles("joints/data");
   const auto modes = in.integers("joints/break_mode");

@@ -105,7 +105,7 @@ TEST(BroadPhase, StillCompleteAfterMovesBelowHalfTheSkin) {
     const double skin = 0.08;
     BroadPhase bp;
     bp.build(s.x, s.conn, s.active, skin);
-    ASSERT_FALSE(bp.needs_rebuild(s.x));
+    ASSERT_FALSE(bp.needs_rebuild(s.x, s.conn));
     const std::vector<Vec2> x_build = s.x;
     // Every node moves up to 0.499 skin in a random direction.
     std::mt19937 rng(seed + 100);
@@ -114,7 +114,7 @@ TEST(BroadPhase, StillCompleteAfterMovesBelowHalfTheSkin) {
       const double a = 2.0 * kPi * u(rng);
       p += 0.499 * skin * std::sqrt(u(rng)) * Vec2(std::cos(a), std::sin(a));
     }
-    ASSERT_FALSE(bp.needs_rebuild(s.x));
+    ASSERT_FALSE(bp.needs_rebuild(s.x, s.conn));
     const auto have = listed(bp);
     // Every pair whose current triangle boxes overlap, and every real contact of the
     // rounded shapes, is in the list built before the move.
@@ -140,10 +140,39 @@ TEST(BroadPhase, StillCompleteAfterMovesBelowHalfTheSkin) {
           EXPECT_TRUE(std::binary_search(have.begin(), have.end(), std::make_pair(i, j)));
         }
     EXPECT_GT(contacts, 100u);
-    // One node a little further than half the skin from where it was at the build.
-    s.x[17] = x_build[17] + Vec2(0.0, 0.501 * skin);
-    EXPECT_TRUE(bp.needs_rebuild(s.x));
+    // A node a little further than half the skin above its triangle's highest node of
+    // the build leaves the triangle's enlarged box: the list may be incomplete.
+    const auto& c = s.conn[17];
+    const double top = std::max({x_build[c[0]].y(), x_build[c[1]].y(), x_build[c[2]].y()});
+    s.x[c[0]] = Vec2(x_build[c[0]].x(), top + 0.501 * skin);
+    EXPECT_TRUE(bp.needs_rebuild(s.x, s.conn));
   }
+}
+
+TEST(BroadPhase, NoRebuildWhileEveryTriangleStaysInItsEnlargedBox) {
+  // A whole triangle sliding 0.49 skin along x, and a node moving inside its triangle's
+  // box by more than half the skin (a node that is not the box's extreme), keep the list.
+  Soup s;
+  s.x = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(3, 0), Vec2(4, 0), Vec2(3, 1)};
+  s.conn = {{0, 1, 2}, {3, 4, 5}};
+  s.active = {1, 1};
+  const double skin = 0.2;
+  BroadPhase bp;
+  bp.build(s.x, s.conn, s.active, skin);
+  EXPECT_FALSE(bp.needs_rebuild(s.x, s.conn));
+  for (int k = 0; k < 3; ++k) s.x[k].x() += 0.49 * skin;
+  EXPECT_FALSE(bp.needs_rebuild(s.x, s.conn));
+  s.x[5] = Vec2(3.8, 0.5);  // 0.94 m from where it was, still inside [2.9, 4.1] x [-0.1, 1.1]
+  EXPECT_FALSE(bp.needs_rebuild(s.x, s.conn));
+  s.x[5] = Vec2(4.11, 0.5);  // out of the box
+  EXPECT_TRUE(bp.needs_rebuild(s.x, s.conn));
+  // Displacements given separately: the same test on X + u.
+  std::vector<Vec2> X = s.x, u(s.x.size(), Vec2::Zero());
+  X[5] = Vec2(3.0, 1.0);
+  u[5] = Vec2(1.11, -0.5);
+  EXPECT_TRUE(bp.needs_rebuild(NodePositions(X, u), s.conn));
+  u[5] = Vec2(0.8, -0.5);
+  EXPECT_FALSE(bp.needs_rebuild(NodePositions(X, u), s.conn));
 }
 
 TEST(BroadPhase, SparseAndElongatedSetsKeepTheGridLinear) {
@@ -182,7 +211,7 @@ TEST(BroadPhase, RebuildAllocatesNothingOnceWarm) {
   for (Vec2& p : s.x) p *= 1.001;  // a slightly different configuration, same size
   dsdem::test::AllocationScope scope;
   bp.build(s.x, s.conn, s.active, 0.05);
-  const bool rebuild = bp.needs_rebuild(s.x);
+  const bool rebuild = bp.needs_rebuild(s.x, s.conn);
   EXPECT_EQ(scope.count(), 0);
   EXPECT_FALSE(rebuild);
   EXPECT_NEAR(static_cast<double>(bp.pairs().size()), static_cast<double>(n0), 0.05 * n0);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -233,4 +234,77 @@ TEST(NarrowPhase, SwappingTheBodiesGivesTheSameContactsReversed) {
     }
   }
   EXPECT_GT(total, 500);  // the trials did produce contacts
+}
+
+TEST(CoreEdgeScales, ExpandGivesTheDirectEdgeDataBitForBit) {
+  // The per-triangle cache keeps only inv_len2, the normal scales and the proper flag;
+  // expand() must rebuild exactly what the direct formulas give (the contact results
+  // depend on every bit). Random cores of both orientations, plus degenerate ones.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> d(-2.0, 2.0);
+  std::vector<std::array<Vec2, 3>> cores;
+  for (int k = 0; k < 2000; ++k) cores.push_back({Vec2(d(rng), d(rng)), Vec2(d(rng), d(rng)), Vec2(d(rng), d(rng))});
+  cores.push_back({Vec2(1, 1), Vec2(1, 1), Vec2(1, 1)});  // collapsed to a point
+  cores.push_back({Vec2(0, 0), Vec2(1, 0), Vec2(1, 0)});  // a zero-length edge
+  cores.push_back({Vec2(0, 0), Vec2(1, 1), Vec2(2, 2)});  // collinear
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (const auto& c : cores) {
+    const CoreEdges ce = expand(c, core_edge_scales(c));
+    const double area2 = cross(c[1] - c[0], c[2] - c[0]);
+    const double orient = area2 >= 0.0 ? 1.0 : -1.0;
+    double max_len2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 e = c[(k + 1) % 3] - c[k];
+      const double len2 = e.squaredNorm();
+      max_len2 = std::max(max_len2, len2);
+      const Vec2 n = len2 > 0.0 ? Vec2((orient / std::sqrt(len2)) * Vec2(e.y(), -e.x())) : Vec2::Zero();
+      EXPECT_TRUE(same(ce.e[k].x(), e.x()) && same(ce.e[k].y(), e.y()));
+      EXPECT_TRUE(same(ce.inv_len2[k], len2 > 0.0 ? 1.0 / len2 : 0.0));
+      EXPECT_TRUE(same(ce.n_out[k].x(), n.x()) && same(ce.n_out[k].y(), n.y()));
+    }
+    EXPECT_EQ(ce.proper, std::abs(area2) > 1e-14 * max_len2);
+    const Vec2 lo = c[0].cwiseMin(c[1]).cwiseMin(c[2]), hi = c[0].cwiseMax(c[1]).cwiseMax(c[2]);
+    EXPECT_TRUE(same(ce.lo.x(), lo.x()) && same(ce.lo.y(), lo.y()) && same(ce.hi.x(), hi.x()) && same(ce.hi.y(), hi.y()));
+  }
+}
+
+TEST(CoresApart, RejectsOnlyPairsWithoutContactAndFindsVertexNeighbours) {
+  // Random pairs around a shared point (as the vertex neighbours of a discrete mesh) and
+  // random overlapping pairs: a rejected pair has every vertex-to-core distance above
+  // r_a + r_b, and the scales overload gives exactly the CoreEdges overload's contacts.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> ang(0.0, 2.0 * kPi), len(0.5, 2.0), off(-0.3, 0.3);
+  auto same = [](const ContactGeometry& p, const ContactGeometry& q) {
+    return p.feature == q.feature && p.kind == q.kind && p.other == q.other && p.t == q.t && p.distance == q.distance &&
+           p.overlap == q.overlap && p.normal == q.normal && p.point == q.point;
+  };
+  int apart = 0, touching = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Vec2 P(1000.0 + off(rng), 500.0 + off(rng));  // away from the origin, as real coordinates
+    auto tri = [&](double a0, double span) {
+      const double a1 = a0 + span;
+      const Vec2 p1 = P + len(rng) * Vec2(std::cos(a0), std::sin(a0)), p2 = P + len(rng) * Vec2(std::cos(a1), std::sin(a1));
+      return make_spheropolygon(P, p1, p2, rounding_radius(P, p1, p2));
+    };
+    const double a0 = ang(rng);
+    Spheropolygon a = tri(a0, 0.3 + 0.9 * len(rng) / 2.0);
+    Spheropolygon b = tri(a0 + 0.2 + 4.0 * len(rng) / 2.0, 0.3 + 0.9 * len(rng) / 2.0);
+    if (k % 4 == 0) b = tri(a0 + 0.2 * off(rng), 0.8);  // overlapping the first
+    const CoreEdges ea = core_edges(a.core), eb = core_edges(b.core);
+    if (cores_apart(a, ea, b, eb)) {
+      ++apart;
+      for (int v = 0; v < 3; ++v) {
+        EXPECT_GT(closest_on_core(a.core[v], b.core, eb).distance, a.r + b.r);
+        EXPECT_GT(closest_on_core(b.core[v], a.core, ea).distance, a.r + b.r);
+      }
+    }
+    Out o1, o2;
+    const int n1 = narrow_phase(a, ea, b, eb, o1);
+    const int n2 = narrow_phase(a, core_edge_scales(a.core), b, core_edge_scales(b.core), o2);
+    ASSERT_EQ(n1, n2);
+    for (int c = 0; c < n1; ++c) EXPECT_TRUE(same(o1[c], o2[c]));
+    touching += n1 > 0 ? 1 : 0;
+  }
+  EXPECT_GT(apart, 1000);    // most vertex neighbours are rejected cheaply
+  EXPECT_GT(touching, 500);  // and the overlapping ones still give contacts
 }
