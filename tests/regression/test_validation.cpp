@@ -93,6 +93,7 @@ std::vector<std::pair<double, fs::path>> read_pvd(const fs::path& out, const std
 // One frame of the triangles: reference centroids, areas, stress, zone, fragment.
 struct Frame {
   std::vector<std::array<double, 2>> centroid0;
+  std::vector<std::array<std::array<double, 2>, 3>> vertex0;  // reference vertices
   std::vector<double> area0;
   std::vector<std::array<double, 3>> stress;
   std::vector<int> zone, fragment;
@@ -122,6 +123,7 @@ Frame read_frame(const fs::path& file) {
       X[k] = {p[0] - d[0], p[1] - d[1]};
     }
     f.centroid0.push_back({(X[0][0] + X[1][0] + X[2][0]) / 3, (X[0][1] + X[1][1] + X[2][1]) / 3});
+    f.vertex0.push_back(X);
     f.area0.push_back(0.5 * std::abs((X[1][0] - X[0][0]) * (X[2][1] - X[0][1]) - (X[1][1] - X[0][1]) * (X[2][0] - X[0][0])));
     double t[3];
     s->GetTuple(c, t);
@@ -143,24 +145,46 @@ std::vector<double> pieces(const Frame& f) {
   return a;
 }
 
-// Point-load elastic solution of the disc (Hondros with alpha -> 0), / sigma_0 = 2P/(pi D t).
-std::array<double, 2> point_load(double rho, bool loaded_diameter) {
-  const double r2 = rho * rho;
-  if (loaded_diameter) return {1.0, -(3 + r2) / (1 - r2)};
-  return {std::pow((1 - r2) / (1 + r2), 2), -(1 - r2) * (3 + r2) / std::pow(1 + r2, 2)};
+// Point-load elastic solution of the disc (Hondros with alpha -> 0) at (x, y), disc
+// centre at the origin, loads at (0, +-R) (Timoshenko & Goodier): (sigma_xx, sigma_yy) /
+// sigma_0, sigma_0 = 2P/(pi D t). On the diameters: loaded (x = 0) sigma_xx = 1,
+// sigma_yy = -(3 + rho^2)/(1 - rho^2); unloaded (y = 0) sigma_xx = ((1 - rho^2)/(1 + rho^2))^2,
+// sigma_yy = -(1 - rho^2)(3 + rho^2)/(1 + rho^2)^2.
+std::array<double, 2> point_load(double x, double y, double R) {
+  const double r1 = x * x + (R - y) * (R - y), r2 = x * x + (R + y) * (R + y);
+  return {1 - 2 * R * (x * x * (R - y) / (r1 * r1) + x * x * (R + y) / (r2 * r2)),
+          1 - 2 * R * (std::pow(R - y, 3) / (r1 * r1) + std::pow(R + y, 3) / (r2 * r2))};
 }
 
-// Area-weighted mean stress of the discrete triangles within radius of a point.
-std::array<double, 3> mean_stress(const Frame& f, double x, double y, double radius) {
-  std::array<double, 3> s{0, 0, 0};
+// Band mean around a point, like with like (scripts/validate_brazilian.py): the
+// area-weighted mean of the constant stresses of the discrete triangles whose centroid
+// lies within radius of (x, y), and the same weighted mean of the analytic stress
+// averaged over each of those triangles (edge-midpoint rule). A CST field's band mean is
+// compared with the analytic field's band mean, not with its value at the point (which
+// would count the curvature of the field across the band as an error).
+struct BandMean {
+  std::array<double, 2> num{0, 0}, analytic{0, 0};  // (sigma_xx, sigma_yy), analytic / sigma_0
+};
+BandMean band_mean(const Frame& f, double x, double y, double radius, double R) {
+  BandMean b;
   double w = 0;
   for (std::size_t t = 0; t < f.zone.size(); ++t) {
     if (f.zone[t] != 0 || std::hypot(f.centroid0[t][0] - x, f.centroid0[t][1] - y) > radius) continue;
-    for (int k = 0; k < 3; ++k) s[k] += f.area0[t] * f.stress[t][k];
+    const auto& v = f.vertex0[t];
+    for (int k = 0; k < 2; ++k) b.num[k] += f.area0[t] * f.stress[t][k];
+    for (int e = 0; e < 3; ++e) {
+      const auto& p = v[e];
+      const auto& q = v[(e + 1) % 3];
+      const auto a = point_load(0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), R);
+      for (int k = 0; k < 2; ++k) b.analytic[k] += f.area0[t] * a[k] / 3;
+    }
     w += f.area0[t];
   }
-  for (auto& v : s) v = w > 0 ? v / w : std::nan("");
-  return s;
+  for (int k = 0; k < 2; ++k) {
+    b.num[k] = w > 0 ? b.num[k] / w : std::nan("");
+    b.analytic[k] = w > 0 ? b.analytic[k] / w : std::nan("");
+  }
+  return b;
 }
 
 double interp(const std::vector<double>& x, const std::vector<double>& y, double xi) {
@@ -206,10 +230,11 @@ TEST(Validation, BrazilianDiscCoarse) {
   const double P_peak = P[ipk];
   const double sigma_t = P_peak / scale;
 
-  // Golden (this variant): peak 0.8026 MN/m, sigma_t = 2.555 MPa (+2.2 %). Tolerance
+  // Golden (this variant, penalty joints kn = 10 E / h_local): peak 0.8074 MN/m,
+  // sigma_t = 2.570 MPa (+2.8 %; +2.2 % with the former disc-wide mean h). Tolerance
   // 1 %: mesh and loading are fixed, the number moves only with the physics. The
   // acceptance of the full case, |sigma_t - ft| <= 3 % ft, holds here too.
-  EXPECT_NEAR(P_peak, 802618.0, 0.01 * 802618.0) << "sigma_t = " << sigma_t;
+  EXPECT_NEAR(P_peak, 807411.0, 0.01 * 807411.0) << "sigma_t = " << sigma_t;
   EXPECT_LE(std::abs(sigma_t - ft), 0.03 * ft) << "sigma_t = " << sigma_t;
 
   // Crack: the first joints break near the loaded diameter, away from the plates, and
@@ -236,16 +261,18 @@ TEST(Validation, BrazilianDiscCoarse) {
   };
   const double t_through = through_time(0.1);
   ASSERT_FALSE(std::isnan(t_through)) << "no crack through the disc within 0.1 R of the loaded diameter";
-  EXPECT_NEAR(t_through, 0.00339, 1e-4);
+  EXPECT_NEAR(t_through, 0.00332, 1e-4);  // golden 3.32 ms (3.39 ms with the mean h)
   // Split: the load has dropped (the halves stay pressed between the plates through
   // the crushed wedges under them, which keep carrying some load).
   EXPECT_LT(P.back(), 0.6 * P_peak);
 
   // Stresses before cracking (frame nearest half the peak load): within 5 % of the
   // point-load solution for |r| <= 0.3 R on both diameters (error relative to
-  // max(|analytic|, sigma_0), stresses averaged over 8 mm around each point); the
-  // coarse mesh does not resolve the gradients nearer the plates, the example's mesh
-  // does (docs/validation.md).
+  // max(|analytic|, sigma_0); band means over 8 mm around each point, the analytic
+  // field averaged over the same triangles: like with like, as the acceptance script
+  // does; comparing the band mean with the point value instead adds up to 1.2 points,
+  // 5.4 % instead of 4.2 % at p = 10). The coarse mesh does not resolve the gradients
+  // nearer the plates (docs/validation.md).
   const auto frames = read_pvd(out, "fields");
   ASSERT_GT(frames.size(), 5u);
   std::size_t best = 0;
@@ -261,13 +288,13 @@ TEST(Validation, BrazilianDiscCoarse) {
   for (int diameter = 0; diameter < 2; ++diameter)
     for (double rho = -0.3; rho <= 0.3 + 1e-9; rho += 0.1) {
       const double x = diameter == 0 ? 0.0 : rho * R, y = diameter == 0 ? rho * R : 0.0;
-      const auto s = mean_stress(f, x, y, 0.008);
-      const auto a = point_load(rho, diameter == 0);
+      const BandMean b = band_mean(f, x, y, 0.008, R);
       for (int k = 0; k < 2; ++k) {
-        const double err = std::abs(s[k] / sigma0 - a[k]) / std::max(std::abs(a[k]), 1.0);
+        const double num = b.num[k] / sigma0, a = b.analytic[k];
+        const double err = std::abs(num - a) / std::max(std::abs(a), 1.0);
         worst = std::max(worst, err);
         EXPECT_LT(err, 0.05) << (diameter == 0 ? "loaded" : "unloaded") << " diameter, rho = " << rho
-                             << (k == 0 ? ", sigma_xx" : ", sigma_yy") << ": " << s[k] / sigma0 << " vs " << a[k];
+                             << (k == 0 ? ", sigma_xx" : ", sigma_yy") << ": " << num << " vs " << a;
       }
     }
   RecordProperty("stress_max_error", std::to_string(worst));
@@ -300,9 +327,10 @@ TEST(Validation, ImpactBeamCoarse) {
   auto h = read_history(out / "history.csv");
   const auto& uy = h["midspan_displacement_y_m"];
   // The mid-span piece is carried down by the impactor: the largest deflection is the
-  // last one (golden 48.3 mm, 10 %).
+  // last one (golden 51.3 mm, 10 %; 48.3 mm with the former disc-wide mean element size
+  // in the penalty rule, now kn = 10 E / h_local).
   const double max_defl = -*std::min_element(uy.begin(), uy.end());
-  EXPECT_NEAR(max_defl, 0.0483, 0.1 * 0.0483);
+  EXPECT_NEAR(max_defl, 0.0513, 0.1 * 0.0513);
 
   // First crack, apart from the crushing under the heads: bottom face, under the
   // impactor, at t = 0.44 ms.
@@ -323,14 +351,15 @@ TEST(Validation, ImpactBeamCoarse) {
   }
   EXPECT_TRUE(left && right);
 
-  // Pieces of at least 1 % of the beam at the end: 7 on this mesh (5 in the example).
+  // Pieces of at least 1 % of the beam at the end: 8 on this mesh with kn = 10 E / h_local
+  // (7 with the former mean h; 5 in the example).
   const auto frames = read_pvd(out, "fields");
   const Frame last = read_frame(frames.back().second);
   const auto a = pieces(last);
   const double beam_area = std::accumulate(a.begin(), a.end(), 0.0);
   int n = 0;
   for (double v : a) n += v >= 0.01 * beam_area ? 1 : 0;
-  EXPECT_NEAR(n, 7, 1);
+  EXPECT_NEAR(n, 8, 1);
   const std::string summary = read_text(out / "summary.json");
   EXPECT_LT(json_number(summary, "energy_balance_error"), 0.02);
   fs::remove_all(out);
