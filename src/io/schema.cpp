@@ -130,9 +130,9 @@ std::vector<KeySpec> build_schema() {
   s.push_back(of("joints.curves", KeyType::Map, "", "Per curve overrides, by curve group name."));
   for (const auto& [prefix, doc] : joint_sets) {
     s.push_back(of(prefix, KeyType::Map, "", doc));
-    s.push_back(num(prefix + ".kn", "Pa/m", "p*E/h", 0, kInf, "Normal stiffness (default: penalty p*E/h, logged).", true));
+    s.push_back(num(prefix + ".kn", "Pa/m", "p*E/h", 0, kInf, "Normal stiffness (default: penalty p*E/h with h the local element size, logged).", true));
     s.push_back(num(prefix + ".ks", "Pa/m", "kn", 0, kInf, "Shear stiffness (default: kn).", true));
-    s.push_back(num(prefix + ".penalty", "", "10", 0, kInf, "p in the penalty rule kn = p*E/h when kn is absent.", true));
+    s.push_back(num(prefix + ".penalty", "", "10", 0, kInf, "p in the penalty rule kn = p*E/h when kn is absent; h is each joint's local element size (mean sqrt(2A) of its two triangles).", true));
     s.push_back(num(prefix + ".ft", "Pa", prefix == "joints.default" ? "required" : "", 0, kInf, "Tensile strength.", true));
     s.push_back(num(prefix + ".c", "Pa", prefix == "joints.default" ? "required" : "", 0, kInf, "Cohesion.", true));
     s.push_back(num(prefix + ".phi", "deg", prefix == "joints.default" ? "required" : "", 0, 90, "Friction angle.", false, true));

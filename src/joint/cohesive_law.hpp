@@ -60,8 +60,12 @@ struct JointLawConstants {
   double wt = 0.0;       // ft / kn: opening at the tensile strength (eq. 6)
   double wn = 0.0;       // 2 GI / ft: mode I softening length (area = GI)
   double tiny = 0.0;     // 1e-12 (c + ft): division guard for inadmissible properties
+  bool scale_ks = false;  // ks follows a joint's stiffness_scale (penalty ks, not given)
 };
 JointLawConstants law_constants(const JointProperties& p);
+// The constants of one joint whose stiffness is s times its property's (local penalty
+// size, DESIGN.md §3): kn (and ks when scale_ks) times s, wt = ft / kn again.
+JointLawConstants scaled(const JointLawConstants& k, double s);
 
 // dn: opening (m, > 0 opens), ds: slip (m), p: properties (validate() must pass),
 // old: history from the previous evaluation. With damage_enabled = false (gravity
@@ -84,6 +88,34 @@ inline CohesiveResponse cohesive_law(double dn, double ds, const JointLawConstan
   const double tan_phi = p.tan_phi;
   const double wt = p.wt;  // opening at the tensile strength (eq. 6)
   const double wn = p.wn;  // mode I softening length: area = GI
+
+  // Fast path, most joints most of the time: an undamaged point whose largest opening
+  // and slip stay inside the elastic limits wt and ws = fs/ks. There the law is linear
+  // (sn = kn dn, ss = ks ds, eqs. 6-7) and stores all its work (dissipation 0): the
+  // general branch below gives the same values up to rounding, through six divisions.
+  if (old.damage == 0.0) {
+    const double dn_max = damage_enabled ? std::max(old.dn_max, dn) : old.dn_max;
+    const double s_max = damage_enabled ? std::max(old.s_max, s) : old.s_max;
+    const double sn = p.kn * dn;
+    const double fs = std::max(p.c - std::min(sn, p.ft) * tan_phi, p.tiny);  // eq. 8
+    if (dn_max <= wt && s_max * p.ks <= fs) {
+      r.sn = sn;
+      r.ss = p.ks * ds;
+      r.energy = 0.5 * (sn * dn + r.ss * ds);
+      st.dn_max = dn_max;
+      st.s_max = s_max;
+      st.dn = dn;
+      st.ds = ds;
+      st.sn = r.sn;
+      st.ss = r.ss;
+      st.ks_sec = p.ks;
+      r.state = st;
+      r.fs = fs;
+      r.ws = fs / p.ks;
+      r.wsII = 2.0 * p.GII / std::max(fs - std::max(-sn, 0.0) * tan_phi, p.tiny);
+      return r;
+    }
+  }
   if (damage_enabled) {
     st.dn_max = std::max(old.dn_max, dn);
     st.s_max = std::max(old.s_max, s);

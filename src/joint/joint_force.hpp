@@ -65,8 +65,9 @@ JointForceResult joint_force(const JointNodePositions& x, double length0,
                              bool damage_enabled = true);
 
 // Spring stiffness (N/m per unit thickness) that one end point of the joint puts
-// between its two nodes: max(kn, ks) * L0/2.
-double joint_end_stiffness(const JointProperties& p, double length0);
+// between its two nodes: max(kn, ks) * L0/2, with kn (and ks unless given) times the
+// joint's stiffness_scale.
+double joint_end_stiffness(const JointProperties& p, double length0, double stiffness_scale = 1.0);
 
 // Critical time step of two masses joined by a spring k: 2*sqrt(m/k) with m the
 // reduced mass m_a*m_b/(m_a + m_b) (exact for that two-body system). The solver

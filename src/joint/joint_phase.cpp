@@ -6,8 +6,7 @@ namespace {
 
 // One intact joint: its forces (times thickness), energy and dissipation; breaks it
 // when it fails. Returns true when it broke now.
-template <class Law>
-inline bool joint_step(const Nodes& nodes, Joints& joints, const Law& law, std::size_t j, double time,
+inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<JointLawConstants>& law, std::size_t j, double time,
                        bool damage_enabled, double thickness,
                        std::array<Vec2, 4>& f, double& energy, double& dissipation) {
   const auto& nd = joints.nodes[j];
@@ -15,8 +14,11 @@ inline bool joint_step(const Nodes& nodes, Joints& joints, const Law& law, std::
   // Separations from displacements: the two faces coincide in the reference.
   const JointSeparations delta{(nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
                                (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
-  const JointForceResult r =
-      joint_force(x, delta, joints.length0[j], law[joints.property[j]], joints.state[j], damage_enabled);
+  // A penalty joint's stiffness follows its local element size (DESIGN.md §3).
+  const JointLawConstants& k = law[joints.property[j]];
+  const double s = joints.stiffness_scale[j];
+  const JointForceResult r = s == 1.0 ? joint_force(x, delta, joints.length0[j], k, joints.state[j], damage_enabled)
+                                      : joint_force(x, delta, joints.length0[j], scaled(k, s), joints.state[j], damage_enabled);
   joints.state[j] = r.state;
   joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
   joints.dissipated[j] += thickness * r.dissipation;
@@ -45,11 +47,13 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
                                   bool damage_enabled, double thickness) {
   JointPhaseTotals tot;
+  std::vector<JointLawConstants> law(properties.size());
+  for (std::size_t k = 0; k < properties.size(); ++k) law[k] = law_constants(properties[k]);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
     std::array<Vec2, 4> f;
     double energy = 0.0, dissipation = 0.0;
-    const bool broke = joint_step(nodes, joints, properties, j, time, damage_enabled, thickness, f, energy, dissipation);
+    const bool broke = joint_step(nodes, joints, law, j, time, damage_enabled, thickness, f, energy, dissipation);
     tot.dissipation += dissipation;
     if (broke) {
       ++tot.broken_now;

@@ -24,6 +24,12 @@ struct JointProperties {
   double GI = 0.0;   // mode I fracture energy, N/m
   double GII = 0.0;  // mode II fracture energy, N/m
   bool initially_broken = false;  // every joint with these properties starts broken
+  // > 0 when kn came from the penalty rule p*E/h (DESIGN.md §3) with h = penalty_h, m:
+  // each joint then rescales kn (and ks unless ks_given) to its own local element size,
+  // so small elements get stiff joints and the joints' compliance stays a fixed
+  // fraction of their elements' (Joints::stiffness_scale).
+  double penalty_h = 0.0;
+  bool ks_given = false;  // ks was given by the scenario: never rescaled
 };
 
 // Empty when p is admissible, else a message naming the offending fields. Besides
@@ -69,6 +75,9 @@ struct Joints {
   std::vector<Vec2> break_position;  // current mid-point of the joint when it broke, m
   std::vector<BreakMode> break_mode;
   std::vector<double> dissipated;  // fracture + frictional energy dissipated so far, J/m
+  // The joint's kn (and ks, unless given) is its property's times this factor:
+  // penalty_h / local element size for penalty stiffnesses, 1 otherwise (DESIGN.md §3).
+  std::vector<double> stiffness_scale;
 
   std::size_t size() const { return nodes.size(); }
   void resize(std::size_t n) {
@@ -85,12 +94,23 @@ struct Joints {
     break_position.resize(n, Vec2::Zero());
     break_mode.resize(n, BreakMode::None);
     dissipated.resize(n, 0.0);
+    stiffness_scale.resize(n, 1.0);
   }
 
   // Declare joint j broken from the start (pre-existing crack): fully damaged, time 0,
   // position = mid-point of its reference edge given as a0/a1 positions.
   void set_initially_broken(std::size_t j, const Vec2& xa0, const Vec2& xa1);
 };
+
+// Local element size of joint j, m: the mean of sqrt(2 A) of its two triangles (the
+// size measure of the penalty rule; X: reference positions, conn: triangle nodes).
+double joint_local_size(const Joints& joints, std::size_t j, const std::vector<Vec2>& X,
+                        const std::vector<std::array<Index, 3>>& conn);
+
+// Sets stiffness_scale = penalty_h / joint_local_size for every joint whose property has
+// a penalty stiffness (penalty_h > 0); 1 for the others.
+void set_local_penalty_scales(Joints& joints, const std::vector<JointProperties>& properties,
+                              const std::vector<Vec2>& X, const std::vector<std::array<Index, 3>>& conn);
 
 // Break every joint whose property has initially_broken set (X: model reference
 // positions, indexed by the joints' node ids).

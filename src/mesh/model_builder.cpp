@@ -69,6 +69,8 @@ double mean_element_size(const RawMesh& mesh, Index group) {
 }
 
 // A property from a (merged) spec; kn from the penalty rule p*E/h when absent (DESIGN.md §3).
+// h here is a reference size (the group's mean): each joint rescales kn to its own local
+// element size after insertion (set_local_penalty_scales), which log_penalty_stiffness reports.
 JointProperties make_joint_property(const std::string& name, const io::JointSpec& spec, double E, double h,
                                     std::vector<std::string>& errors) {
   JointProperties p;
@@ -78,10 +80,10 @@ JointProperties make_joint_property(const std::string& name, const io::JointSpec
   } else {
     const double penalty = spec.penalty.value_or(10.0);
     p.kn = penalty * E / h;
-    spdlog::info("joints '{}': kn = {:.4g} Pa/m from the penalty rule p*E/h (p = {}, E = {:.4g} Pa, h = {:.4g} m)", name,
-                 p.kn, penalty, E, h);
+    p.penalty_h = h;
   }
   p.ks = spec.ks.value_or(p.kn);
+  p.ks_given = spec.ks.has_value();
   p.ft = spec.ft.value_or(0.0);
   p.c = spec.c.value_or(0.0);
   p.phi = spec.phi_deg.value_or(0.0) * kPi / 180.0;
@@ -91,6 +93,29 @@ JointProperties make_joint_property(const std::string& name, const io::JointSpec
   const std::string problem = validate(p);
   if (!problem.empty()) errors.push_back(spec.where.describe(fmt::format("joint properties '{}': {}", name, problem)));
   return p;
+}
+
+// One log line per penalty property: kn = p E / h_local over its joints (DESIGN.md §3 asks
+// to say so in the log).
+void log_penalty_stiffness(const Model& model) {
+  const auto& J = model.joints;
+  for (std::size_t p = 0; p < model.joint_properties.size(); ++p) {
+    const JointProperties& prop = model.joint_properties[p];
+    if (!(prop.penalty_h > 0.0)) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0, h_lo = lo, h_hi = 0.0;
+    std::size_t n = 0;
+    for (std::size_t j = 0; j < J.size(); ++j) {
+      if (J.property[j] != static_cast<Index>(p)) continue;
+      const double s = J.stiffness_scale[j];
+      lo = std::min(lo, prop.kn * s), hi = std::max(hi, prop.kn * s);
+      h_lo = std::min(h_lo, prop.penalty_h / s), h_hi = std::max(h_hi, prop.penalty_h / s);
+      ++n;
+    }
+    if (n == 0) continue;
+    spdlog::info("joints '{}': kn = p*E/h from the penalty rule with h the local element size (mean sqrt(2A) of the two "
+                 "triangles, {:.4g} to {:.4g} m): kn = {:.4g} to {:.4g} Pa/m over {} joints (p*E = {:.4g} Pa){}",
+                 prop.name, h_lo, h_hi, lo, hi, n, prop.kn * prop.penalty_h, prop.ks_given ? "; ks given" : "");
+  }
 }
 
 }  // namespace
@@ -304,6 +329,8 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     for (std::size_t t = 0; t < ins.triangles.size(); ++t) model.triangles.conn[t] = ins.triangles[t];
     model.joints = std::move(ins.joints);
     mark_initially_broken(model.joints, model.joint_properties, model.nodes.X);
+    set_local_penalty_scales(model.joints, model.joint_properties, model.nodes.X, model.triangles.conn);
+    log_penalty_stiffness(model);
     copies_offset = std::move(ins.copies_offset);
     copies = std::move(ins.copies);
   } else {

@@ -49,7 +49,7 @@ StableStep stable_time_step(const Model& model, double beta) {
   for (std::size_t j = 0; j < J.size(); ++j) {
     if (J.broken[j]) continue;
     const JointProperties& p = model.joint_properties[J.property[j]];
-    const double k = joint_end_stiffness(p, J.length0[j]) * model.thickness;
+    const double k = joint_end_stiffness(p, J.length0[j], J.stiffness_scale[j]) * model.thickness;
     for (int e = 0; e < 2; ++e) {
       const Index a = J.nodes[j][e], b = J.nodes[j][2 + e];
       const double dt = joint_stable_dt(model.nodes.m[a], model.nodes.m[b], k);

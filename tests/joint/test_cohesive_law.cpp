@@ -408,3 +408,42 @@ TEST(CohesiveLaw, ClosedCyclesOfCompressionAndSlipAfterShearDamageCreateNoEnergy
   // The traction never exceeds the shear strength at the current compression.
   for (std::size_t i = loop_start; i < dn.size(); ++i) EXPECT_LE(std::abs(path.r[i].ss), path.r[i].fs * (1 + 1e-12));
 }
+
+// The elastic fast path (undamaged point inside wt and ws = fs/ks): exactly linear,
+// nothing dissipated, and continuous with the general branch at the elastic limit in
+// tension, in shear under compression and in shear with the gravity stage's frozen
+// history (issue 7 made it a separate branch).
+TEST(CohesiveLaw, ElasticRangeIsExactlyLinearAndMeetsTheGeneralBranchAtTheLimit) {
+  const JointProperties p = test::disc_rock();
+  const double wt = p.ft / p.kn, ws = p.c / p.ks;
+  for (double dn : {-2 * wt, -0.3 * wt, 0.0, 0.4 * wt, 0.999 * wt})
+    for (double ds : {-0.9 * ws, -0.01 * ws, 0.0, 0.3 * ws}) {
+      const JointPointState fresh;
+      const CohesiveResponse r = cohesive_law(dn, ds, p, fresh);
+      const double fs = p.c - std::min(p.kn * dn, p.ft) * std::tan(p.phi);
+      if (std::abs(ds) * p.ks > fs) continue;  // tension lowered fs below this slip
+      EXPECT_EQ(r.sn, p.kn * dn);
+      EXPECT_EQ(r.ss, p.ks * ds);
+      EXPECT_EQ(r.dissipation, 0.0);
+      EXPECT_EQ(r.state.damage, 0.0);
+      EXPECT_NEAR(r.energy, 0.5 * (p.kn * dn * dn + p.ks * ds * ds), 1e-15 * (p.ft * wt + p.c * ws));
+    }
+  // Across the limit: the traction just inside (fast path) and just outside (general
+  // branch) differ by the slope times the step, not by a jump.
+  const double eps = 1e-9;
+  for (auto [dn_in, ds_in, dn_out, ds_out] :
+       {std::array<double, 4>{(1 - eps) * wt, 0, (1 + eps) * wt, 0},
+        std::array<double, 4>{-wt, (1 - eps) * (ws + wt * std::tan(p.phi) * p.kn / p.ks), -wt,
+                              (1 + eps) * (ws + wt * std::tan(p.phi) * p.kn / p.ks)}}) {
+    const CohesiveResponse in = cohesive_law(dn_in, ds_in, p, JointPointState{});
+    const CohesiveResponse out = cohesive_law(dn_out, ds_out, p, in.state);
+    EXPECT_EQ(in.state.damage, 0.0);
+    EXPECT_GT(out.state.damage, 0.0);
+    EXPECT_NEAR(out.sn, in.sn, 1e-6 * p.ft);
+    EXPECT_NEAR(out.ss, in.ss, 1e-6 * p.c);
+  }
+  // Frozen history (gravity stage): linear beyond wt without damage, as before.
+  const CohesiveResponse frozen = cohesive_law(3 * wt, 0.0, p, JointPointState{}, false);
+  EXPECT_EQ(frozen.state.damage, 0.0);
+  EXPECT_NEAR(frozen.sn, 3 * p.ft, 1e-12 * p.ft);
+}

@@ -142,3 +142,47 @@ TEST(JointPhase, JointsWithAnInitiallyBrokenPropertyStartBrokenAndCarryNothing) 
   EXPECT_EQ(tot.energy, 0.0);
   EXPECT_EQ(tot.broken_now, 0);
 }
+
+// DESIGN.md §3: a penalty joint's stiffness follows its local element size. A joint with
+// stiffness_scale s behaves as one whose property has kn, ks times s: s times the force
+// at the same small opening, and the same strength ft (reached at an opening 1/s).
+TEST(JointPhase, StiffnessScaleMultipliesPenaltyStiffnessButNotStrength) {
+  JointProperties p = test::disc_rock();
+  p.penalty_h = 5e-3;
+  for (bool ks_given : {false, true}) {
+    p.ks_given = ks_given;
+    const JointLawConstants k = law_constants(p), k2 = scaled(k, 2.5);
+    JointProperties p2 = p;
+    p2.kn *= 2.5;
+    if (!ks_given) p2.ks *= 2.5;
+    const JointLawConstants ref = law_constants(p2);
+    EXPECT_EQ(k2.kn, ref.kn);
+    EXPECT_EQ(k2.ks, ref.ks);
+    EXPECT_EQ(k2.wt, ref.wt);
+    EXPECT_EQ(k2.ft, k.ft);
+    EXPECT_EQ(k2.wn, k.wn);
+    EXPECT_EQ(joint_end_stiffness(p, 2.0, 2.5), std::max(p2.kn, p2.ks));
+  }
+  p.ks_given = false;
+  const std::vector<JointProperties> props{p};
+  const Vec2 n = Vec2(-1.0, 1.0) / std::sqrt(2.0);
+  const double opening = 0.5 * p.ft / p.kn / 2.5;  // elastic for both scales
+  std::array<double, 2> force{};
+  for (int run = 0; run < 2; ++run) {
+    TwoTriangles m = make_two_triangles();
+    m.joints.stiffness_scale[0] = run == 0 ? 1.0 : 2.5;
+    for (Index b : m.b_nodes) m.nodes.u[b] = opening * n;
+    m.nodes.f.assign(m.nodes.size(), Vec2::Zero());
+    add_joint_forces(m.nodes, m.joints, props, 0.0);
+    force[run] = m.nodes.f[m.b_nodes[0]].norm() + m.nodes.f[m.b_nodes[1]].norm() + m.nodes.f[m.b_nodes[2]].norm();
+  }
+  EXPECT_GT(force[0], 0.0);
+  EXPECT_NEAR(force[1] / force[0], 2.5, 1e-12);
+  // Strength: pulled past the scaled wt the traction is ft (times the length), not more.
+  TwoTriangles m = make_two_triangles();
+  m.joints.stiffness_scale[0] = 2.5;
+  for (Index b : m.b_nodes) m.nodes.u[b] = (p.ft / p.kn / 2.5) * n;
+  m.nodes.f.assign(m.nodes.size(), Vec2::Zero());
+  add_joint_forces(m.nodes, m.joints, props, 0.0);
+  EXPECT_NEAR(m.joints.state[0][0].sn, p.ft, 1e-9 * p.ft);
+}

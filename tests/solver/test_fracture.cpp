@@ -179,3 +179,35 @@ TEST(Fracture, BrokenBarPushedBackTogetherCollidesWithoutOverlapExplosion) {
   EXPECT_EQ(s.broken_joints(), ny);  // nothing re-glued, nothing else broke
   EXPECT_LT(s.energy().balance_error(), 1e-2);
 }
+
+// DESIGN.md §3: the penalty stiffness uses the LOCAL element size. On a graded mesh
+// (cells 7x narrower at one end) every joint has kn = p E / h_local, h_local the mean
+// sqrt(2A) of its two triangles, and the stable step sees those stiffnesses.
+TEST(Fracture, PenaltyStiffnessFollowsTheLocalElementSize) {
+  RawMesh raw = mesh::rectangle_mesh(16, 4, 1.0, 0.25, mesh::Diagonal::Alternate, 0, 0, "bar");
+  for (Vec2& x : raw.nodes) x.x() = x.x() * (0.25 + 0.75 * x.x());  // dx from 0.016 to 0.11 m
+  io::Scenario sc = discrete_bar_scenario(21e9, 2.5e6);
+  sc.joints.defaults.penalty = 10;
+  Model model = mesh::build_model(sc, raw);
+  const auto& J = model.joints;
+  ASSERT_GT(J.size(), 100u);
+  const JointProperties& p = model.joint_properties[0];
+  ASSERT_GT(p.penalty_h, 0.0);
+  double kn_min = 1e300, kn_max = 0.0, dt_joints = 1e300;
+  for (std::size_t j = 0; j < J.size(); ++j) {
+    const double h = joint_local_size(J, j, model.nodes.X, model.triangles.conn);
+    const double kn = p.kn * J.stiffness_scale[j];
+    EXPECT_NEAR(kn * h, 10 * 21e9, 1e-12 * 10 * 21e9) << "joint " << j;
+    kn_min = std::min(kn_min, kn), kn_max = std::max(kn_max, kn);
+    for (int e = 0; e < 2; ++e)
+      dt_joints = std::min(dt_joints, joint_stable_dt(model.nodes.m[J.nodes[j][e]], model.nodes.m[J.nodes[j][2 + e]],
+                                                      kn * 0.5 * J.length0[j] * model.thickness));
+  }
+  EXPECT_GT(kn_max / kn_min, 2.2);  // the small cells got the stiff joints (sqrt(2A) ratio ~2.6)
+  const auto st = solver::stable_time_step(model, 0.0);
+  EXPECT_LE(st.dt, dt_joints * (1 + 1e-12));
+  if (st.controlled_by.find("joint") != std::string::npos) EXPECT_NEAR(st.dt, dt_joints, 1e-12 * dt_joints);
+  // A uniform mesh keeps one stiffness: the local size is the mean size everywhere.
+  Model uniform = mesh::build_model(sc, mesh::rectangle_mesh(8, 2, 0.4, 0.2, mesh::Diagonal::Alternate, 0, 0, "bar"));
+  for (double s : uniform.joints.stiffness_scale) EXPECT_NEAR(s, 1.0, 1e-12);
+}
