@@ -36,6 +36,11 @@ Definitions (all times from the start of the earthquake stage, i.e. the earthqua
                                    for the river): debris covers the intake
   intake_reached                   any moved zone-A material within 15 m of the intake (even
                                    one fragment)
+  intake_debris_by_group           final frame: moved zone-A triangles (moved more than 5 m) with a
+                                   node within 10 m (horizontally) of the intake, counted per
+                                   surface group (plate, column, mudstone, deposit): what covers it
+  moved_by_group                   final frame: per zone-A surface group, [triangles moved more
+                                   than 5 m since the start of the earthquake, triangles]
 Uses only numpy, meshio and matplotlib (Agg).
 """
 from __future__ import annotations
@@ -119,6 +124,28 @@ def load_frame(path: Path):
     mat = np.asarray(m.cell_data_dict["material_id"]["triangle"]).ravel()
     disp = np.asarray(m.point_data["displacement_m"])[:, :2]
     return m.points[:, :2], tri, zone, mat, disp
+
+
+def frame_groups(path: Path) -> np.ndarray:
+    """group_id of each triangle of a frame (index into the mesh's physical groups)."""
+    import meshio
+    return np.asarray(meshio.read(path).cell_data_dict["group_id"]["triangle"]).ravel().astype(int)
+
+
+def group_names(out: Path) -> dict[int, str]:
+    """group_id -> name: dsdem numbers the physical groups in the order of the mesh's
+    $PhysicalNames section (OUT/dr2.msh, written by the run). Empty if there is no mesh."""
+    names: dict[int, str] = {}
+    msh = next(iter(sorted(out.glob("*.msh"))), None)
+    if msh is None:
+        return names
+    lines = msh.read_text(errors="replace").splitlines()
+    if "$PhysicalNames" not in lines:
+        return names
+    i = lines.index("$PhysicalNames")
+    for k in range(int(lines[i + 1])):
+        names[k] = lines[i + 2 + k].split('"')[1]
+    return names
 
 
 def tri_area(P, tri):
@@ -241,6 +268,7 @@ def main(argv=None) -> int:
         prev = (tt, float(fh.min()))
     area_channel = None
     intake_blocked = intake_reached = intake_height = None
+    intake_groups = moved_groups = None
     if frames:
         P, tri, zone, mat, disp = load_frame(frames[-1][1])
         cen = P[tri].mean(axis=1)
@@ -256,6 +284,20 @@ def main(argv=None) -> int:
         intake_height = float(max(0.0, (pts[m, 1] - np.interp(pts[m, 0], GROUND[:, 0], GROUND[:, 1])).max())) \
             if m.any() else 0.0
         intake_blocked = intake_height >= args.block_height
+        # What moved, and what lies at the intake, per surface group (displacement since the
+        # start of the earthquake, as for the gauges).
+        f0 = next((p for tt, p in frames if tt >= -1e-9), frames[0][1])
+        disp0 = load_frame(f0)[4]
+        moved_eq = np.linalg.norm((disp - disp0)[tri].mean(axis=1), axis=1) > 5.0
+        grp = frame_groups(frames[-1][1])
+        gname = group_names(out)
+        moved_groups, intake_groups = {}, {}
+        near_i = np.any(np.abs(P[tri][:, :, 0] - INTAKE[0]) <= 10.0, axis=1)
+        for g in np.unique(grp[zone == 0]):
+            sel = (grp == g) & (zone == 0)
+            name = gname.get(int(g), str(int(g)))
+            moved_groups[name] = [int(np.sum(moved_eq & sel)), int(np.sum(sel))]
+            intake_groups[name] = int(np.sum(moved_eq & sel & near_i))
 
     res = {
         "mode": mode,
@@ -270,6 +312,8 @@ def main(argv=None) -> int:
         "intake_blocked": intake_blocked,
         "intake_debris_height_m": intake_height,
         "intake_reached": intake_reached,
+        "intake_debris_by_group": intake_groups,
+        "moved_by_group": moved_groups,
         "broken_joints": summary.get("broken_joints"),
         "fragments": summary.get("fragments"),
         "elements": summary.get("elements"),
@@ -366,7 +410,8 @@ def main(argv=None) -> int:
     if not args.quiet:
         print(json.dumps({k: res[k] for k in ("mean_max_displacement_m", "duration_s", "river_blocked_time_s",
                                               "deposit_area_in_channel_m2", "intake_blocked",
-                                              "intake_debris_height_m", "intake_reached")}, indent=1))
+                                              "intake_debris_height_m", "intake_reached",
+                                              "intake_debris_by_group", "moved_by_group")}, indent=1))
         for g in gauges:
             print(f"  {g['name']}: umax {g['max_displacement_m']:.1f} m, vpeak {g['peak_velocity_mps']:.1f} m/s "
                   f"at {g['time_of_peak_velocity_s']:.1f} s")
