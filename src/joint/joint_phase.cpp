@@ -4,11 +4,12 @@ namespace dsdem {
 
 namespace {
 
-// One intact joint: its forces (times thickness), energy and dissipation; breaks it
+// One intact joint: its forces on face a's two nodes (times thickness; face b gets
+// their negatives, joint_force makes them so exactly), energy and dissipation; breaks it
 // when it fails. Returns true when it broke now.
 inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<JointLawConstants>& law, std::size_t j, double time,
                        bool damage_enabled, double thickness,
-                       std::array<Vec2, 4>& f, double& energy, double& dissipation) {
+                       std::array<Vec2, 2>& f, double& energy, double& dissipation) {
   const auto& nd = joints.nodes[j];
   const JointNodePositions x{nodes.x(nd[0]), nodes.x(nd[1]), nodes.x(nd[2]), nodes.x(nd[3])};
   // Separations from displacements: the two faces coincide in the reference.
@@ -32,11 +33,11 @@ inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<Joi
     joints.break_mode[j] = r.mode;
     joints.dissipated[j] += thickness * r.energy;
     dissipation += thickness * r.energy;
-    f = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+    f = {Vec2::Zero(), Vec2::Zero()};
     energy = 0.0;
     return true;
   }
-  for (int k = 0; k < 4; ++k) f[k] = thickness * r.f[k];
+  for (int k = 0; k < 2; ++k) f[k] = thickness * r.f[k];
   energy = thickness * r.energy;
   return false;
 }
@@ -51,7 +52,7 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
   for (std::size_t k = 0; k < properties.size(); ++k) law[k] = law_constants(properties[k]);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
-    std::array<Vec2, 4> f;
+    std::array<Vec2, 2> f;
     double energy = 0.0, dissipation = 0.0;
     const bool broke = joint_step(nodes, joints, law, j, time, damage_enabled, thickness, f, energy, dissipation);
     tot.dissipation += dissipation;
@@ -60,7 +61,10 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
       continue;
     }
     const auto& nd = joints.nodes[j];
-    for (int k = 0; k < 4; ++k) nodes.f[nd[k]] += f[k];
+    for (int k = 0; k < 2; ++k) {
+      nodes.f[nd[k]] += f[k];
+      nodes.f[nd[2 + k]] -= f[k];  // == += (-f[k]) bit for bit
+    }
     tot.energy += energy;
   }
   return tot;
@@ -74,7 +78,7 @@ void JointPhaseBuffers::prepare(std::size_t n, const std::vector<JointProperties
 
 void JointPhaseBuffers::resize(std::size_t n) {
   if (force.size() == n) return;
-  force.assign(n, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+  force.assign(n, {Vec2::Zero(), Vec2::Zero()});
   energy.assign(n, 0.0);
   dissipation.assign(n, 0.0);
 }

@@ -25,11 +25,12 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   bool damage_enabled = true, double thickness = 1.0);
 
 // Per-joint results of evaluate_joints, for a deterministic parallel gather (issue 7):
-// the forces on the joint's four nodes (zero for a broken joint), its elastic energy
+// the forces on the joint's face-a nodes a0, a1 (b0, b1 get their negatives: half the
+// buffer, issue 7 memory; zero for a broken joint), its elastic energy
 // and the energy it dissipated in this call. Sized by evaluate_joints (no allocation
 // once sized).
 struct JointPhaseBuffers {
-  std::vector<std::array<Vec2, 4>> force;  // N, already times the thickness
+  std::vector<std::array<Vec2, 2>> force;  // N on a0, a1 (b0, b1: minus these), times the thickness
   std::vector<double> energy;              // J/m
   std::vector<double> dissipation;         // J/m
   std::vector<JointLawConstants> law;      // per joint property, law_constants(p)

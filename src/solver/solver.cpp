@@ -133,7 +133,9 @@ void Solver::build_joint_incidence() {
   joint_incidence_entry_.assign(joint_incidence_offset_[nn], 0);
   std::vector<Index> fill(joint_incidence_offset_.begin(), joint_incidence_offset_.end() - 1);
   for (std::size_t j = 0; j < nj; ++j)
-    for (int k = 0; k < 4; ++k) joint_incidence_entry_[fill[model_.joints.nodes[j][k]]++] = static_cast<Index>(4 * j + k);
+    // Entry 2 (2 j + e) + side: force slot 2 j + e (end e), side 1 = face b (negated).
+    for (int k = 0; k < 4; ++k)
+      joint_incidence_entry_[fill[model_.joints.nodes[j][k]]++] = static_cast<Index>(2 * (2 * j + k % 2) + k / 2);
 }
 
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
@@ -314,7 +316,7 @@ void Solver::add_internal_and_joint_forces() {
 #pragma omp barrier
     // Gather per node in a fixed order (elements, then joints): bit-identical for any
     // thread count. A broken joint's slots stay zero.
-    // Flat views: entry 3 t + k is element_force_[t][k], entry 4 j + k joint_buf_.force[j][k].
+    // Flat views: entry 3 t + k is element_force_[t][k], entry 2 j + e joint_buf_.force[j][e].
     const Vec2* ef = element_force_.empty() ? nullptr : element_force_[0].data();
     const Vec2* edf = element_damping_force_.empty() ? nullptr : element_damping_force_[0].data();
     const Vec2* jf = joint_buf_.force.empty() ? nullptr : joint_buf_.force[0].data();
@@ -328,7 +330,11 @@ void Solver::add_internal_and_joint_forces() {
         if (edf) fd += edf[e];
       }
       Vec2 fj = Vec2::Zero();
-      for (Index k = joint_incidence_offset_[i]; k < joint_incidence_offset_[i + 1]; ++k) fj += jf[joint_incidence_entry_[k]];
+      for (Index k = joint_incidence_offset_[i]; k < joint_incidence_offset_[i + 1]; ++k) {
+        const Index c = joint_incidence_entry_[k];
+        if (c & 1) fj -= jf[c >> 1];  // face b: minus face a's force, bit for bit as adding it negated
+        else fj += jf[c >> 1];
+      }
       n.f[i] += f + fd + fj;
       if (damped) damping_force_[i] += fd;
     }
