@@ -46,22 +46,17 @@ void Joints::set_initially_broken(std::size_t j, const Vec2& xa0, const Vec2& xa
   break_mode[j] = BreakMode::Initial;
 }
 
-double joint_local_size(const Joints& joints, std::size_t j, const std::vector<Vec2>& X,
-                        const std::vector<std::array<Index, 3>>& conn) {
-  auto size = [&](Index t) {
-    const auto& c = conn[static_cast<std::size_t>(t)];
-    const Vec2 a = X[c[1]] - X[c[0]], b = X[c[2]] - X[c[0]];
-    return std::sqrt(std::abs(a.x() * b.y() - a.y() * b.x()));  // sqrt(2 A)
-  };
+double joint_local_size(const Joints& joints, std::size_t j, const std::vector<double>& area0) {
+  auto size = [&](Index t) { return std::sqrt(2.0 * area0[static_cast<std::size_t>(t)]); };
   return 0.5 * (size(joints.tri_a[j]) + size(joints.tri_b[j]));
 }
 
 void set_local_penalty_scales(Joints& joints, const std::vector<JointProperties>& properties,
-                              const std::vector<Vec2>& X, const std::vector<std::array<Index, 3>>& conn) {
+                              const std::vector<double>& area0) {
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Index p = joints.property[j];
     const double h_ref = p == kNoIndex ? 0.0 : properties.at(static_cast<std::size_t>(p)).penalty_h;
-    joints.stiffness_scale[j] = h_ref > 0.0 ? h_ref / joint_local_size(joints, j, X, conn) : 1.0;
+    joints.stiffness_scale[j] = h_ref > 0.0 ? h_ref / joint_local_size(joints, j, area0) : 1.0;
   }
 }
 

@@ -103,14 +103,13 @@ struct Joints {
 };
 
 // Local element size of joint j, m: the mean of sqrt(2 A) of its two triangles (the
-// size measure of the penalty rule; X: reference positions, conn: triangle nodes).
-double joint_local_size(const Joints& joints, std::size_t j, const std::vector<Vec2>& X,
-                        const std::vector<std::array<Index, 3>>& conn);
+// size measure of the penalty rule; area0: the triangles' reference areas).
+double joint_local_size(const Joints& joints, std::size_t j, const std::vector<double>& area0);
 
 // Sets stiffness_scale = penalty_h / joint_local_size for every joint whose property has
 // a penalty stiffness (penalty_h > 0); 1 for the others.
 void set_local_penalty_scales(Joints& joints, const std::vector<JointProperties>& properties,
-                              const std::vector<Vec2>& X, const std::vector<std::array<Index, 3>>& conn);
+                              const std::vector<double>& area0);
 
 // Break every joint whose property has initially_broken set (X: model reference
 // positions, indexed by the joints' node ids).

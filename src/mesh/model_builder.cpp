@@ -329,8 +329,6 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     for (std::size_t t = 0; t < ins.triangles.size(); ++t) model.triangles.conn[t] = ins.triangles[t];
     model.joints = std::move(ins.joints);
     mark_initially_broken(model.joints, model.joint_properties, model.nodes.X);
-    set_local_penalty_scales(model.joints, model.joint_properties, model.nodes.X, model.triangles.conn);
-    log_penalty_stiffness(model);
     copies_offset = std::move(ins.copies_offset);
     copies = std::move(ins.copies);
   } else {
@@ -389,6 +387,8 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     model.triangles.area0[t] = geo.area;
   }
   if (!errors.empty()) throw io::ScenarioError(errors);
+  set_local_penalty_scales(model.joints, model.joint_properties, model.triangles.area0);
+  log_penalty_stiffness(model);
   compute_lumped_masses(model);
   setup_contact(sc, model, errors);
   if (!errors.empty()) throw io::ScenarioError(errors);
