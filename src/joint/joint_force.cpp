@@ -83,8 +83,8 @@ JointForceResult joint_force(const JointNodePositions& x, const JointSeparations
 }
 
 double joint_end_stiffness(const JointProperties& p, double length0, double stiffness_scale) {
-  const double kn = p.kn * stiffness_scale, ks = p.ks_given ? p.ks : p.ks * stiffness_scale;
-  return std::max(kn, ks) * 0.5 * length0;
+  const JointLawConstants k = scaled(law_constants(p), stiffness_scale);  // the law's own rule for kn, ks
+  return std::max(k.kn, k.ks) * 0.5 * length0;
 }
 
 double joint_stable_dt(double m_a, double m_b, double k) {

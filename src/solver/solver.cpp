@@ -286,16 +286,9 @@ void Solver::add_internal_and_joint_forces() {
   {
 #pragma omp for schedule(static) nowait reduction(| : inverted)
     for (std::ptrdiff_t t = 0; t < ne; ++t) {
-      const auto& c = tri.conn[t];
-      fem::TriangleInput in;
-      for (int k = 0; k < 3; ++k) {
-        in.x[k] = n.X[c[k]] + n.u[c[k]];
-        if (element_damping) in.v[k] = n.v[c[k]];  // the kernel reads v only when beta > 0
-      }
-      in.Dm_inv = tri.Dm_inv[t];
-      in.area0 = tri.area0[t];
-      in.thickness = thickness;
-      in.S0 = tri.initial_stress(t);
+      fem::TriangleInput in = triangle_input(static_cast<std::size_t>(t));
+      if (element_damping)  // the kernel reads v only when beta > 0
+        for (int k = 0; k < 3; ++k) in.v[k] = n.v[tri.conn[t][k]];
       in.beta = beta;
       in.cauchy = !stress_on_demand_;
       fem::TriangleResponse r;
@@ -350,20 +343,26 @@ void Solver::add_internal_and_joint_forces() {
   }
 }
 
+fem::TriangleInput Solver::triangle_input(std::size_t t) const {
+  const auto& n = model_.nodes;
+  const auto& tri = model_.triangles;
+  const auto& c = tri.conn[t];
+  fem::TriangleInput in;
+  for (int k = 0; k < 3; ++k) in.x[k] = n.X[c[k]] + n.u[c[k]];
+  in.Dm_inv = tri.Dm_inv[t];
+  in.area0 = tri.area0[t];
+  in.thickness = model_.thickness;
+  in.S0 = tri.initial_stress(t);
+  return in;
+}
+
 void Solver::update_stress() {
-  auto& n = model_.nodes;
   auto& tri = model_.triangles;
   // The element loop's kernel on the same inputs (positions unchanged since the step):
   // the same stress and strain bits. Damping does not enter the Cauchy stress.
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t t = 0; t < ssize(tri.size()); ++t) {
-    const auto& c = tri.conn[t];
-    fem::TriangleInput in;
-    for (int k = 0; k < 3; ++k) in.x[k] = n.X[c[k]] + n.u[c[k]];
-    in.Dm_inv = tri.Dm_inv[t];
-    in.area0 = tri.area0[t];
-    in.thickness = model_.thickness;
-    in.S0 = tri.initial_stress(t);
+    const fem::TriangleInput in = triangle_input(static_cast<std::size_t>(t));
     fem::TriangleResponse r;
     std::array<Vec2, 3> no_damping;
     fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);

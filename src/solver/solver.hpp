@@ -107,6 +107,9 @@ class Solver {
   // for the current state, the same as a step would have. Off by default.
   void set_stress_on_demand(bool on) { stress_on_demand_ = on; }
   void update_stress();
+  // Current positions and reference data of triangle t (no velocities, beta 0): the
+  // element loop and update_stress() both start from it.
+  fem::TriangleInput triangle_input(std::size_t t) const;
   // Large models on more than one thread choose between OpenMP and one thread by
   // timing both now and then (kProbeSteps steps each, every kProbeInterval steps), and
   // keep the faster: on a machine shared with other busy processes the threads of a
