@@ -24,7 +24,9 @@ SourceLocation location(const SchemaReader& r, const YAML::Node& n, const std::s
   SourceLocation loc;
   loc.file = r.file();
   loc.key = key;
-  if (n.IsDefined()) {
+  if (const std::string* assignment = r.override_for(key)) {
+    loc.file = "--set " + *assignment;  // the value has no line in the file
+  } else if (n.IsDefined()) {
     loc.line = n.Mark().line;
     loc.column = n.Mark().column;
   }
@@ -260,6 +262,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
   }
 
   SchemaReader r(file_name);
+  r.set_overrides(overrides);
   Scenario sc;
   sc.file = file_name;
   sc.directory = std::filesystem::path(file_name).parent_path().string();

@@ -304,8 +304,28 @@ void SchemaReader::error_at(int line, int column, const std::string& path, const
     errors_.push_back(fmt::format("{}: {}: {}", file_, path, message));
 }
 
+void SchemaReader::set_overrides(const std::vector<std::string>& assignments) { overrides_ = assignments; }
+
+const std::string* SchemaReader::override_for(const std::string& actual) const {
+  if (overrides_.empty()) return nullptr;
+  // Error paths write list entries as stages[1]; --set keys as stages.1.
+  std::string path;
+  for (const char ch : actual)
+    if (ch == '[') path += '.';
+    else if (ch != ']') path += ch;
+  // The last assignment wins, as when they were applied.
+  for (auto it = overrides_.rbegin(); it != overrides_.rend(); ++it) {
+    const std::string key = it->substr(0, it->find('='));
+    if (path == key || (path.size() > key.size() && path.compare(0, key.size(), key) == 0 && path[key.size()] == '.'))
+      return &*it;
+  }
+  return nullptr;
+}
+
 void SchemaReader::error(const YAML::Node& at, const std::string& path, const std::string& message) {
-  if (at.IsDefined() && !at.IsNull()) {
+  if (const std::string* assignment = override_for(path)) {
+    errors_.push_back(fmt::format("--set {}: {}: {}", *assignment, path, message));
+  } else if (at.IsDefined() && !at.IsNull()) {
     const YAML::Mark m = at.Mark();
     error_at(m.line, m.column, path, message);
   } else if (at.IsDefined()) {

@@ -69,12 +69,18 @@ class SchemaReader {
   bool ok() const { return errors_.empty(); }
   const std::vector<std::string>& errors() const { return errors_; }
   const std::string& file() const { return file_; }
+  // The --set assignments applied to the tree (key=value): an error on an overridden key
+  // names the assignment instead of a line of the file (the value has no line there).
+  void set_overrides(const std::vector<std::string>& assignments);
+  // The assignment that set `path` or a section above it, or nullptr.
+  const std::string* override_for(const std::string& path) const;
 
  private:
   const KeySpec& spec(const KeyPath& p) const;
   void check_range(const YAML::Node& at, const KeyPath& p, const KeySpec& s, double v);
   std::string file_;
   std::vector<std::string> errors_;
+  std::vector<std::string> overrides_;
 };
 
 // The nearest of `candidates` to `word` by edit distance, or "" when none is close.

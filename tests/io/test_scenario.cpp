@@ -152,6 +152,22 @@ TEST(Scenario, SetOverridesValuesAndIsValidatedToo) {
   EXPECT_TRUE(has_error(errors_of(good(), {"novalue"}), "expected key.path=value"));
 }
 
+// A bad --set value has no line in the file: the error used to say "case.yaml:1:1"
+// (the line yaml-cpp gives a value parsed on its own); it names the assignment now.
+TEST(Scenario, SetOverrideErrorsNameTheAssignmentNotALine) {
+  const auto e = errors_of(good(), {"materials.rock.nu=0.7"});
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].rfind("--set materials.rock.nu=0.7: materials.rock.nu: 0.7 is out of range", 0), 0u) << e[0];
+  // A section replaced as a whole, and list entries (stages[0] in the path, stages.0 in the key).
+  EXPECT_TRUE(has_error(errors_of(good(), {"materials.rock={E: -1, nu: 0.2, rho: 2000}"}),
+                        "--set materials.rock={E: -1, nu: 0.2, rho: 2000}: materials.rock.E: -1 is out of range"));
+  EXPECT_TRUE(has_error(errors_of(good(), {"boundaries.0.type=fixd"}), "--set boundaries.0.type=fixd: boundaries[0].type"));
+  // Errors on keys the assignment did not touch keep their file line.
+  const auto f = errors_of(replace(good(), "    nu: 0.25", "    nu: 0.6"), {"time.end=0.5"});
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_EQ(f[0].rfind("case.yaml:", 0), 0u) << f[0];
+}
+
 TEST(Scenario, StagesOverrideDampingAndBoundaries) {
   std::string s = replace(good(), "time:\n  end: 0.01", R"(time:
   safety: 0.5
