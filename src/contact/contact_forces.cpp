@@ -98,8 +98,10 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
     for (const ContactPair& p : broad_.pairs()) in_pair_[p.i] = in_pair_[p.j] = 1;
     shape_tris_.clear();
     if (shape_tris_.capacity() < nt) shape_tris_.reserve(nt);  // once: rebuilds happen in the time loop
+    if (scale_tris_.capacity() < nt) scale_tris_.reserve(nt);
     for (std::size_t t = 0; t < nt; ++t)
       if (in_pair_[t]) shape_tris_.push_back(static_cast<Index>(t));
+    std::fill(in_pair_.begin(), in_pair_.end(), 0);
     // New pairs: every one checked at its first step; motions counted from the build.
     reserve_with_headroom(skip_below_, broad_.pairs().size());
     skip_below_.assign(broad_.pairs().size(), 0.0f);
@@ -124,7 +126,6 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
       for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
       motion_[t] += std::sqrt(d2);
     }
-    edge_scales_[t] = core_edge_scales(sp_[t].core);
     box_[t] = bounding_box(sp_[t]);
   }
   return rebuilt;
@@ -136,16 +137,31 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
   if (settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
+  if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
   return nt;
 }
 
+void ContactForces::collect_scale_triangles(int T) {
+  scale_tris_.clear();
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  for (int t = 0; t < T; ++t) {
+    for (const Index p : todo_[t]) {
+      for (const Index tri : {pairs[p].i, pairs[p].j}) {
+        if (in_pair_[tri]) continue;
+        in_pair_[tri] = 1;
+        scale_tris_.push_back(tri);
+      }
+    }
+  }
+}
+
 double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
-                                   const ContactParamTable& params, double dt,
+                                   const ContactParamTable& params, double dt, bool check_apart,
                                    ContactHistory::Cursor& cursor,
                                    std::vector<ContactRecord>& out) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
   double clearance = 0.0;
-  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance);
+  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance, check_apart);
   if (n == 0) return clearance;
   const NodePositions x = in.positions();
   const auto& ci = in.conn[i];
@@ -185,7 +201,7 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.friction_dissipation = law.friction_dissipation;
     r.damping_dissipation = law.damping_dissipation;
   }
-  return 0.0;
+  return -1.0;
 }
 
 ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {

@@ -172,10 +172,13 @@ class ContactForces {
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
-  // the cores' clearance (narrow_phase) when they are apart, else 0.
+  // the cores' clearance (narrow_phase) when they are apart, -1 when they touch, else 0.
+  // check_apart: see narrow_phase().
   double process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
-                      double dt, ContactHistory::Cursor& cursor,
+                      double dt, bool check_apart, ContactHistory::Cursor& cursor,
                       std::vector<ContactRecord>& out) const;
+  // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
+  void collect_scale_triangles(int T);
   // Serial, in order: history, node forces, sums.
   ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
 
@@ -186,19 +189,28 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
-  std::vector<CoreEdgeScales> edge_scales_;  // of sp_[t].core; expand() per pair (issue 7 memory)
+  // Of sp_[t].core, computed each step only for the triangles of the pairs examined
+  // (scale_tris_); expand() per pair (issue 7 memory).
+  std::vector<CoreEdgeScales> edge_scales_;
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
   // Triangles in some candidate pair (ascending), set at each broad-phase build: only
   // their shapes are updated each step. A contact zone's interior (one body, no pairs)
   // is skipped: on Dr2 that was most of the 12 % the shapes took (issue 7 profile).
   std::vector<Index> shape_tris_;
-  std::vector<std::uint8_t> in_pair_;  // scratch of the build: per triangle
+  // Per triangle scratch: at a build, "in some pair"; then all 0 between calls, and 1 in
+  // a call for the triangles put into scale_tris_.
+  std::vector<std::uint8_t> in_pair_;
+  std::vector<Index> scale_tris_;
+  // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
+  // the indices of the pairs thread t examines this call.
+  std::vector<std::vector<Index>> todo_;
   // Pairs whose cores were found apart by some clearance are skipped until their cores
   // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
   // are vertex neighbours that never touch). motion_[t]: summed largest core-vertex
   // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
   // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
-  // the narrow phase would find without contact, so results do not change.
+  // the narrow phase would find without contact, so results do not change. -1: the pair
+  // was in contact at its last check (its next check skips cores_clearance()).
   std::vector<double> motion_;
   std::vector<float> skip_below_;
   std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
@@ -228,24 +240,45 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     t = omp_get_thread_num();
     T = omp_get_num_threads();
 #endif
-    if (t == 0) used_threads_ = T;
-    std::vector<ContactRecord>& out = buffers_[t];
-    out.clear();
-    // Contiguous chunks: concatenating the buffers in thread order gives pair order.
+    // 1. The pairs to examine, in pair order per contiguous chunk: rounded boxes overlap,
+    // not known to be apart (see skip_below_), not skipped by the caller.
+    std::vector<Index>& todo = todo_[t];
+    todo.clear();
     const std::size_t b = np * t / T, e = np * (t + 1) / T;
-    ContactHistory::Cursor cursor;  // keys ascend within the chunk
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
       if (!overlaps(box_[pr.i], box_[pr.j])) continue;  // cheap reject of the skin's extras
-      const double moved = motion_[pr.i] + motion_[pr.j];
-      if (moved < skip_below_[p]) {  // still apart (see skip_below_)
+      if (motion_[pr.i] + motion_[pr.j] < skip_below_[p]) {  // still apart
         ++skipped;
         continue;
       }
       if (skip(pr.i, pr.j)) continue;
-      const double clearance = process_pair(pr.i, pr.j, in, params, dt, cursor, out);
+      todo.push_back(static_cast<Index>(p));
+    }
+    // 2. Edge data of the triangles in those pairs only (once each).
+#pragma omp barrier
+#pragma omp single
+    {
+      used_threads_ = T;
+      collect_scale_triangles(T);
+    }
+    const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t s = 0; s < ns; ++s) {
+      const Index tri = scale_tris_[s];
+      edge_scales_[tri] = core_edge_scales(sp_[tri].core);
+      in_pair_[tri] = 0;
+    }
+    // 3. Narrow phase and law; concatenating the buffers in thread order gives pair order.
+    std::vector<ContactRecord>& out = buffers_[t];
+    out.clear();
+    ContactHistory::Cursor cursor;  // keys ascend within the chunk
+    for (const Index p : todo) {
+      const ContactPair pr = pairs[p];
+      const double moved = motion_[pr.i] + motion_[pr.j];
+      const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out);
       // Half the clearance: margin for the float and for the sums' rounding.
-      if (clearance > 0.0) skip_below_[p] = below(moved + 0.5 * clearance);
+      skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : res < 0.0 ? -1.0f : 0.0f;
     }
   }
   ContactStepStats st = finish(in, f);
