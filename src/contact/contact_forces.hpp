@@ -121,9 +121,13 @@ class ContactForces {
   // that breaks lets its pair into contact at once); it must be cheap, thread-safe and
   // must not throw. conn, active and body are
   // read when the broad phase is rebuilt: call invalidate() after changing them.
+  // skip_epoch >= 0 promises that skip's answers change only when skip_epoch changes
+  // (the solver passes its count of broken joints: an intact joint's pair stays skipped
+  // until some joint breaks): a pair skipped is then not asked again, nor its boxes
+  // tested, until skip_epoch changes or the broad phase is rebuilt.
   template <class Skip>
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
-                           Skip&& skip, std::vector<Vec2>& f);
+                           Skip&& skip, std::vector<Vec2>& f, long skip_epoch = -1);
 
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
                            std::vector<Vec2>& f) {
@@ -169,6 +173,11 @@ class ContactForces {
  private:
   // Checks sizes, rebuilds the broad phase if needed, updates the spheropolygons.
   bool prepare(const ContactInput& in, std::size_t n_forces);
+  // Shapes, boxes and (unless rebuilt) motions of the triangles of shape_slots_; returns
+  // true when a node of one of them has left its box of the broad-phase build.
+  bool update_shapes(const ContactInput& in, bool rebuilt);
+  // The same test for the other active triangles.
+  bool others_left_box(const ContactInput& in) const;
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
@@ -193,12 +202,14 @@ class ContactForces {
   // (scale_tris_); expand() per pair (issue 7 memory).
   std::vector<CoreEdgeScales> edge_scales_;
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
-  // Triangles in some candidate pair (ascending), set at each broad-phase build: only
-  // their shapes are updated each step. A contact zone's interior (one body, no pairs)
-  // is skipped: on Dr2 that was most of the 12 % the shapes took (issue 7 profile).
-  std::vector<Index> shape_tris_;
-  // Per triangle scratch: at a build, "in some pair"; then all 0 between calls, and 1 in
-  // a call for the triangles put into scale_tris_.
+  // Broad-phase slots (BroadPhase::active_triangles()) of the triangles in some candidate
+  // pair (ascending), set at each broad-phase build: only their shapes are updated each
+  // step. A contact zone's interior (one body, no pairs) is skipped: on Dr2 that was
+  // most of the 12 % the shapes took (issue 7 profile).
+  std::vector<Index> shape_slots_;
+  // Per triangle flags: kInPair (in some candidate pair of the build), and kScales
+  // within a call for the triangles put into scale_tris_.
+  static constexpr std::uint8_t kInPair = 2, kScales = 1;
   std::vector<std::uint8_t> in_pair_;
   std::vector<Index> scale_tris_;
   // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
@@ -210,9 +221,11 @@ class ContactForces {
   // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
   // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
   // the narrow phase would find without contact, so results do not change. -1: the pair
-  // was in contact at its last check (its next check skips cores_clearance()).
+  // was in contact at its last check (its next check skips cores_clearance()); +inf:
+  // skip() said yes in this skip_epoch_.
   std::vector<double> motion_;
   std::vector<float> skip_below_;
+  long skip_epoch_ = -1;
   std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;
@@ -227,10 +240,18 @@ inline float below(double x) {
 
 template <class Skip>
 ContactStepStats ContactForces::compute(const ContactInput& in, const ContactParamTable& params,
-                                        double dt, Skip&& skip, std::vector<Vec2>& f) {
+                                        double dt, Skip&& skip, std::vector<Vec2>& f, long skip_epoch) {
   const bool rebuilt = prepare(in, f.size());
   const std::span<const ContactPair> pairs = broad_.pairs();
   const std::size_t np = pairs.size();
+  constexpr float kSkipped = std::numeric_limits<float>::infinity();  // skip_below_: skip() said yes
+  const bool cache_skip = skip_epoch >= 0;
+  if (skip_epoch != skip_epoch_) {  // answers may have changed: ask again
+    if (!rebuilt)
+      for (float& sb : skip_below_)
+        if (sb == kSkipped) sb = 0.0f;
+    skip_epoch_ = skip_epoch;
+  }
   const int nt = begin_pairs(np);
   Index skipped = 0;
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
@@ -247,12 +268,17 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     const std::size_t b = np * t / T, e = np * (t + 1) / T;
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
+      const float sb = skip_below_[p];
+      if (sb == kSkipped) continue;  // skip() said so in this epoch
       if (!overlaps(box_[pr.i], box_[pr.j])) continue;  // cheap reject of the skin's extras
-      if (motion_[pr.i] + motion_[pr.j] < skip_below_[p]) {  // still apart
+      if (motion_[pr.i] + motion_[pr.j] < sb) {  // still apart
         ++skipped;
         continue;
       }
-      if (skip(pr.i, pr.j)) continue;
+      if (skip(pr.i, pr.j)) {
+        if (cache_skip) skip_below_[p] = kSkipped;
+        continue;
+      }
       todo.push_back(static_cast<Index>(p));
     }
     // 2. Edge data of the triangles in those pairs only (once each).
@@ -267,7 +293,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     for (std::ptrdiff_t s = 0; s < ns; ++s) {
       const Index tri = scale_tris_[s];
       edge_scales_[tri] = core_edge_scales(sp_[tri].core);
-      in_pair_[tri] = 0;
+      in_pair_[tri] &= ~kScales;
     }
     // 3. Narrow phase and law; concatenating the buffers in thread order gives pair order.
     std::vector<ContactRecord>& out = buffers_[t];
