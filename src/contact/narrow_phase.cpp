@@ -24,10 +24,17 @@ CoreEdgeScales core_edge_scales(const std::array<Vec2, 3>& core) {
 
 CoreEdges core_edges(const std::array<Vec2, 3>& core) { return expand(core, core_edge_scales(core)); }
 
-CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+namespace {
+
+// Signed distances of p to the core's edge lines (outward positive).
+std::array<double, 3> edge_distances(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+  return {(p - core[0]).dot(ce.n_out[0]), (p - core[1]).dot(ce.n_out[1]), (p - core[2]).dot(ce.n_out[2])};
+}
+
+// closest_on_core() from the edge distances.
+CoreClosest closest_from(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                         const std::array<double, 3>& sd) {
   CoreClosest c;
-  const std::array<double, 3> sd = {(p - core[0]).dot(ce.n_out[0]), (p - core[1]).dot(ce.n_out[1]),
-                                    (p - core[2]).dot(ce.n_out[2])};
   // Inside a non-degenerate core: all signed distances <= 0. Use the least deep edge.
   if (ce.proper && sd[0] <= 0.0 && sd[1] <= 0.0 && sd[2] <= 0.0) {
     int k = 0;
@@ -81,18 +88,30 @@ CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, cons
   return c;
 }
 
+}  // namespace
+
+CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+  return closest_from(p, core, ce, edge_distances(p, core, ce));
+}
+
 namespace {
 
-// Vertices farther than `reach` from the core's box cannot touch it: skip the query.
+// Vertices farther than `reach` from the core's box, or beyond an edge line by more than
+// `reach` plus a margin far above rounding (so the computed distance would exceed reach
+// too), cannot touch it: skip the query. (A vertex skipped this way is not needed by the
+// mutual vertex-vertex test either: the vertex of a contact is within reach of the core.)
 CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
                            double reach) {
+  CoreClosest far;
+  far.distance = std::numeric_limits<double>::infinity();
   if (p.x() < ce.lo.x() - reach || p.x() > ce.hi.x() + reach || p.y() < ce.lo.y() - reach ||
       p.y() > ce.hi.y() + reach) {
-    CoreClosest far;
-    far.distance = std::numeric_limits<double>::infinity();
     return far;
   }
-  return closest_on_core(p, core, ce);
+  const std::array<double, 3> sd = edge_distances(p, core, ce);
+  const double beyond = reach * (1.0 + 1e-6) + 1e-12 * (std::abs(p.x()) + std::abs(p.y()));
+  if (sd[0] > beyond || sd[1] > beyond || sd[2] > beyond) return far;
+  return closest_from(p, core, ce, sd);
 }
 
 }  // namespace
