@@ -43,6 +43,10 @@ class BroadPhase {
   bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
                      bool parallel = false) const;
 
+  // True when there was no build or the node count changed (a rebuild is due whatever
+  // the positions).
+  bool stale(std::size_t n_nodes) const { return builds_ == 0 || n_nodes != n_nodes_; }
+
   std::span<const ContactPair> pairs() const { return pairs_; }
   double skin() const { return skin_; }
   long builds() const { return builds_; }

@@ -79,8 +79,15 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
     }
   }
 
-  bool rebuilt = false;
-  if (invalidated_ || nt != n_triangles_ || broad_.needs_rebuild(x, in.conn, settings_.parallel)) {
+  sp_.resize(nt);
+  edge_scales_.resize(nt);
+  box_.resize(nt);
+  // Without a pending rebuild, the shape update also runs the rebuild test of its
+  // triangles (their nodes are loaded anyway) and the scan covers only the others: a
+  // rebuild then redoes the shapes of the new pair list (the same values: same inputs).
+  bool rebuilt = invalidated_ || nt != n_triangles_ || broad_.stale(x.size());
+  if (!rebuilt && (update_shapes(in, false) || others_left_box(in))) rebuilt = true;
+  if (rebuilt) {
     const auto conn = in.conn;
     const auto body = in.body;
     if (body.empty()) {
@@ -93,29 +100,41 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
     }
     invalidated_ = false;
     n_triangles_ = nt;
-    rebuilt = true;
     in_pair_.assign(nt, 0);
-    for (const ContactPair& p : broad_.pairs()) in_pair_[p.i] = in_pair_[p.j] = 1;
-    shape_tris_.clear();
-    if (shape_tris_.capacity() < nt) shape_tris_.reserve(nt);  // once: rebuilds happen in the time loop
-    for (std::size_t t = 0; t < nt; ++t)
-      if (in_pair_[t]) shape_tris_.push_back(static_cast<Index>(t));
+    for (const ContactPair& p : broad_.pairs()) in_pair_[p.i] = in_pair_[p.j] = kInPair;
+    shape_slots_.clear();
+    if (shape_slots_.capacity() < nt) shape_slots_.reserve(nt);  // once: rebuilds happen in the time loop
+    if (scale_tris_.capacity() < nt) scale_tris_.reserve(nt);
+    const std::span<const Index> tris = broad_.active_triangles();
+    for (std::size_t slot = 0; slot < tris.size(); ++slot)
+      if (in_pair_[tris[slot]]) shape_slots_.push_back(static_cast<Index>(slot));
     // New pairs: every one checked at its first step; motions counted from the build.
     reserve_with_headroom(skip_below_, broad_.pairs().size());
     skip_below_.assign(broad_.pairs().size(), 0.0f);
     motion_.assign(nt, 0.0);
+    update_shapes(in, true);
   }
+  return rebuilt;
+}
 
-  sp_.resize(nt);
-  edge_scales_.resize(nt);
-  box_.resize(nt);
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_tris_.size());
-#pragma omp parallel for schedule(static) if (settings_.parallel && n > 4096)
+bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
+  const NodePositions x = in.positions();
+  const std::span<const Index> tris = broad_.active_triangles();
+  const std::span<const Aabb> build_box = broad_.boxes();
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
+  int left = 0;  // a flag, so any thread count gives the same answer
+#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > 4096)
   for (std::ptrdiff_t s = 0; s < n; ++s) {
-    const Index t = shape_tris_[s];
+    const Index slot = shape_slots_[s];
+    const Index t = tris[slot];
     const auto& c = in.conn[t];
+    const Vec2 p0 = x[c[0]], p1 = x[c[1]], p2 = x[c[2]];
+    const Aabb& b = build_box[slot];
+    // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
+    for (const Vec2& p : {p0, p1, p2})
+      if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) left = 1;
     const Spheropolygon old = sp_[t];
-    sp_[t] = make_spheropolygon(x[c[0]], x[c[1]], x[c[2]], in.rounding_radius[t]);
+    sp_[t] = make_spheropolygon(p0, p1, p2, in.rounding_radius[t]);
     // The largest core-vertex displacement since the last step bounds how much any gap
     // measured between this core and another can have shrunk (triangle inequality). At
     // a build the motions restart from these shapes (some were not updated before).
@@ -124,10 +143,34 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
       for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
       motion_[t] += std::sqrt(d2);
     }
-    edge_scales_[t] = core_edge_scales(sp_[t].core);
     box_[t] = bounding_box(sp_[t]);
   }
-  return rebuilt;
+  return left != 0;
+}
+
+bool ContactForces::others_left_box(const ContactInput& in) const {
+  // BroadPhase::needs_rebuild over the active triangles in no pair (no shape update).
+  const NodePositions x = in.positions();
+  const std::span<const Index> tris = broad_.active_triangles();
+  const std::span<const Aabb> build_box = broad_.boxes();
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(tris.size());
+  auto scan = [&](auto pos) {
+    int left = 0;
+#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > 4096)
+    for (std::ptrdiff_t slot = 0; slot < n; ++slot) {
+      const Index t = tris[slot];
+      if (in_pair_[t] & kInPair) continue;
+      const auto& c = in.conn[t];
+      const Aabb& b = build_box[slot];
+      for (int k = 0; k < 3; ++k) {
+        const Vec2 p = pos(c[k]);
+        if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) left = 1;
+      }
+    }
+    return left != 0;
+  };
+  if (x.u.empty()) return scan([&x](Index i) { return Vec2(x.x[i]); });
+  return scan([&x](Index i) { return Vec2(x.x[i] + x.u[i]); });
 }
 
 int ContactForces::begin_pairs(std::size_t n_pairs) {
@@ -136,21 +179,44 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
   if (settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
+  if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
   return nt;
 }
 
+void ContactForces::collect_scale_triangles(int T) {
+  scale_tris_.clear();
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  for (int t = 0; t < T; ++t) {
+    for (const Index p : todo_[t]) {
+      for (const Index tri : {pairs[p].i, pairs[p].j}) {
+        if (in_pair_[tri] & kScales) continue;
+        in_pair_[tri] |= kScales;
+        scale_tris_.push_back(tri);
+      }
+    }
+  }
+}
+
 double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
-                                   const ContactParamTable& params, double dt,
+                                   const ContactParamTable& params, double dt, bool check_apart,
                                    ContactHistory::Cursor& cursor,
                                    std::vector<ContactRecord>& out) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
   double clearance = 0.0;
-  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance);
+  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance, check_apart);
   if (n == 0) return clearance;
   const NodePositions x = in.positions();
   const auto& ci = in.conn[i];
   const auto& cj = in.conn[j];
   const ContactLawParams& p = params.get(in.group[i], in.group[j]);
+  // Per pair, for all its contacts (the same operations as per contact).
+  const BarycentricFrame frame_i = barycentric_frame(x[ci[0]], x[ci[1]], x[ci[2]]);
+  const BarycentricFrame frame_j = barycentric_frame(x[cj[0]], x[cj[1]], x[cj[2]]);
+  const double mi = in.mass[ci[0]] + in.mass[ci[1]] + in.mass[ci[2]];
+  const double mj = in.mass[cj[0]] + in.mass[cj[1]] + in.mass[cj[2]];
+  const double m_pair = mi > 0.0 && mj > 0.0 ? mi * mj / (mi + mj) : 0.0;  // 0: no dashpot
+  const bool capped = p.damping_ratio > 0.0 && p.kn > 0.0;
+  const double cap_den = 4.0 * p.damping_ratio * p.damping_ratio * p.kn;
   for (int k = 0; k < n; ++k) {
     const ContactGeometry& g = geo[k];
     ContactRecord& r = out.emplace_back();  // filled in place: no copy of the record
@@ -160,20 +226,18 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.overlap = g.overlap;
     r.normal = g.normal;
     r.point = g.point;
-    r.Ni = barycentric(g.point, x[ci[0]], x[ci[1]], x[ci[2]]);
-    r.Nj = barycentric(g.point, x[cj[0]], x[cj[1]], x[cj[2]]);
+    r.Ni = barycentric(g.point, frame_i);
+    r.Nj = barycentric(g.point, frame_j);
     const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
     // Dashpot mass: the two triangles' masses (a contact softer than the elements moves
     // each element as a whole, so the set restitution holds for element impacts), capped
     // so the dashpot on the contact point's own mass stays explicit-stable (c dt <= m_pt).
     const double inv_m = point_inverse_mass(r.Ni, ci, in.mass) + point_inverse_mass(r.Nj, cj, in.mass);
     const double m_point = inv_m > 0.0 ? 1.0 / inv_m : 0.0;
-    const double mi = in.mass[ci[0]] + in.mass[ci[1]] + in.mass[ci[2]];
-    const double mj = in.mass[cj[0]] + in.mass[cj[1]] + in.mass[cj[2]];
-    double m_eff = mi > 0.0 && mj > 0.0 ? mi * mj / (mi + mj) : 0.0;  // 0: no dashpot
-    if (p.damping_ratio > 0.0 && p.kn > 0.0) {
+    double m_eff = m_pair;
+    if (capped) {
       const double c_max = m_point / dt;
-      m_eff = std::min(m_eff, c_max * c_max / (4.0 * p.damping_ratio * p.damping_ratio * p.kn));
+      m_eff = std::min(m_eff, c_max * c_max / cap_den);
     }
     const ContactLawResult law =
         contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key, cursor), m_eff, p);
@@ -185,7 +249,7 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.friction_dissipation = law.friction_dissipation;
     r.damping_dissipation = law.damping_dissipation;
   }
-  return 0.0;
+  return -1.0;
 }
 
 ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {

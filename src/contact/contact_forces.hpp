@@ -121,9 +121,13 @@ class ContactForces {
   // that breaks lets its pair into contact at once); it must be cheap, thread-safe and
   // must not throw. conn, active and body are
   // read when the broad phase is rebuilt: call invalidate() after changing them.
+  // skip_epoch >= 0 promises that skip's answers change only when skip_epoch changes
+  // (the solver passes its count of broken joints: an intact joint's pair stays skipped
+  // until some joint breaks): a pair skipped is then not asked again, nor its boxes
+  // tested, until skip_epoch changes or the broad phase is rebuilt.
   template <class Skip>
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
-                           Skip&& skip, std::vector<Vec2>& f);
+                           Skip&& skip, std::vector<Vec2>& f, long skip_epoch = -1);
 
   ContactStepStats compute(const ContactInput& in, const ContactParamTable& params, double dt,
                            std::vector<Vec2>& f) {
@@ -169,13 +173,21 @@ class ContactForces {
  private:
   // Checks sizes, rebuilds the broad phase if needed, updates the spheropolygons.
   bool prepare(const ContactInput& in, std::size_t n_forces);
+  // Shapes, boxes and (unless rebuilt) motions of the triangles of shape_slots_; returns
+  // true when a node of one of them has left its box of the broad-phase build.
+  bool update_shapes(const ContactInput& in, bool rebuilt);
+  // The same test for the other active triangles.
+  bool others_left_box(const ContactInput& in) const;
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
-  // the cores' clearance (narrow_phase) when they are apart, else 0.
+  // the cores' clearance (narrow_phase) when they are apart, -1 when they touch, else 0.
+  // check_apart: see narrow_phase().
   double process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
-                      double dt, ContactHistory::Cursor& cursor,
+                      double dt, bool check_apart, ContactHistory::Cursor& cursor,
                       std::vector<ContactRecord>& out) const;
+  // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
+  void collect_scale_triangles(int T);
   // Serial, in order: history, node forces, sums.
   ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
 
@@ -186,21 +198,34 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
-  std::vector<CoreEdgeScales> edge_scales_;  // of sp_[t].core; expand() per pair (issue 7 memory)
+  // Of sp_[t].core, computed each step only for the triangles of the pairs examined
+  // (scale_tris_); expand() per pair (issue 7 memory).
+  std::vector<CoreEdgeScales> edge_scales_;
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
-  // Triangles in some candidate pair (ascending), set at each broad-phase build: only
-  // their shapes are updated each step. A contact zone's interior (one body, no pairs)
-  // is skipped: on Dr2 that was most of the 12 % the shapes took (issue 7 profile).
-  std::vector<Index> shape_tris_;
-  std::vector<std::uint8_t> in_pair_;  // scratch of the build: per triangle
+  // Broad-phase slots (BroadPhase::active_triangles()) of the triangles in some candidate
+  // pair (ascending), set at each broad-phase build: only their shapes are updated each
+  // step. A contact zone's interior (one body, no pairs) is skipped: on Dr2 that was
+  // most of the 12 % the shapes took (issue 7 profile).
+  std::vector<Index> shape_slots_;
+  // Per triangle flags: kInPair (in some candidate pair of the build), and kScales
+  // within a call for the triangles put into scale_tris_.
+  static constexpr std::uint8_t kInPair = 2, kScales = 1;
+  std::vector<std::uint8_t> in_pair_;
+  std::vector<Index> scale_tris_;
+  // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
+  // the indices of the pairs thread t examines this call.
+  std::vector<std::vector<Index>> todo_;
   // Pairs whose cores were found apart by some clearance are skipped until their cores
   // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
   // are vertex neighbours that never touch). motion_[t]: summed largest core-vertex
   // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
   // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
-  // the narrow phase would find without contact, so results do not change.
+  // the narrow phase would find without contact, so results do not change. -1: the pair
+  // was in contact at its last check (its next check skips cores_clearance()); +inf:
+  // skip() said yes in this skip_epoch_.
   std::vector<double> motion_;
   std::vector<float> skip_below_;
+  long skip_epoch_ = -1;
   std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;
@@ -215,10 +240,18 @@ inline float below(double x) {
 
 template <class Skip>
 ContactStepStats ContactForces::compute(const ContactInput& in, const ContactParamTable& params,
-                                        double dt, Skip&& skip, std::vector<Vec2>& f) {
+                                        double dt, Skip&& skip, std::vector<Vec2>& f, long skip_epoch) {
   const bool rebuilt = prepare(in, f.size());
   const std::span<const ContactPair> pairs = broad_.pairs();
   const std::size_t np = pairs.size();
+  constexpr float kSkipped = std::numeric_limits<float>::infinity();  // skip_below_: skip() said yes
+  const bool cache_skip = skip_epoch >= 0;
+  if (skip_epoch != skip_epoch_) {  // answers may have changed: ask again
+    if (!rebuilt)
+      for (float& sb : skip_below_)
+        if (sb == kSkipped) sb = 0.0f;
+    skip_epoch_ = skip_epoch;
+  }
   const int nt = begin_pairs(np);
   Index skipped = 0;
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
@@ -228,24 +261,50 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     t = omp_get_thread_num();
     T = omp_get_num_threads();
 #endif
-    if (t == 0) used_threads_ = T;
-    std::vector<ContactRecord>& out = buffers_[t];
-    out.clear();
-    // Contiguous chunks: concatenating the buffers in thread order gives pair order.
+    // 1. The pairs to examine, in pair order per contiguous chunk: rounded boxes overlap,
+    // not known to be apart (see skip_below_), not skipped by the caller.
+    std::vector<Index>& todo = todo_[t];
+    todo.clear();
     const std::size_t b = np * t / T, e = np * (t + 1) / T;
-    ContactHistory::Cursor cursor;  // keys ascend within the chunk
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
+      const float sb = skip_below_[p];
+      if (sb == kSkipped) continue;  // skip() said so in this epoch
       if (!overlaps(box_[pr.i], box_[pr.j])) continue;  // cheap reject of the skin's extras
-      const double moved = motion_[pr.i] + motion_[pr.j];
-      if (moved < skip_below_[p]) {  // still apart (see skip_below_)
+      if (motion_[pr.i] + motion_[pr.j] < sb) {  // still apart
         ++skipped;
         continue;
       }
-      if (skip(pr.i, pr.j)) continue;
-      const double clearance = process_pair(pr.i, pr.j, in, params, dt, cursor, out);
+      if (skip(pr.i, pr.j)) {
+        if (cache_skip) skip_below_[p] = kSkipped;
+        continue;
+      }
+      todo.push_back(static_cast<Index>(p));
+    }
+    // 2. Edge data of the triangles in those pairs only (once each).
+#pragma omp barrier
+#pragma omp single
+    {
+      used_threads_ = T;
+      collect_scale_triangles(T);
+    }
+    const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t s = 0; s < ns; ++s) {
+      const Index tri = scale_tris_[s];
+      edge_scales_[tri] = core_edge_scales(sp_[tri].core);
+      in_pair_[tri] &= ~kScales;
+    }
+    // 3. Narrow phase and law; concatenating the buffers in thread order gives pair order.
+    std::vector<ContactRecord>& out = buffers_[t];
+    out.clear();
+    ContactHistory::Cursor cursor;  // keys ascend within the chunk
+    for (const Index p : todo) {
+      const ContactPair pr = pairs[p];
+      const double moved = motion_[pr.i] + motion_[pr.j];
+      const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out);
       // Half the clearance: margin for the float and for the sums' rounding.
-      if (clearance > 0.0) skip_below_[p] = below(moved + 0.5 * clearance);
+      skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : res < 0.0 ? -1.0f : 0.0f;
     }
   }
   ContactStepStats st = finish(in, f);

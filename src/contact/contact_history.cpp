@@ -15,6 +15,20 @@ Vec2 ContactHistory::previous(const ContactKey& key, Cursor& cursor) const {
   const auto less = [](const Entry& e, const ContactKey& k) { return e.key < k; };
   const std::size_t n = previous_.size();
   std::size_t lo = std::min(cursor.pos, n);
+  // Every entry before the cursor is below key: when the entry at the cursor is not,
+  // it is key's lower bound (the common case: the same contact as last step, or a new one).
+  if (lo == n) {
+    cursor.pos = n;
+    return Vec2::Zero();
+  }
+  if (!(previous_[lo].key < key)) {
+    if (previous_[lo].key == key) {
+      cursor.pos = lo + 1;
+      return previous_[lo].ft;
+    }
+    cursor.pos = lo;
+    return Vec2::Zero();
+  }
   // Gallop: find a bound hi with previous_[hi - 1].key >= key (or hi = n).
   std::size_t step = 1, hi = lo;
   while (hi < n && previous_[hi].key < key) {

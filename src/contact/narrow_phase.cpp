@@ -24,10 +24,17 @@ CoreEdgeScales core_edge_scales(const std::array<Vec2, 3>& core) {
 
 CoreEdges core_edges(const std::array<Vec2, 3>& core) { return expand(core, core_edge_scales(core)); }
 
-CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+namespace {
+
+// Signed distances of p to the core's edge lines (outward positive).
+std::array<double, 3> edge_distances(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+  return {(p - core[0]).dot(ce.n_out[0]), (p - core[1]).dot(ce.n_out[1]), (p - core[2]).dot(ce.n_out[2])};
+}
+
+// closest_on_core() from the edge distances.
+CoreClosest closest_from(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                         const std::array<double, 3>& sd) {
   CoreClosest c;
-  const std::array<double, 3> sd = {(p - core[0]).dot(ce.n_out[0]), (p - core[1]).dot(ce.n_out[1]),
-                                    (p - core[2]).dot(ce.n_out[2])};
   // Inside a non-degenerate core: all signed distances <= 0. Use the least deep edge.
   if (ce.proper && sd[0] <= 0.0 && sd[1] <= 0.0 && sd[2] <= 0.0) {
     int k = 0;
@@ -81,18 +88,30 @@ CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, cons
   return c;
 }
 
+}  // namespace
+
+CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+  return closest_from(p, core, ce, edge_distances(p, core, ce));
+}
+
 namespace {
 
-// Vertices farther than `reach` from the core's box cannot touch it: skip the query.
+// Vertices farther than `reach` from the core's box, or beyond an edge line by more than
+// `reach` plus a margin far above rounding (so the computed distance would exceed reach
+// too), cannot touch it: skip the query. (A vertex skipped this way is not needed by the
+// mutual vertex-vertex test either: the vertex of a contact is within reach of the core.)
 CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
                            double reach) {
+  CoreClosest far;
+  far.distance = std::numeric_limits<double>::infinity();
   if (p.x() < ce.lo.x() - reach || p.x() > ce.hi.x() + reach || p.y() < ce.lo.y() - reach ||
       p.y() > ce.hi.y() + reach) {
-    CoreClosest far;
-    far.distance = std::numeric_limits<double>::infinity();
     return far;
   }
-  return closest_on_core(p, core, ce);
+  const std::array<double, 3> sd = edge_distances(p, core, ce);
+  const double beyond = reach * (1.0 + 1e-6) + 1e-12 * (std::abs(p.x()) + std::abs(p.y()));
+  if (sd[0] > beyond || sd[1] > beyond || sd[2] > beyond) return far;
+  return closest_from(p, core, ce, sd);
 }
 
 }  // namespace
@@ -116,15 +135,20 @@ namespace {
 
 }  // namespace
 
+// The gap two cores must exceed along a unit axis for the rounded shapes not to touch.
+// The distance of two convex sets is at least their gap along any unit axis. The
+// computed vertex distances (and the edge line's position, p[k] or p[k+1]) err by a
+// few ulps of the coordinates: the margin covers that many times over, so a pair
+// rejected with it has no contact in narrow_phase().
+double clearance_limit(const Spheropolygon& a, const Spheropolygon& b) {
+  const double scale = std::abs(a.core[0].x()) + std::abs(a.core[0].y()) + std::abs(b.core[0].x()) + std::abs(b.core[0].y());
+  return (a.r + b.r) * (1.0 + 1e-6) + 1e-12 * scale;
+}
+
 double cores_clearance(const Spheropolygon& a, const std::array<Vec2, 3>& na, const Spheropolygon& b,
                        const std::array<Vec2, 3>& nb) {
-  // The distance of two convex sets is at least their gap along any unit axis. The
-  // computed vertex distances (and the edge line's position, p[k] or p[k+1]) err by a
-  // few ulps of the coordinates: the margin covers that many times over, so a pair
-  // rejected here has no contact in narrow_phase(). A zero normal (zero-length edge)
-  // never rejects.
-  const double scale = std::abs(a.core[0].x()) + std::abs(a.core[0].y()) + std::abs(b.core[0].x()) + std::abs(b.core[0].y());
-  const double limit = (a.r + b.r) * (1.0 + 1e-6) + 1e-12 * scale;
+  // A zero normal (zero-length edge) never rejects.
+  const double limit = clearance_limit(a, b);
   for (int k = 0; k < 3; ++k) {
     const double ca = beyond_edge(na[k], a.core, k, b.core, limit);
     if (ca > 0.0) return ca;
@@ -141,9 +165,36 @@ int narrow_phase(const Spheropolygon& a, const Spheropolygon& b,
 
 namespace {
 
-// narrow_phase() after the cores_apart() rejection.
+// Gap between p (on the + side) and q along the axis n: min p.n - max q.n.
+double gap_along(const Vec2& n, const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q) {
+  return std::min({p[0].dot(n), p[1].dot(n), p[2].dot(n)}) - std::max({q[0].dot(n), q[1].dot(n), q[2].dot(n)});
+}
+
+// Clearance of a pair that contacts_of() found without contact, from the six vertex
+// queries ca, cb: the gap along the direction of the nearest vertex query (for two
+// disjoint convex cores that is their distance) or along x or y (the cores' boxes),
+// beyond clearance_limit(); 0 when none exceeds it. Any axis bounds the distance from
+// below, so a positive result is a valid cores_clearance() (vertex neighbours whose
+// nearest points are two corners, which no edge normal separates, issue 7 disc profile).
+double clearance_after(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
+                       const std::array<CoreClosest, 3>& ca, const std::array<CoreClosest, 3>& cb) {
+  double best = std::numeric_limits<double>::infinity(), gap = -std::numeric_limits<double>::infinity();
+  int side = -1, v = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (ca[k].distance < best) best = ca[k].distance, side = 0, v = k;
+    if (cb[k].distance < best) best = cb[k].distance, side = 1, v = k;
+  }
+  if (side == 0 && best > 0.0 && std::isfinite(best)) gap = gap_along(ca[v].normal, a.core, b.core);
+  if (side == 1 && best > 0.0 && std::isfinite(best)) gap = gap_along(cb[v].normal, b.core, a.core);
+  gap = std::max({gap, ea.lo.x() - eb.hi.x(), eb.lo.x() - ea.hi.x(), ea.lo.y() - eb.hi.y(), eb.lo.y() - ea.hi.y()});
+  const double c = gap - clearance_limit(a, b);
+  return c > 0.0 ? c : 0.0;
+}
+
+// narrow_phase() after the cores_apart() rejection. clearance (if given) receives
+// clearance_after() when there is no contact.
 int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
-                std::array<ContactGeometry, kMaxContactsPerPair>& out) {
+                std::array<ContactGeometry, kMaxContactsPerPair>& out, double* clearance = nullptr) {
   const double rsum = a.r + b.r;
   std::array<CoreClosest, 3> ca, cb;  // vertex of a on core of b, vertex of b on core of a
   for (int v = 0; v < 3; ++v) {
@@ -188,6 +239,7 @@ int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon
     g.normal = -c.normal;  // c.normal points from a's core to b's vertex: i -> j
     g.point = c.point + (0.5 * (c.distance + a.r - b.r)) * c.normal;
   }
+  if (n == 0 && clearance) *clearance = clearance_after(a, ea, b, eb, ca, cb);
   return n;
 }
 
@@ -201,13 +253,18 @@ int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygo
 
 int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
                  const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
-                 double* clearance) {
+                 double* clearance, bool check_apart) {
   const std::array<Vec2, 3> na{edge_normal(a.core, sa, 0), edge_normal(a.core, sa, 1), edge_normal(a.core, sa, 2)};
   const std::array<Vec2, 3> nb{edge_normal(b.core, sb, 0), edge_normal(b.core, sb, 1), edge_normal(b.core, sb, 2)};
-  const double c = cores_clearance(a, na, b, nb);
-  if (clearance) *clearance = c;
-  if (c > 0.0) return 0;
-  return contacts_of(a, expand(a.core, sa, na), b, expand(b.core, sb, nb), out);
+  if (clearance) *clearance = 0.0;
+  if (check_apart) {
+    const double c = cores_clearance(a, na, b, nb);
+    if (c > 0.0) {
+      if (clearance) *clearance = c;
+      return 0;
+    }
+  }
+  return contacts_of(a, expand(a.core, sa, na), b, expand(b.core, sb, nb), out, clearance);
 }
 
 }  // namespace dsdem::contact

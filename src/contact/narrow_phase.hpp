@@ -121,9 +121,13 @@ int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygo
                  const CoreEdges& eb, std::array<ContactGeometry, kMaxContactsPerPair>& out);
 // Same, from the cached scales: the edge data are expanded only for pairs that
 // cores_apart() does not reject (the contact phase's per-pair call). clearance, if
-// given, receives cores_clearance() (0 when not apart).
+// given, receives a clearance as cores_clearance() defines it whenever there is no
+// contact: cores_clearance() itself, or for pairs it does not reject, the gap along the
+// nearest vertex query's direction (or x, y) beyond the same limit; 0 when none is
+// positive. check_apart = false skips cores_clearance() (a pair in contact at its last
+// check: the test would only cost); the contacts are the same either way.
 int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
                  const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
-                 double* clearance = nullptr);
+                 double* clearance = nullptr, bool check_apart = true);
 
 }  // namespace dsdem::contact

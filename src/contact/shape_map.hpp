@@ -6,6 +6,7 @@
 // the point force, so equal and opposite point forces on two triangles conserve
 // momentum and angular momentum. Velocities at the point use the same N_k.
 #include <array>
+#include <cmath>
 #include <span>
 
 #include "model/types.hpp"
@@ -16,6 +17,32 @@ namespace dsdem::contact {
 // orientation). Outside the triangle some are negative; they still reproduce p
 // exactly, so they are not clamped. A degenerate triangle gives (1/3, 1/3, 1/3).
 Vec3 barycentric(const Vec2& p, const Vec2& x0, const Vec2& x1, const Vec2& x2);
+
+// The per-triangle part of barycentric(), for several points of one triangle (the
+// contacts of a pair): barycentric(p, barycentric_frame(x0, x1, x2)) is
+// barycentric(p, x0, x1, x2) bit for bit (the same operations).
+struct BarycentricFrame {
+  Vec2 x0 = Vec2::Zero(), e1 = Vec2::Zero(), e2 = Vec2::Zero();
+  double det = 0.0;
+  bool degenerate = true;
+};
+inline BarycentricFrame barycentric_frame(const Vec2& x0, const Vec2& x1, const Vec2& x2) {
+  BarycentricFrame f;
+  f.x0 = x0;
+  f.e1 = x1 - x0;
+  f.e2 = x2 - x0;
+  f.det = f.e1.x() * f.e2.y() - f.e1.y() * f.e2.x();
+  const double scale = f.e1.squaredNorm() + f.e2.squaredNorm();
+  f.degenerate = !(std::abs(f.det) > 1e-14 * scale);
+  return f;
+}
+inline Vec3 barycentric(const Vec2& p, const BarycentricFrame& f) {
+  if (f.degenerate) return Vec3::Constant(1.0 / 3.0);
+  const Vec2 d = p - f.x0;
+  const double n1 = (d.x() * f.e2.y() - d.y() * f.e2.x()) / f.det;
+  const double n2 = (f.e1.x() * d.y() - f.e1.y() * d.x()) / f.det;
+  return Vec3(1.0 - n1 - n2, n1, n2);
+}
 
 // Nodal forces N_k F.
 inline std::array<Vec2, 3> distribute(const Vec3& N, const Vec2& F) {

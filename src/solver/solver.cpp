@@ -387,7 +387,8 @@ void Solver::add_contact_forces() {
   const contact::ContactInput in{n.X, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
                                  model_.triangles.group, cs.body, n.u};
   contact_stats_ = contact_->compute(in, contact_params_, settings_.dt,
-                                     [this](Index i, Index j) { return bonded(i, j); }, n.f);
+                                     [this](Index i, Index j) { return bonded(i, j); }, n.f,
+                                     broken_joints_);  // bonded() changes only when a joint breaks
   energy_.contact_elastic = contact_stats_.elastic_energy;
   energy_.friction_dissipated += contact_stats_.friction_dissipation + contact_stats_.damping_dissipation;
 }

@@ -251,6 +251,21 @@ TEST(ContactForces, SkipIsAskedEveryStepAndSharedNodesNeverInteract) {
   // Overlap 1 mm at both ends (the cores are r_i + r_j apart before the push).
   EXPECT_NEAR(sum_forces(f, s.conn[1]).x(), 2.0 * 1e9 * 1e-3, 1e-6 * 2e6);
 
+  // With a skip epoch, a skipped pair is not asked again until the epoch changes; then
+  // contact acts at once (still no rebuild).
+  ContactForces ce;
+  int asked = 0;
+  bonded = true;
+  auto counted = [&](Index, Index) { ++asked; return bonded; };
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(ce.compute(s.input(), params, 1e-5, counted, f, 7).active_contacts, 0);
+  EXPECT_EQ(asked, 1);
+  bonded = false;
+  EXPECT_EQ(ce.compute(s.input(), params, 1e-5, counted, f, 7).active_contacts, 0);  // promised: no change
+  st = ce.compute(s.input(), params, 1e-5, counted, f, 8);
+  EXPECT_FALSE(st.rebuilt);
+  EXPECT_EQ(st.active_contacts, 2);
+  EXPECT_EQ(asked, 2);
+
   // A continuous mesh (shared nodes) squashed to 1 cm: of its 6 pairs only triangles 1
   // and 2 share no node, and only they are a candidate.
   Mesh c;

@@ -308,3 +308,72 @@ TEST(CoresApart, RejectsOnlyPairsWithoutContactAndFindsVertexNeighbours) {
   EXPECT_GT(apart, 1000);    // most vertex neighbours are rejected cheaply
   EXPECT_GT(touching, 500);  // and the overlapping ones still give contacts
 }
+
+TEST(NarrowPhase, ClearanceWithoutContactBoundsTheCoreDistanceAndCheckApartChangesNoContact) {
+  // Vertex neighbours and overlapping pairs as above. Whenever the scales overload finds
+  // no contact and reports a clearance c > 0, the cores are at least r_a + r_b + c apart
+  // (every vertex-to-core distance), whether cores_clearance() or the nearest vertex
+  // query's axis gave it; skipping cores_clearance() (check_apart = false) gives the same
+  // contacts. The nearest-query axis finds clearances cores_clearance() misses.
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> ang(0.0, 2.0 * kPi), len(0.5, 2.0), off(-0.3, 0.3);
+  auto same = [](const ContactGeometry& p, const ContactGeometry& q) {
+    return p.feature == q.feature && p.kind == q.kind && p.other == q.other && p.t == q.t && p.distance == q.distance &&
+           p.overlap == q.overlap && p.normal == q.normal && p.point == q.point;
+  };
+  int from_sat = 0, from_query = 0, touching = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Vec2 P(1000.0 + off(rng), 500.0 + off(rng));
+    auto tri = [&](const Vec2& apex, double a0, double span) {
+      const double a1 = a0 + span;
+      const Vec2 p1 = apex + len(rng) * Vec2(std::cos(a0), std::sin(a0)), p2 = apex + len(rng) * Vec2(std::cos(a1), std::sin(a1));
+      return make_spheropolygon(apex, p1, p2, rounding_radius(apex, p1, p2));
+    };
+    const double a0 = ang(rng), sa_ = 0.3 + 0.9 * len(rng) / 2.0, sb_ = 0.3 + 0.9 * len(rng) / 2.0;
+    Spheropolygon a = tri(P, a0, sa_);
+    // Around the same apex, moved by up to a few rounding radii (gaps, touches, overlaps);
+    // every other one opposite a (corner facing corner across the apex).
+    const Vec2 Q = P + 0.02 * off(rng) * Vec2(std::cos(a0 + 1.0), std::sin(a0 + 1.0));
+    Spheropolygon b = k % 4 == 0 ? tri(Q, a0 + 0.2 * off(rng), 0.8) : tri(Q, a0 + 0.2 + 4.0 * len(rng) / 2.0, sb_);
+    if (k % 2 == 1) {  // two non-adjacent triangles of a fan of six around P (a mesh vertex):
+      // opposite ones are corner to corner, at exactly r_a + r_b along the edge normals
+      std::array<double, 6> ray;
+      for (int q = 0; q < 6; ++q) ray[q] = a0 + q * kPi / 3.0;  // equal angles, as structured meshes have
+      auto fan = [&](int q) {
+        const Vec2 p1 = P + (0.8 + 0.2 * len(rng)) * Vec2(std::cos(ray[q]), std::sin(ray[q]));
+        const Vec2 p2 = P + (0.8 + 0.2 * len(rng)) * Vec2(std::cos(ray[(q + 1) % 6]),
+                                            std::sin(ray[(q + 1) % 6]));
+        return make_spheropolygon(P, p1, p2, rounding_radius(P, p1, p2));
+      };
+      a = fan(0);
+      b = fan(2 + k / 2 % 3);
+    }
+    const CoreEdgeScales sa = core_edge_scales(a.core), sb = core_edge_scales(b.core);
+    const CoreEdges ea = core_edges(a.core), eb = core_edges(b.core);
+    Out o1, o2;
+    double c1 = -1.0, c2 = -1.0;
+    const int n1 = narrow_phase(a, sa, b, sb, o1, &c1, true);
+    const int n2 = narrow_phase(a, sa, b, sb, o2, &c2, false);
+    ASSERT_EQ(n1, n2);
+    for (int c = 0; c < n1; ++c) EXPECT_TRUE(same(o1[c], o2[c]));
+    if (n1 > 0) {
+      ++touching;
+      EXPECT_EQ(c1, 0.0);
+      EXPECT_EQ(c2, 0.0);
+      continue;
+    }
+    for (const double c : {c1, c2}) {
+      EXPECT_GE(c, 0.0);
+      for (int v = 0; v < 3; ++v) {
+        EXPECT_GE(closest_on_core(a.core[v], b.core, eb).distance, a.r + b.r + c);
+        EXPECT_GE(closest_on_core(b.core[v], a.core, ea).distance, a.r + b.r + c);
+      }
+    }
+    const bool sat = cores_apart(a, ea, b, eb);
+    from_sat += sat ? 1 : 0;
+    from_query += !sat && c1 > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(touching, 300);
+  EXPECT_GT(from_sat, 300);
+  EXPECT_GT(from_query, 100);  // corner-to-corner neighbours no edge normal separates
+}

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -94,4 +95,18 @@ TEST(ShapeMap, PointVelocityOfARigidMotionAndPointMass) {
   // A massless (immovable) node adds nothing.
   const std::vector<double> m0 = {0.0, 2.0, 2.0};
   EXPECT_NEAR(point_inverse_mass(Vec3(0.5, 0.5, 0.0), nodes, m0), 0.125, 1e-16);
+}
+
+TEST(ShapeMap, BarycentricFrameGivesBarycentricBitForBit) {
+  // The per-pair frame (process_pair: one per triangle, reused by its contacts) must give
+  // exactly what barycentric() gives, degenerate triangles included.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 2000; ++k) {
+    const Vec2 x0(100.0 + u(rng), 50.0 + u(rng)), x1(100.0 + u(rng), 50.0 + u(rng));
+    const Vec2 x2 = k % 10 == 0 ? Vec2(x0 + 0.5 * (x1 - x0)) : Vec2(100.0 + u(rng), 50.0 + u(rng));
+    const Vec2 p(100.0 + u(rng), 50.0 + u(rng));
+    const Vec3 a = barycentric(p, x0, x1, x2), b = barycentric(p, barycentric_frame(x0, x1, x2));
+    ASSERT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * 3), 0) << k;
+  }
 }
