@@ -9,6 +9,58 @@
 
 namespace dsdem::boundary {
 
+SurfaceProfile::SurfaceProfile(const std::vector<Vec2>& X, const std::vector<std::array<Index, 3>>& conn) {
+  if (conn.empty()) return;
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, length = 0.0;
+  for (const auto& c : conn)
+    for (int k = 0; k < 3; ++k) {
+      const Vec2& a = X[c[k]];
+      xmin = std::min(xmin, a.x());
+      xmax = std::max(xmax, a.x());
+      length += std::abs(X[c[(k + 1) % 3]].x() - a.x());
+    }
+  // Columns about as wide as an edge is long in x: a few edges per column.
+  const double mean_dx = length / (3.0 * static_cast<double>(conn.size()));
+  x0_ = xmin;
+  columns_ = mean_dx > 0.0 ? std::clamp<std::size_t>(static_cast<std::size_t>((xmax - xmin) / mean_dx), 1, 3 * conn.size()) : 1;
+  width_ = xmax > xmin ? (xmax - xmin) / static_cast<double>(columns_) : 1.0;
+  std::vector<std::array<Vec2, 2>> all;
+  all.reserve(3 * conn.size());
+  for (const auto& c : conn)
+    for (int k = 0; k < 3; ++k) {
+      Vec2 a = X[c[k]], b = X[c[(k + 1) % 3]];
+      if (b.x() < a.x()) std::swap(a, b);
+      all.push_back({a, b});
+    }
+  offset_.assign(columns_ + 1, 0);
+  for (const auto& e : all)
+    for (std::size_t col = column(e[0].x()); col <= column(e[1].x()); ++col) ++offset_[col + 1];
+  for (std::size_t col = 0; col < columns_; ++col) offset_[col + 1] += offset_[col];
+  edges_.resize(offset_[columns_]);
+  std::vector<std::size_t> fill(offset_.begin(), offset_.end() - 1);
+  for (const auto& e : all)
+    for (std::size_t col = column(e[0].x()); col <= column(e[1].x()); ++col) edges_[fill[col]++] = e;
+}
+
+std::size_t SurfaceProfile::column(double x) const {
+  const double c = std::floor((x - x0_) / width_);
+  return c <= 0.0 ? 0 : std::min(columns_ - 1, static_cast<std::size_t>(c));
+}
+
+double SurfaceProfile::top(double x) const {
+  double top = -std::numeric_limits<double>::infinity();
+  if (offset_.empty()) return top;
+  const std::size_t col = column(x);
+  for (std::size_t k = offset_[col]; k < offset_[col + 1]; ++k) {
+    const Vec2& a = edges_[k][0];
+    const Vec2& b = edges_[k][1];
+    if (x < a.x() || x > b.x()) continue;
+    const double y = b.x() > a.x() ? a.y() + (x - a.x()) * (b.y() - a.y()) / (b.x() - a.x()) : std::max(a.y(), b.y());
+    top = std::max(top, y);
+  }
+  return top;
+}
+
 std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::vector<io::BoundarySpec>& boundaries) {
   std::vector<BoundaryNode> out;
   const Nodes& nodes = model.nodes;
@@ -25,13 +77,6 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
   double y_base = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes.m[i] > 0) y_base = std::min(y_base, nodes.X[i].y());
-  // Free surface above x: highest node within half an element of x (reference state).
-  auto surface_above = [&](double x, double tol) {
-    double top = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-      if (nodes.m[i] > 0 && std::abs(nodes.X[i].x() - x) <= tol) top = std::max(top, nodes.X[i].y());
-    return top;
-  };
 
   std::map<Index, std::size_t> index_of;  // model node -> entry in out
   std::map<Index, const io::BoundarySpec*> spec_of;  // the first boundary that named the node
@@ -83,14 +128,14 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
     bn.coef = viscous_spring_coefficients(bn.area, bn.medium, R);
   }
   // Free-field column of each node: from the base to the free surface above it. Side
-  // nodes use the column at their own x; base nodes the column above them.
-  double h_mean = 0.0;
-  for (double a : model.triangles.area0) h_mean += std::sqrt(2.0 * a);
-  h_mean /= std::max<std::size_t>(1, model.triangles.size());
+  // nodes use the column at their own x; base nodes the column above them. (The surface
+  // was once the highest node within half a mean element of x: under a coarse, graded
+  // mesh that missed the surface, e.g. 225 m low at x = 130 m on Dr2 at h = 12 m.)
+  const SurfaceProfile surface(nodes.X, model.triangles.conn);
   for (auto& bn : out) {
     const Vec2 X = nodes.X[bn.node];
     bn.y = X.y() - y_base;
-    bn.H = surface_above(X.x(), 0.5 * h_mean) - y_base;
+    bn.H = surface.top(X.x()) - y_base;
     bn.y = std::clamp(bn.y, 0.0, bn.H);
   }
   return out;

@@ -2,6 +2,7 @@
 // Viscous-spring boundary nodes of a model (DESIGN.md §5): tributary length, outward
 // normal, the medium behind them, the free-field column each one sees, and the static
 // reaction kept as a load when the boundary replaces the supports of a gravity stage.
+#include <array>
 #include <vector>
 
 #include "boundary/free_field.hpp"
@@ -23,6 +24,24 @@ struct BoundaryNode {
   Vec2 static_force = Vec2::Zero();  // reaction of the previous stage's supports, kept as a load, N
   Vec2 u_ref = Vec2::Zero();         // displacement when the boundary was attached, m
   Vec2 u_prev = Vec2::Zero();        // displacement before this step's drift, m (solver scratch, for the work)
+};
+
+// Height of the model's top outline above each x, in the reference configuration: the
+// highest point where the vertical line at x meets a triangle edge (DESIGN.md §5: the
+// free-field column runs from the base to the free surface above a boundary point).
+// Built once in O(triangles) over a uniform grid of x-columns; a query scans one column.
+class SurfaceProfile {
+ public:
+  SurfaceProfile(const std::vector<Vec2>& X, const std::vector<std::array<Index, 3>>& conn);
+  // -infinity where the vertical line at x misses the mesh.
+  double top(double x) const;
+
+ private:
+  std::size_t column(double x) const;
+  double x0_ = 0.0, width_ = 1.0;
+  std::size_t columns_ = 1;
+  std::vector<std::size_t> offset_;              // column c holds edges_[offset_[c] .. offset_[c + 1])
+  std::vector<std::array<Vec2, 2>> edges_;       // end points, the smaller x first
 };
 
 // All nodes of the viscous-spring curve groups in `boundaries`. Throws io::ScenarioError
