@@ -10,7 +10,9 @@ namespace dsdem::io {
 
 namespace {
 constexpr const char* kMagic = "dsdem_checkpoint_version";
-constexpr std::int64_t kVersion = 1;
+// 2: joint end-point states without the recomputable tractions, break records as a
+// list (issue 7). A file of another version is refused, naming both versions.
+constexpr std::int64_t kVersion = 2;
 
 // HDF5 does not create intermediate groups by itself: "nodes/u" needs group "nodes".
 void ensure_groups(H5::H5File& file, const std::string& name) {
@@ -98,8 +100,13 @@ CheckpointReader::CheckpointReader(const std::filesystem::path& path) : impl_(st
   } catch (const H5::Exception& e) {
     throw std::runtime_error(fmt::format("{}: not a readable checkpoint (HDF5: {})", path.string(), e.getDetailMsg()));
   }
-  if (!has(kMagic) || integer(kMagic) != kVersion)
-    throw std::runtime_error(fmt::format("{}: not a dsdem checkpoint of version {}", path.string(), kVersion));
+  if (!has(kMagic)) throw std::runtime_error(fmt::format("{}: not a dsdem checkpoint (no '{}')", path.string(), kMagic));
+  const std::int64_t version = integer(kMagic);
+  if (version != kVersion)
+    throw std::runtime_error(fmt::format(
+        "{}: dsdem checkpoint version {}, this build reads version {} only (the saved state's layout differs): "
+        "restart the run from its beginning, or continue it with the dsdem build that wrote the checkpoint",
+        path.string(), version, kVersion));
 }
 
 CheckpointReader::~CheckpointReader() = default;

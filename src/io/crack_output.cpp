@@ -15,16 +15,16 @@ void write_cracks_vtu(const std::filesystem::path& path, const Model& model, dou
   const Nodes& n = model.nodes;
   std::vector<std::array<Vec2, 2>> segments(J.size());
   std::vector<std::int32_t> state(J.size()), mode(J.size());
-  std::vector<double> damage(J.size()), opening(J.size()), slip(J.size()), time_broken(J.size());
+  std::vector<double> damage(J.size()), opening(J.size()), slip(J.size());
+  const std::vector<double> time_broken = J.break_times();
   for (std::size_t j = 0; j < J.size(); ++j) {
     const auto& nd = J.nodes[j];
     segments[j] = {0.5 * (n.x(nd[0]) + n.x(nd[2])), 0.5 * (n.x(nd[1]) + n.x(nd[3]))};
     state[j] = J.broken[j] ? 1 : 0;
-    mode[j] = static_cast<std::int32_t>(J.break_mode[j]);
-    damage[j] = J.broken[j] ? 1.0 : J.damage[j];
+    mode[j] = static_cast<std::int32_t>(J.break_mode(j));
+    damage[j] = J.broken[j] ? 1.0 : J.damage(j);
     opening[j] = 0.5 * (J.state[j][0].dn + J.state[j][1].dn);
     slip[j] = 0.5 * (J.state[j][0].ds + J.state[j][1].ds);
-    time_broken[j] = J.break_time[j];
   }
   FieldSet fields{scalar_field("state", "", std::span<const std::int32_t>(state)),
                   scalar_field("damage", "", std::span<const double>(damage)),
@@ -39,19 +39,18 @@ void write_cracks_vtu(const std::filesystem::path& path, const Model& model, dou
 
 void write_crack_log_csv(const std::filesystem::path& path, const Model& model) {
   const Joints& J = model.joints;
-  std::vector<std::size_t> order;
-  for (std::size_t j = 0; j < J.size(); ++j)
-    if (J.broken[j]) order.push_back(j);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const double ta = std::isnan(J.break_time[a]) ? -1.0 : J.break_time[a];
-    const double tb = std::isnan(J.break_time[b]) ? -1.0 : J.break_time[b];
-    return ta < tb;
+  // By break time, ties by joint index.
+  std::vector<const BreakRecord*> order;
+  for (const BreakRecord& b : J.breaks) order.push_back(&b);
+  std::sort(order.begin(), order.end(), [](const BreakRecord* a, const BreakRecord* b) {
+    return a->time < b->time || (a->time == b->time && a->joint < b->joint);
   });
   std::string text = "joint,time_s,x_m,y_m,mode,property,curve\n";
-  for (std::size_t j : order) {
+  for (const BreakRecord* b : order) {
+    const std::size_t j = static_cast<std::size_t>(b->joint);
     const Index curve = J.curve_group[j];
-    text += fmt::format("{},{},{},{},{},{},{}\n", j, J.break_time[j], J.break_position[j].x(), J.break_position[j].y(),
-                        to_string(J.break_mode[j]), model.joint_properties[J.property[j]].name,
+    text += fmt::format("{},{},{},{},{},{},{}\n", j, b->time, b->position.x(), b->position.y(),
+                        to_string(J.break_mode(j)), model.joint_properties[J.property[j]].name,
                         curve == kNoIndex ? "" : model.groups[curve].name);
   }
   write_file_atomically(path, text);

@@ -1,43 +1,37 @@
 #include "joint/joint_phase.hpp"
 
+#include <algorithm>
+
 namespace dsdem {
 
 namespace {
 
 // One intact joint: its forces on face a's two nodes (times thickness; face b gets
-// their negatives, joint_force makes them so exactly), energy and dissipation; breaks it
-// when it fails. Returns true when it broke now.
-inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<JointLawConstants>& law, std::size_t j, double time,
-                       bool damage_enabled, double thickness,
-                       std::array<Vec2, 2>& f, double& energy, double& dissipation) {
+// their negatives), energy and dissipation; marks it kBreakPending when it fails.
+// Returns true when it broke now.
+[[gnu::always_inline]] inline bool joint_step(const Nodes& nodes, Joints& joints, const std::vector<JointLawConstants>& law, std::size_t j,
+                       bool damage_enabled, double thickness, std::array<Vec2, 2>& f, double& energy,
+                       double& dissipation) {
   const auto& nd = joints.nodes[j];
   const JointNodePositions x{nodes.x(nd[0]), nodes.x(nd[1]), nodes.x(nd[2]), nodes.x(nd[3])};
   // Separations from displacements: the two faces coincide in the reference.
   const JointSeparations delta{(nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
                                (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
-  // A penalty joint's stiffness follows its local element size (DESIGN.md §3).
-  const JointLawConstants& k = law[joints.property[j]];
-  const double s = joints.stiffness_scale[j];
-  const JointForceResult r = s == 1.0 ? joint_force(x, delta, joints.length0[j], k, joints.state[j], damage_enabled)
-                                      : joint_force(x, delta, joints.length0[j], scaled(k, s), joints.state[j], damage_enabled);
-  joints.state[j] = r.state;
-  joints.damage[j] = 0.5 * (r.state[0].damage + r.state[1].damage);
-  joints.dissipated[j] += thickness * r.dissipation;
+  // A penalty joint's stiffness follows its local element size (DESIGN.md §3); a scale
+  // of 1 leaves the constants' bits as they are (x * 1.0 == x).
+  const JointLawConstants k = scaled(law[joints.property[j]], joints.stiffness_scale[j]);
+  const JointUpdate r = joint_update(x, delta, joints.length0[j], k, joints.state[j], joints.end_mode[j], damage_enabled);
   dissipation = thickness * r.dissipation;
-  if (r.failed_now) {
+  if (r.failed_now) [[unlikely]] {
     // Both ends carry no tension or cohesion any more: drop the joint, keep the
     // energy it still stores as dissipated so the balance closes.
-    joints.broken[j] = 1;
-    joints.break_time[j] = time;
-    joints.break_position[j] = 0.25 * (x[0] + x[1] + x[2] + x[3]);
-    joints.break_mode[j] = r.mode;
-    joints.dissipated[j] += thickness * r.energy;
+    joints.broken[j] = Joints::kBreakPending;
     dissipation += thickness * r.energy;
     f = {Vec2::Zero(), Vec2::Zero()};
     energy = 0.0;
     return true;
   }
-  for (int k = 0; k < 2; ++k) f[k] = thickness * r.f[k];
+  for (int k = 0; k < 2; ++k) f[k] = thickness * r.fa[k];
   energy = thickness * r.energy;
   return false;
 }
@@ -54,7 +48,7 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
     if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
     std::array<Vec2, 2> f;
     double energy = 0.0, dissipation = 0.0;
-    const bool broke = joint_step(nodes, joints, law, j, time, damage_enabled, thickness, f, energy, dissipation);
+    const bool broke = joint_step(nodes, joints, law, j, damage_enabled, thickness, f, energy, dissipation);
     tot.dissipation += dissipation;
     if (broke) {
       ++tot.broken_now;
@@ -67,39 +61,68 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
     }
     tot.energy += energy;
   }
+  if (tot.broken_now) record_new_breaks(nodes, joints, time);
   return tot;
 }
 
-void JointPhaseBuffers::prepare(std::size_t n, const std::vector<JointProperties>& properties) {
-  resize(n);
+void JointPhaseBuffers::prepare(Joints& joints, const std::vector<JointProperties>& properties) {
+  const std::size_t n = joints.size();
+  if (force.size() != n) force.assign(n, {Vec2::Zero(), Vec2::Zero()});
+  const std::size_t blocks = (n + kJointBlock - 1) / kJointBlock;
+  block_energy.assign(blocks, 0.0);
+  block_dissipation.assign(blocks, 0.0);
+  // Address space for every joint's record; pages become resident only as joints break.
+  joints.breaks.reserve(n);
   law.resize(properties.size());
   for (std::size_t k = 0; k < properties.size(); ++k) law[k] = law_constants(properties[k]);
 }
 
-void JointPhaseBuffers::resize(std::size_t n) {
-  if (force.size() == n) return;
-  force.assign(n, {Vec2::Zero(), Vec2::Zero()});
-  energy.assign(n, 0.0);
-  dissipation.assign(n, 0.0);
+double JointPhaseBuffers::energy() const {
+  double total = 0.0;
+  for (double e : block_energy) total += e;
+  return total;
 }
 
-void evaluate_joints(const Nodes& nodes, Joints& joints, double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
+double JointPhaseBuffers::dissipation() const {
+  double total = 0.0;
+  for (double d : block_dissipation) total += d;
+  return total;
+}
+
+void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
                      Index& broken_now) {
-  const std::ptrdiff_t nj = static_cast<std::ptrdiff_t>(joints.size());
+  const std::size_t nj = joints.size();
+  const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((nj + kJointBlock - 1) / kJointBlock);
   Index broke = 0;
 #pragma omp for schedule(static) nowait
-  for (std::ptrdiff_t j = 0; j < nj; ++j) {
-    if (joints.broken[j]) {  // contact takes over (DESIGN.md §3); its force slot stays zero
-      buf.dissipation[j] = 0.0;
-      continue;
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * kJointBlock;
+    const std::size_t end = std::min(begin + kJointBlock, nj);
+    // Broken joints add nothing (their per-joint terms were +0, which left the sums' bits alone).
+    double energy = 0.0, dissipation = 0.0;
+    for (std::size_t j = begin; j < end; ++j) {
+      if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3); its force slot stays zero
+      double e, d;
+      if (joint_step(nodes, joints, buf.law, j, damage_enabled, thickness, buf.force[j], e, d)) ++broke;
+      energy += e;
+      dissipation += d;
     }
-    if (joint_step(nodes, joints, buf.law, static_cast<std::size_t>(j), time, damage_enabled, thickness,
-                   buf.force[j], buf.energy[j], buf.dissipation[j]))
-      ++broke;
+    buf.block_energy[static_cast<std::size_t>(b)] = energy;
+    buf.block_dissipation[static_cast<std::size_t>(b)] = dissipation;
   }
   if (broke) {
 #pragma omp atomic
     broken_now += broke;
+  }
+}
+
+void record_new_breaks(const Nodes& nodes, Joints& joints, double time) {
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    if (joints.broken[j] != Joints::kBreakPending) continue;
+    const auto& nd = joints.nodes[j];
+    const Vec2 mid = 0.25 * (nodes.x(nd[0]) + nodes.x(nd[1]) + nodes.x(nd[2]) + nodes.x(nd[3]));
+    joints.breaks.push_back({static_cast<Index>(j), time, mid});
+    joints.broken[j] = 1;
   }
 }
 

@@ -2,6 +2,7 @@
 // Step 4 of the time step (DESIGN.md §1): forces of every intact joint added to the
 // node forces, histories updated, joints that meet the failure criterion broken for
 // good with their time, position and mode recorded.
+#include <cstddef>
 #include <vector>
 
 #include "joint/joint_force.hpp"
@@ -24,30 +25,43 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
                                   bool damage_enabled = true, double thickness = 1.0);
 
-// Per-joint results of evaluate_joints, for a deterministic parallel gather (issue 7):
-// the forces on the joint's face-a nodes a0, a1 (b0, b1 get their negatives: half the
-// buffer, issue 7 memory; zero for a broken joint), its elastic energy
-// and the energy it dissipated in this call. Sized by evaluate_joints (no allocation
-// once sized).
+// Joints per block of evaluate_joints: the unit of its work sharing and of its partial
+// energy sums. Equal to kReductionChunk (solver/parallel.hpp), so the sums are those
+// deterministic_sums gave over per-joint values, bit for bit.
+constexpr std::size_t kJointBlock = 2048;
+
+// Results of evaluate_joints for a deterministic parallel gather (issue 7): per joint
+// the forces on its face-a nodes a0, a1 (b0, b1 get their negatives; zero for a broken
+// joint), per block of kJointBlock joints the elastic energy and the dissipation of
+// this call summed in joint order (not per joint: memory per element).
 struct JointPhaseBuffers {
   std::vector<std::array<Vec2, 2>> force;  // N on a0, a1 (b0, b1: minus these), times the thickness
-  std::vector<double> energy;              // J/m
-  std::vector<double> dissipation;         // J/m
+  std::vector<double> block_energy;        // J/m, per block
+  std::vector<double> block_dissipation;   // J/m, per block
   std::vector<JointLawConstants> law;      // per joint property, law_constants(p)
-  void resize(std::size_t n);
-  // Sizes the buffers for n joints and computes the law constants of the properties
-  // (call again if the properties change).
-  void prepare(std::size_t n, const std::vector<JointProperties>& properties);
+  // Sizes the buffers for the joints, reserves their break records (so that breaking
+  // allocates nothing in the time loop) and computes the law constants of the
+  // properties (call again if the properties change).
+  void prepare(Joints& joints, const std::vector<JointProperties>& properties);
+  // The sums over all joints of the last evaluate_joints (block sums added in order).
+  double energy() const;
+  double dissipation() const;
 };
 
 // The joint loop of add_joint_forces without the scatter: every joint independent, so
-// the loop is an orphaned `omp for` (static schedule) — call it from inside a parallel
-// region to share the joints among the threads, or from serial code. Histories and
-// breaks are updated as in add_joint_forces. The caller adds buf.force to the nodes
-// (in a fixed order) and sums buf.energy / buf.dissipation; broken_now is returned
-// through *broken_now (added to with an atomic, exact for any thread count). The law
-// constants come from buf.law (buf.prepare() first).
-void evaluate_joints(const Nodes& nodes, Joints& joints, double time, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
+// the loop over blocks is an orphaned `omp for` (static schedule) — call it from inside
+// a parallel region to share the joints among the threads, or from serial code.
+// Histories are updated as in add_joint_forces; a joint that breaks is marked
+// broken[j] = Joints::kBreakPending: call record_new_breaks() after the loop (serial)
+// when broken_now grew. The caller adds buf.force to the nodes (in a fixed order) and
+// reads buf.energy() / buf.dissipation(); broken_now is returned through *broken_now
+// (added to with an atomic, exact for any thread count). The law constants come from
+// buf.law (buf.prepare() first).
+void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
                      Index& broken_now);
+
+// Records the joints marked kBreakPending (in joint order) as broken at `time`, at their
+// current mid-point (positions X + u), and marks them broken (1).
+void record_new_breaks(const Nodes& nodes, Joints& joints, double time);
 
 }  // namespace dsdem

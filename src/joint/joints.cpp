@@ -39,11 +39,21 @@ const char* to_string(BreakMode m) {
 
 void Joints::set_initially_broken(std::size_t j, const Vec2& xa0, const Vec2& xa1) {
   for (auto& s : state[j]) s.damage = 1.0;
-  damage[j] = 1.0;
+  end_mode[j] = {BreakMode::Initial, BreakMode::Initial};
   broken[j] = 1;
-  break_time[j] = 0.0;
-  break_position[j] = 0.5 * (xa0 + xa1);
-  break_mode[j] = BreakMode::Initial;
+  breaks.push_back({static_cast<Index>(j), 0.0, 0.5 * (xa0 + xa1)});
+}
+
+const BreakRecord* Joints::find_break(std::size_t j) const {
+  for (const BreakRecord& b : breaks)
+    if (static_cast<std::size_t>(b.joint) == j) return &b;
+  return nullptr;
+}
+
+std::vector<double> Joints::break_times() const {
+  std::vector<double> t(size(), std::numeric_limits<double>::quiet_NaN());
+  for (const BreakRecord& b : breaks) t[static_cast<std::size_t>(b.joint)] = b.time;
+  return t;
 }
 
 double joint_local_size(const Joints& joints, std::size_t j, const std::vector<double>& area0) {

@@ -41,19 +41,29 @@ std::string validate(const JointProperties& p);
 enum class BreakMode : std::uint8_t { None = 0, Tension = 1, Shear = 2, Mixed = 3, Initial = 4 };
 const char* to_string(BreakMode m);
 
-// History of one integration (end) point of a joint. The maxima and the damage are the
-// irreversible state (DESIGN.md §3); the last separations and tractions let the law
-// report the dissipation of each increment.
+// History of one integration (end) point of a joint, 48 B. The maxima and the damage are
+// the irreversible state (DESIGN.md §3); the separations and the shear traction of the
+// last evaluation let the law report the dissipation of the next increment and move the
+// shear traction incrementally. The normal traction and the shear secant of the last
+// evaluation are functions of these (last_tractions() in cohesive_law.hpp recomputes
+// them, bit for bit), so they are not stored (issue 7: memory per element).
 struct JointPointState {
   double dn_max = 0.0;  // largest opening reached (>= 0), m
   double s_max = 0.0;   // largest |slip| reached (>= 0), m
   double damage = 0.0;  // in [0, 1]; 1 = this point has failed (eq. 9 reached)
   double dn = 0.0;      // opening at the last evaluation, m
   double ds = 0.0;      // slip at the last evaluation, m
-  double sn = 0.0;      // normal traction at the last evaluation, Pa (tension > 0)
   double ss = 0.0;      // shear traction at the last evaluation, Pa
-  double ks_sec = 0.0;  // shear secant stiffness at the last evaluation, Pa/m (stored energy ss^2/(2 ks_sec))
-  BreakMode mode = BreakMode::None;  // how this point failed, once damage == 1
+};
+
+// How each end point of a joint failed (None while its damage < 1).
+using JointEndModes = std::array<BreakMode, 2>;
+
+// A broken joint: when and where it broke (its current mid-point then).
+struct BreakRecord {
+  Index joint = kNoIndex;
+  double time = 0.0;               // s (0 for joints broken from the start)
+  Vec2 position = Vec2::Zero();    // m
 };
 
 // All joints of a model. Joint j glues edge (a0, a1) of triangle tri_a to edge (b0, b1)
@@ -69,12 +79,15 @@ struct Joints {
   std::vector<Index> curve_group;  // named mesh curve the joint lies on, or kNoIndex
   std::vector<double> length0;     // reference length, m
   std::vector<std::array<JointPointState, 2>> state;  // per end point
-  std::vector<double> damage;      // mean of the two end points' damage, in [0, 1]
-  std::vector<std::uint8_t> broken;  // 1 once broken, for good
-  std::vector<double> break_time;    // s; NaN while intact
-  std::vector<Vec2> break_position;  // current mid-point of the joint when it broke, m
-  std::vector<BreakMode> break_mode;
-  std::vector<double> dissipated;  // fracture + frictional energy dissipated so far, J/m
+  std::vector<JointEndModes> end_mode;                // per end point
+  // 1 once broken, for good. The joint phase marks a joint that breaks with
+  // kBreakPending and record_new_breaks() (joint_phase.hpp) turns it into 1 with its
+  // break record; both are non-zero, i.e. broken, for every reader.
+  std::vector<std::uint8_t> broken;
+  static constexpr std::uint8_t kBreakPending = 2;
+  // The broken joints in the order they broke (ties: by joint index): a list, not a
+  // time and a position per joint (issue 7: memory per element).
+  std::vector<BreakRecord> breaks;
   // The joint's kn (and ks, unless given) is its property's times this factor:
   // penalty_h / local element size for penalty stiffnesses, 1 otherwise (DESIGN.md §3).
   std::vector<double> stiffness_scale;
@@ -88,14 +101,23 @@ struct Joints {
     curve_group.resize(n, kNoIndex);
     length0.resize(n, 0.0);
     state.resize(n, {JointPointState{}, JointPointState{}});
-    damage.resize(n, 0.0);
+    end_mode.resize(n, {BreakMode::None, BreakMode::None});
     broken.resize(n, 0);
-    break_time.resize(n, std::numeric_limits<double>::quiet_NaN());
-    break_position.resize(n, Vec2::Zero());
-    break_mode.resize(n, BreakMode::None);
-    dissipated.resize(n, 0.0);
     stiffness_scale.resize(n, 1.0);
   }
+
+  // Mean of the two end points' damage, in [0, 1].
+  double damage(std::size_t j) const { return 0.5 * (state[j][0].damage + state[j][1].damage); }
+  // How joint j broke: both ends' mode if equal, else Mixed; None while intact.
+  BreakMode break_mode(std::size_t j) const {
+    if (!broken[j]) return BreakMode::None;
+    const BreakMode m0 = end_mode[j][0], m1 = end_mode[j][1];
+    return m0 == m1 ? m0 : BreakMode::Mixed;
+  }
+  // The break record of joint j, or null while it is intact (linear search).
+  const BreakRecord* find_break(std::size_t j) const;
+  // Break time per joint (NaN while intact), for output.
+  std::vector<double> break_times() const;
 
   // Declare joint j broken from the start (pre-existing crack): fully damaged, time 0,
   // position = mid-point of its reference edge given as a0/a1 positions.

@@ -125,7 +125,7 @@ void Solver::build_node_incidence() {
 
 void Solver::build_joint_incidence() {
   const std::size_t nn = model_.nodes.size(), nj = model_.joints.size();
-  joint_buf_.prepare(nj, model_.joint_properties);
+  joint_buf_.prepare(model_.joints, model_.joint_properties);
   joint_incidence_offset_.assign(nn + 1, 0);
   for (const auto& nd : model_.joints.nodes)
     for (Index n : nd) ++joint_incidence_offset_[n + 1];
@@ -305,7 +305,7 @@ void Solver::add_internal_and_joint_forces() {
       if (!(r.detF > 0.0)) inverted = 1;
     }
     if (joints)
-      evaluate_joints(n, J, time_, settings_.failure, thickness, joint_buf_, broken_now);
+      evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now);
 #pragma omp barrier
     // Gather per node in a fixed order (elements, then joints): bit-identical for any
     // thread count. A broken joint's slots stay zero.
@@ -334,12 +334,10 @@ void Solver::add_internal_and_joint_forces() {
   }
   inverted_ = inverted != 0;
   if (joints) {
-    const auto sums = deterministic_sums<2>(
-        J.size(), [this](std::size_t j) { return std::array<double, 2>{joint_buf_.energy[j], joint_buf_.dissipation[j]}; },
-        reduction_scratch_, parallel_);
-    energy_.joint_elastic = sums[0];
-    energy_.fracture_dissipated += sums[1];
+    energy_.joint_elastic = joint_buf_.energy();
+    energy_.fracture_dissipated += joint_buf_.dissipation();
     broken_joints_ += broken_now;
+    if (broken_now) record_new_breaks(n, J, time_);
   }
 }
 

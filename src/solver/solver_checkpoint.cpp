@@ -12,8 +12,8 @@ namespace dsdem::solver {
 namespace {
 
 // Values saved per joint end point (JointPointState); a field added there must be added here.
-constexpr int kJointStateWidth = 9;
-static_assert(sizeof(JointPointState) == 8 * sizeof(double) + alignof(double),
+constexpr int kJointStateWidth = 6;
+static_assert(sizeof(JointPointState) == kJointStateWidth * sizeof(double),
               "JointPointState changed: update the checkpoint's joint state");
 
 template <class T, class Get>
@@ -74,25 +74,33 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("triangles/strain", vec3s(tri.strain));
   // Initial stresses: zeros when the model holds none (the file layout stays the same).
   out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
-  // Joints: per end point dn_max, s_max, damage, dn, ds, sn, ss, ks_sec, mode.
+  // Joints (checkpoint version 2): per end point dn_max, s_max, damage, dn, ds, ss and
+  // the mode it failed in; per joint broken; the break records.
   std::vector<double> js(J.size() * 2 * kJointStateWidth);
-  std::vector<double> jd(J.size() * 6);
+  std::vector<std::int64_t> modes(J.size() * 2), broken(J.size());
   for (std::size_t j = 0; j < J.size(); ++j) {
     for (int k = 0; k < 2; ++k) {
       const JointPointState& p = J.state[j][k];
-      const double vals[kJointStateWidth] = {p.dn_max, p.s_max, p.damage, p.dn, p.ds,
-                                             p.sn,     p.ss,    p.ks_sec, static_cast<double>(p.mode)};
+      const double vals[kJointStateWidth] = {p.dn_max, p.s_max, p.damage, p.dn, p.ds, p.ss};
       for (int q = 0; q < kJointStateWidth; ++q) js[(j * 2 + k) * kJointStateWidth + q] = vals[q];
+      modes[j * 2 + k] = static_cast<std::int64_t>(J.end_mode[j][k]);
     }
-    const double d[6] = {J.damage[j], static_cast<double>(J.broken[j]), J.break_time[j], J.break_position[j].x(),
-                         J.break_position[j].y(), J.dissipated[j]};
-    for (int q = 0; q < 6; ++q) jd[j * 6 + q] = d[q];
+    broken[j] = J.broken[j] ? 1 : 0;
   }
-  std::vector<std::int64_t> modes(J.size());
-  for (std::size_t j = 0; j < J.size(); ++j) modes[j] = static_cast<std::int64_t>(J.break_mode[j]);
+  std::vector<std::int64_t> break_joint(J.breaks.size());
+  std::vector<double> break_data(J.breaks.size() * 3);
+  for (std::size_t b = 0; b < J.breaks.size(); ++b) {
+    const BreakRecord& r = J.breaks[b];
+    break_joint[b] = r.joint;
+    break_data[3 * b] = r.time;
+    break_data[3 * b + 1] = r.position.x();
+    break_data[3 * b + 2] = r.position.y();
+  }
   out.put("joints/state", js);
-  out.put("joints/data", jd);
-  out.put("joints/break_mode", modes);
+  out.put("joints/end_mode", modes);
+  out.put("joints/broken", broken);
+  out.put("joints/breaks/joint", break_joint);
+  out.put("joints/breaks/data", break_data);
   std::vector<double> reactions(constraints_.size());
   for (std::size_t k = 0; k < constraints_.size(); ++k) reactions[k] = constraints_[k].reaction_prev;
   out.put("constraints/reaction_prev", reactions);
@@ -164,22 +172,32 @@ void Solver::restore(const io::CheckpointReader& in) {
     if (any || !tri.stress0.empty()) tri.stress0 = std::move(s0);
   }
   const auto js = in.doubles("joints/state");
-  const auto jd = in.doubles("joints/data");
-  const auto modes = in.integers("joints/break_mode");
+  const auto modes = in.integers("joints/end_mode");
+  const auto broken = in.integers("joints/broken");
+  const auto break_joint = in.integers("joints/breaks/joint");
+  const auto break_data = in.doubles("joints/breaks/data");
   check_size("joints/state", js.size(), 2 * kJointStateWidth * J.size());
-  check_size("joints/data", jd.size(), 6 * J.size());
+  check_size("joints/end_mode", modes.size(), 2 * J.size());
+  check_size("joints/broken", broken.size(), J.size());
+  check_size("joints/breaks/data", break_data.size(), 3 * break_joint.size());
   for (std::size_t j = 0; j < J.size(); ++j) {
     for (int k = 0; k < 2; ++k) {
       JointPointState& p = J.state[j][k];
       const double* v = &js[(j * 2 + k) * kJointStateWidth];
-      p = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], static_cast<BreakMode>(static_cast<int>(v[8]))};
+      p = {v[0], v[1], v[2], v[3], v[4], v[5]};
+      J.end_mode[j][k] = static_cast<BreakMode>(modes[j * 2 + k]);
     }
-    J.damage[j] = jd[j * 6];
-    J.broken[j] = static_cast<std::uint8_t>(jd[j * 6 + 1]);
-    J.break_time[j] = jd[j * 6 + 2];
-    J.break_position[j] = Vec2(jd[j * 6 + 3], jd[j * 6 + 4]);
-    J.dissipated[j] = jd[j * 6 + 5];
-    J.break_mode[j] = static_cast<BreakMode>(modes[j]);
+    J.broken[j] = broken[j] ? 1 : 0;
+    // A broken joint's force slot is never written again: it must hold zeros.
+    if (J.broken[j]) joint_buf_.force[j] = {Vec2::Zero(), Vec2::Zero()};
+  }
+  J.breaks.clear();  // keeps the capacity reserved for every joint
+  for (std::size_t b = 0; b < break_joint.size(); ++b) {
+    if (break_joint[b] < 0 || static_cast<std::size_t>(break_joint[b]) >= J.size())
+      throw std::runtime_error(fmt::format("checkpoint 'joints/breaks/joint' names joint {}, the model has {}: it belongs to another model",
+                                           break_joint[b], J.size()));
+    J.breaks.push_back({static_cast<Index>(break_joint[b]), break_data[3 * b],
+                        Vec2(break_data[3 * b + 1], break_data[3 * b + 2])});
   }
   const auto reactions = in.doubles("constraints/reaction_prev");
   check_size("constraints/reaction_prev", reactions.size(), constraints_.size());

@@ -46,7 +46,7 @@ PathResult run_path(const std::vector<double>& dn, const std::vector<double>& ds
                     const JointProperties& p, JointPointState s = {}) {
   PathResult out;
   out.first_failed = dn.size();
-  double dn0 = s.dn, ds0 = s.ds, sn0 = s.sn, ss0 = s.ss;
+  double dn0 = s.dn, ds0 = s.ds, sn0 = last_tractions(s, law_constants(p)).sn, ss0 = s.ss;
   for (std::size_t i = 0; i < dn.size(); ++i) {
     const CohesiveResponse r = cohesive_law(dn[i], ds[i], p, s);
     out.work += 0.5 * (sn0 + r.sn) * (dn[i] - dn0) + 0.5 * (ss0 + r.ss) * (ds[i] - ds0);
@@ -446,4 +446,54 @@ TEST(CohesiveLaw, ElasticRangeIsExactlyLinearAndMeetsTheGeneralBranchAtTheLimit)
   const CohesiveResponse frozen = cohesive_law(3 * wt, 0.0, p, JointPointState{}, false);
   EXPECT_EQ(frozen.state.damage, 0.0);
   EXPECT_NEAR(frozen.sn, 3 * p.ft, 1e-12 * p.ft);
+}
+
+// The history keeps no tractions but the shear one (issue 7: memory per element):
+// last_tractions() recomputes the normal traction and the shear secant of the
+// evaluation that left it. They must be that evaluation's bits, in every regime
+// (elastic fast path, softening, unloading, compression with friction, failed,
+// frozen history), or the next increment's dissipation and a restart would drift.
+TEST(CohesiveLaw, LastTractionsAreThoseOfTheEvaluationThatLeftTheHistory) {
+  JointProperties p = test::disc_rock();
+  for (double scale : {1.0, 2.5}) {
+    const JointLawConstants k = scaled(law_constants(p), scale);
+    const double wt = k.ft / k.kn, ws = k.c / k.ks, wn = 2 * p.GI / p.ft, wsII = 2 * p.GII / p.c;
+    std::vector<double> dn, ds;
+    auto leg = [&](double dn_a, double ds_a, double dn_b, double ds_b, int n) {
+      append_linspace(dn, dn_a, dn_b, n);
+      append_linspace(ds, ds_a, ds_b, n);
+    };
+    leg(0, 0, 0.5 * wt, 0.3 * ws, 20);                  // elastic
+    leg(0.5 * wt, 0.3 * ws, -3 * wt, 0.9 * ws, 20);     // compression, still elastic
+    leg(-3 * wt, 0.9 * ws, -3 * wt, ws + 0.3 * wsII, 50);  // shear softening under compression
+    leg(-3 * wt, ws + 0.3 * wsII, 0.0, 0.2 * ws, 30);   // unloading, slip back through zero traction
+    leg(0.0, 0.2 * ws, wt + 0.4 * wn, -0.5 * ws, 40);   // opening: mixed-mode softening
+    leg(wt + 0.4 * wn, -0.5 * ws, -wt, -ws, 20);        // closing again
+    leg(-wt, -ws, wt + 2 * wn, 3 * (ws + wsII), 60);    // to failure and past it
+    for (bool enabled : {true, false}) {
+      // Frozen history (gravity stage) for the last steps, or from half-way on.
+      auto damage_on = [&](std::size_t i) { return enabled ? i + 10 < dn.size() : 2 * i < dn.size(); };
+      JointPointState st;
+      int checked = 0, general = 0;
+      for (std::size_t i = 0; i < dn.size(); ++i) {
+        const CohesiveResponse r = cohesive_law(dn[i], ds[i], k, st, damage_on(i));
+        st = r.state;
+        const LastTractions t = last_tractions(st, k);
+        ASSERT_EQ(t.sn, r.sn) << "step " << i;
+        ASSERT_EQ(st.ss, r.ss) << "step " << i;
+        if (r.ws == 0.0) {  // elastic fast path: the secant is ks
+          ASSERT_EQ(t.ks_sec, k.ks) << "step " << i;
+        } else {  // general branch: its energy from the recomputed secant, bit for bit
+          const double shear = t.ks_sec > 0.0 ? 0.5 * st.ss * st.ss / t.ks_sec : 0.0;
+          ASSERT_EQ(0.5 * t.sn * st.dn + shear, r.energy) << "step " << i;
+          ++general;
+        }
+        ++checked;
+      }
+      EXPECT_EQ(checked, static_cast<int>(dn.size()));
+      EXPECT_GT(general, 100);
+      EXPECT_LT(general, checked);
+      if (enabled) EXPECT_EQ(st.damage, 1.0);
+    }
+  }
 }

@@ -131,6 +131,7 @@ PullResult pull(const JointProperties& p, double alpha, double L, const Vec2& di
   PullResult out;
   out.failed_at = path.size();
   std::array<JointPointState, 2> st{};
+  JointEndModes modes{};
   const JointNodePositions X = bonded(alpha, L);
   double d_old = 0.0, f_old = 0.0;
   for (std::size_t i = 0; i < path.size(); ++i) {
@@ -138,8 +139,9 @@ PullResult pull(const JointProperties& p, double alpha, double L, const Vec2& di
     x[2] += path[i] * dir;
     x[3] += path[i] * dir;
     const JointSeparations delta{path[i] * dir, path[i] * dir};
-    const JointForceResult r = joint_force(x, delta, L, p, st);
+    const JointForceResult r = joint_force(x, delta, L, p, st, true, modes);
     st = r.state;
+    modes = r.end_mode;
     const Vec2 fb = r.f[2] + r.f[3];
     const double traction = -fb.dot(traction_dir) / L;  // joint pulls b back
     EXPECT_NEAR(traction, expected(path[i]), 1e-9 * p.c) << "d = " << path[i];
@@ -212,17 +214,21 @@ TEST(JointForce, JointBreaksOnlyWhenBothEndsHaveFailed) {
   const double L = 1.0, wt = p.ft / p.kn, wn = 2 * p.GI / p.ft;
   const JointNodePositions X = bonded(0.0, L, Vec2::Zero());  // n = (0, -1)
   std::array<JointPointState, 2> st{};
+  JointEndModes modes{};
   JointForceResult r;
   const int n = 400;
   for (int i = 1; i <= n; ++i) {  // b0 down to 1.2 (wt + wn), b1 fixed
     JointNodePositions x = X;
     x[2].y() -= 1.2 * (wt + wn) * i / n;
-    r = joint_force(x, L, p, st);
+    r = joint_force(x, L, p, st, true, modes);
     st = r.state;
+    modes = r.end_mode;
     EXPECT_FALSE(r.failed_now);
   }
   EXPECT_EQ(st[0].damage, 1.0);
   EXPECT_EQ(st[1].damage, 0.0);
+  EXPECT_EQ(modes[0], BreakMode::Tension);  // end 0 failed, and keeps how
+  EXPECT_EQ(modes[1], BreakMode::None);
   EXPECT_EQ(r.f[0].norm(), 0.0);   // failed end: no traction
   EXPECT_EQ(r.f[1].norm(), 0.0);   // end 1 is exactly at zero separation
   // Now open end 1 too, end 0 kept where it is.
@@ -231,8 +237,9 @@ TEST(JointForce, JointBreaksOnlyWhenBothEndsHaveFailed) {
     JointNodePositions x = X;
     x[2].y() -= 1.2 * (wt + wn);
     x[3].y() -= 1.2 * (wt + wn) * i / n;
-    r = joint_force(x, L, p, st);
+    r = joint_force(x, L, p, st, true, modes);
     st = r.state;
+    modes = r.end_mode;
     broke = r.failed_now;
   }
   EXPECT_TRUE(broke);

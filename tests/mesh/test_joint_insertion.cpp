@@ -147,17 +147,19 @@ TEST(JointInsertion, SlideOnBedrockWithBrokenCrackAndWeakInterlayer) {
   }
   // The crack starts broken; the diagonals take the slide's property.
   EXPECT_TRUE(r.joints.broken[3]);
-  EXPECT_EQ(r.joints.break_mode[3], BreakMode::Initial);
-  EXPECT_EQ(r.joints.break_time[3], 0.0);
-  EXPECT_EQ(r.joints.damage[3], 1.0);
+  EXPECT_EQ(r.joints.break_mode(3), BreakMode::Initial);
+  ASSERT_NE(r.joints.find_break(3), nullptr);
+  EXPECT_EQ(r.joints.find_break(3)->time, 0.0);
+  EXPECT_EQ(r.joints.damage(3), 1.0);
   EXPECT_EQ(r.joints.curve_group[3], crack);
-  EXPECT_EQ(r.joints.break_position[3], Vec2(1.0, 1.5));
+  EXPECT_EQ(r.joints.find_break(3)->position, Vec2(1.0, 1.5));
   for (std::size_t j : {1u, 4u}) {
     EXPECT_EQ(r.joints.property[j], 1);
     EXPECT_EQ(r.joints.curve_group[j], kNoIndex);
     EXPECT_FALSE(r.joints.broken[j]);
     EXPECT_NEAR(r.joints.length0[j], std::sqrt(2.0), 1e-15);
-    EXPECT_TRUE(std::isnan(r.joints.break_time[j]));
+    EXPECT_EQ(r.joints.find_break(j), nullptr);
+    EXPECT_TRUE(std::isnan(r.joints.break_times()[j]));
   }
   ASSERT_EQ(r.curve_edges_without_joint.size(), 1u);
   EXPECT_EQ(r.curve_edges_without_joint[0], (std::array<Index, 2>{1, 4}));

@@ -1,4 +1,5 @@
 // Checkpoints: a run restarted from a checkpoint continues bit-identically (issue 8).
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -86,6 +87,44 @@ TEST(Checkpoint, RestartContinuesBitIdentically) {
     ASSERT_EQ(std::memcmp(a.nodes.v[n].data(), b.nodes.v[n].data(), 2 * sizeof(double)), 0) << "node " << n;
   }
   EXPECT_EQ(sa.energy().friction_dissipated, sb.energy().friction_dissipated);
+  EXPECT_EQ(sa.energy().fracture_dissipated, sb.energy().fracture_dissipated);
+  // The joint state (checkpoint version 2): histories, end modes, break records.
+  const Joints &ja = a.joints, &jb = b.joints;
+  for (std::size_t j = 0; j < ja.size(); ++j) {
+    ASSERT_EQ(std::memcmp(ja.state[j].data(), jb.state[j].data(), sizeof(ja.state[j])), 0) << "joint " << j;
+    ASSERT_EQ(ja.end_mode[j], jb.end_mode[j]) << "joint " << j;
+    ASSERT_EQ(ja.broken[j], jb.broken[j]) << "joint " << j;
+  }
+  ASSERT_EQ(ja.breaks.size(), jb.breaks.size());
+  ASSERT_GT(ja.breaks.size(), 0u);
+  for (std::size_t k = 0; k < ja.breaks.size(); ++k) {
+    EXPECT_EQ(ja.breaks[k].joint, jb.breaks[k].joint);
+    EXPECT_EQ(ja.breaks[k].time, jb.breaks[k].time);
+    EXPECT_EQ(ja.breaks[k].position, jb.breaks[k].position);
+  }
+  std::filesystem::remove(path);
+}
+
+// Version 1 stored the joint state in another layout (issue 7 changed it): such a file
+// is refused with its path and both versions, not misread.
+TEST(Checkpoint, FileOfAnOlderVersionIsRejectedNamingBothVersions) {
+  const auto path = std::filesystem::temp_directory_path() / ("dsdem_ckpt_v1_" + std::to_string(::getpid()) + ".h5");
+  {
+    H5::H5File f(path.string(), H5F_ACC_TRUNC);
+    const hsize_t one = 1;
+    const std::int64_t version = 1;
+    f.createDataSet("dsdem_checkpoint_version", H5::PredType::NATIVE_INT64, H5::DataSpace(1, &one))
+        .write(&version, H5::PredType::NATIVE_INT64);
+  }
+  try {
+    io::CheckpointReader r(path);
+    FAIL() << "a version-1 checkpoint was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("version 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("version 2"), std::string::npos) << what;
+  }
   std::filesystem::remove(path);
 }
 
