@@ -42,6 +42,10 @@
 // Everything else is identical to ../dr2.geo: the ground above (560, 900) and all of it
 // above 960 m, the column, the plate, L1-L3, J1-J4, the mudstone block, the T1y3 and
 // T1m1/T1m2 back rock, the physical-group names, the boundaries' names, the mesh grading.
+// Mesh (gmsh 4.8.4, -clmax h): h = 12 m 1393 triangles (dr2.geo: 1239), 8 m 2858 (2475), 4 m
+// 10080 (8618); the extra ones are in the longer deposit III (147 triangles at 12 m, was
+// 95) and the wider bedrock; plate, column and mudstone have the same triangle counts as
+// in dr2.geo at h = 4, 8, 12 m (298/331/1936, 82/95/505, 36/47/240).
 // Post-processing: scripts/dr2_postprocess.py OUT --geometry examples/dr2/sensitivity/dr2_gentle.json
 // (river bed, channel, intake and ground of this profile).
 //
