@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Post-processing of a Dr2 slope run (examples/dr2, docs/dr2.md).
 
-    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--quiet] [--movie [--dsdem EXE]]
+    dr2_postprocess.py OUT [--block-height 10] [--mode NAME] [--geometry JSON] [--quiet] [--movie [--dsdem EXE]]
 
 Reads OUT/history.csv, OUT/fields.pvd (+ OUT/fields/*.vtu) and OUT/summary.json and
 writes OUT/dr2.json, merges its keys into OUT/summary.json (the runner's keys kept; its
@@ -12,6 +12,11 @@ own gauge list renamed `gauges_from_run_start`) and writes plots in OUT/dr2_plot
   deposit.png    final deposit profile over the original ground
   energy.png     kinetic energy of the run and the 1 % duration threshold
   (--movie)      OUT/render/material.mp4 and its frames, made by `dsdem render`
+
+The river bed, channel, intake and original ground below are those of examples/dr2/dr2.geo;
+--geometry JSON replaces them for another profile (keys `ground` [[x, z], ...] right bank to
+left bank, `river_x` [x_right, x_left], `river_bed_z`, `channel_top_z`, `intake` [x, z],
+optional `plot_x` [x_min, x_max]), e.g. examples/dr2/sensitivity/dr2_gentle.json.
 
 Definitions (all times from the start of the earthquake stage, i.e. the earthquake's t = 0):
   gauges[].max_displacement_m      max |u(t) - u(t0)| over the dynamic stage (t0 = its start),
@@ -69,6 +74,7 @@ INTAKE = (715.0, 750.8333)
 # Original ground (examples/dr2/dr2.geo), right bank to left bank.
 GROUND = np.array([(0, 1128), (250, 1102), (398, 1080), (436, 1074), (474, 960), (540, 914), (560, 900),
                    (690, 780), (720, 745), (810, 745), (880, 860), (980, 1040), (1298, 1169)], float)
+PLOT_X = (330.0, 900.0)   # x range of the snapshot and deposit plots and of the movie
 PAPER = {  # reference/paper_results.json
     "shear_sliding": {"mean": 160, "gauges": [170, 60, 150, 150], "v": {"gauge1": 22.0, "gauge2": 17.5},
                       "duration": 35.0, "blocked": 24.3},
@@ -77,12 +83,34 @@ PAPER = {  # reference/paper_results.json
 }
 
 
+def set_geometry(path: str) -> dict:
+    """Replace the river bed, channel, intake and original ground of dr2.geo by those of
+    another profile (--geometry; keys in the module docstring)."""
+    global GROUND, RIVER_BED_Z, RIVER_X, CHANNEL_TOP_Z, INTAKE, PLOT_X
+    g = json.loads(Path(path).read_text())
+    GROUND = np.array(g["ground"], float)
+    RIVER_BED_Z = float(g["river_bed_z"])
+    RIVER_X = tuple(float(v) for v in g["river_x"])
+    CHANNEL_TOP_Z = float(g["channel_top_z"])
+    INTAKE = tuple(float(v) for v in g["intake"])
+    PLOT_X = tuple(float(v) for v in g.get("plot_x", PLOT_X))
+    return g
+
+
 def channel_polygon() -> np.ndarray:
+    """The open region of the original ground below CHANNEL_TOP_Z between the banks: the
+    ground vertices below it around the river bed, closed by the two bank crossings."""
     def x_at(z, a, b):
         return a[0] + (z - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
-    xr = x_at(CHANNEL_TOP_Z, (560, 900), (690, 780))
-    xl = x_at(CHANNEL_TOP_Z, (810, 745), (880, 860))
-    return np.array([(xr, CHANNEL_TOP_Z), (690, 780), (720, 745), (810, 745), (xl, CHANNEL_TOP_Z)])
+    ir = int(np.nonzero((GROUND[:, 0] == RIVER_X[0]) & (GROUND[:, 1] == RIVER_BED_Z))[0][0])
+    il = ir
+    while GROUND[ir - 1, 1] < CHANNEL_TOP_Z:
+        ir -= 1
+    while GROUND[il + 1, 1] < CHANNEL_TOP_Z:
+        il += 1
+    xr = x_at(CHANNEL_TOP_Z, GROUND[ir - 1], GROUND[ir])
+    xl = x_at(CHANNEL_TOP_Z, GROUND[il], GROUND[il + 1])
+    return np.array([(xr, CHANNEL_TOP_Z)] + [tuple(p) for p in GROUND[ir:il + 1]] + [(xl, CHANNEL_TOP_Z)])
 
 
 def inside(poly: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -188,7 +216,7 @@ def make_movie(out: Path, dsdem: str | None, quiet: bool) -> None:
     exe = dsdem or str(Path(__file__).resolve().parent.parent / "build" / "dsdem")
     if not Path(exe).exists():
         exe = shutil.which("dsdem") or exe
-    cmd = [exe, "render", str(out), "--field", "material", "--movie", "--bbox", "330,900,720,1100",
+    cmd = [exe, "render", str(out), "--field", "material", "--movie", "--bbox", f"{PLOT_X[0]:g},{PLOT_X[1]:g},720,1100",
            "--width", "960", "--jobs", "1"] + (["-q"] if quiet else [])
     r = subprocess.run(cmd)
     if r.returncode != 0:
@@ -220,7 +248,12 @@ def main(argv=None) -> int:
     ap.add_argument("--movie", action="store_true",
                     help="also make the animation OUT/render/material.mp4 with `dsdem render` (needs ffmpeg)")
     ap.add_argument("--dsdem", default=None, help="dsdem executable for --movie (default: build/dsdem, then PATH)")
+    ap.add_argument("--geometry", default=None,
+                    help="JSON with the river bed, channel, intake and ground of another profile "
+                         "(default: examples/dr2/dr2.geo's), e.g. examples/dr2/sensitivity/dr2_gentle.json")
     args = ap.parse_args(argv)
+    if args.geometry:
+        set_geometry(args.geometry)
     out = Path(args.out)
     sp = out / "summary.json"
     summary = json.loads(sp.read_text()) if sp.exists() else {"scenario": str(out)}  # a run still going
@@ -324,6 +357,9 @@ def main(argv=None) -> int:
         "end_time_s": summary.get("end_time_s"),
         "paper": PAPER.get(mode),
     }
+    if args.geometry:
+        res["geometry"] = {"file": args.geometry, "river_x": list(RIVER_X), "river_bed_z": RIVER_BED_Z,
+                           "intake": list(INTAKE)}
     (out / "dr2.json").write_text(json.dumps(res, indent=2))
     if sp.exists():
         merge_summary(sp, res)
@@ -374,7 +410,7 @@ def main(argv=None) -> int:
             s = zone == 0
             a.tripcolor(P[:, 0], P[:, 1], tri[s], facecolors=mat[s].astype(float), cmap="tab10", vmin=0, vmax=9,
                         edgecolors="none")
-            a.set_xlim(330, 900)
+            a.set_xlim(*PLOT_X)
             a.set_ylim(720, 1100)
             a.set_aspect("equal")
             a.set_title(f"t = {tt:.1f} s")
@@ -385,7 +421,7 @@ def main(argv=None) -> int:
         plt.close(fig)
 
         P, tri, zone, mat, disp = load_frame(frames[-1][1])
-        xs = np.arange(330, 901, 5.0)
+        xs = np.arange(PLOT_X[0], PLOT_X[1] + 1, 5.0)
         top = surface_profile(P, tri, xs)
         fig, ax = plt.subplots(figsize=(10, 4.5))
         ax.plot(GROUND[:, 0], GROUND[:, 1], "k--", lw=1, label="original ground")
@@ -395,7 +431,7 @@ def main(argv=None) -> int:
                      edgecolors="none", alpha=0.6)
         ax.fill(*channel_polygon().T, color="tab:blue", alpha=0.2, label="river channel (< 790 m)")
         ax.plot(*INTAKE, "k^", label="intake")
-        ax.set_xlim(330, 900)
+        ax.set_xlim(*PLOT_X)
         ax.set_ylim(720, 1100)
         ax.set_aspect("equal")
         ax.legend(loc="upper right", fontsize=8)
