@@ -26,9 +26,11 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
                                   bool damage_enabled = true, double thickness = 1.0);
 
 // Joints per block of evaluate_joints: the unit of its work sharing and of its partial
-// energy sums. Equal to kReductionChunk (solver/parallel.hpp), so the sums are those
-// deterministic_sums gave over per-joint values, bit for bit.
-constexpr std::size_t kJointBlock = 2048;
+// energy sums (fixed, so the sums do not depend on the thread count). Small enough that
+// a few thousand joints split evenly over the threads: with 2048, Dr2's ~4.7k joints
+// made 3 blocks (2 on one thread, 1 on the other) and a model under 2048 joints ran its
+// joint loop on one thread (issue 7).
+constexpr std::size_t kJointBlock = 256;
 
 // Results of evaluate_joints for a deterministic parallel gather (issue 7): per joint
 // the forces on its face-a nodes a0, a1 (b0, b1 get their negatives; zero for a broken
