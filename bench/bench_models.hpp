@@ -127,6 +127,7 @@ inline void prepare(solver::Solver& s, std::vector<solver::PrescribedDof> dofs, 
   s.set_constraints(std::move(dofs));
   const double dt = 0.3 * solver::stable_time_step(s.model(), 0.0).dt;
   s.set_settings({gravity, 0.0, 0.0, dt, true});
+  s.set_stress_on_demand(true);  // as `dsdem run` steps: stress and strain for output only
   s.initialise();
 }
 
