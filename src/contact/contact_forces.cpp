@@ -9,6 +9,12 @@
 
 namespace dsdem::contact {
 
+namespace {
+// Below this many triangles the per-triangle shape loops run on one thread: a parallel
+// region costs a few microseconds (threads spinning) to tens (threads asleep).
+constexpr std::ptrdiff_t kMinParallelShapes = 1024;
+}  // namespace
+
 ContactParamTable::ContactParamTable(const ContactProperties& default_props) {
   entries_.push_back(law_params(default_props));
 }
@@ -123,7 +129,7 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   const std::span<const Aabb> build_box = broad_.boxes();
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
   int left = 0;  // a flag, so any thread count gives the same answer
-#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > 4096)
+#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelShapes)
   for (std::ptrdiff_t s = 0; s < n; ++s) {
     const Index slot = shape_slots_[s];
     const Index t = tris[slot];
@@ -156,7 +162,7 @@ bool ContactForces::others_left_box(const ContactInput& in) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(tris.size());
   auto scan = [&](auto pos) {
     int left = 0;
-#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > 4096)
+#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelShapes)
     for (std::ptrdiff_t slot = 0; slot < n; ++slot) {
       const Index t = tris[slot];
       if (in_pair_[t] & kInPair) continue;

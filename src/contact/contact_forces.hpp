@@ -54,7 +54,7 @@ struct ContactSettings {
   // the contact triangles at the first call.
   double skin = 0.0;
   // Below this many candidate pairs the pair loop runs on one thread.
-  std::size_t min_pairs_per_parallel_run = 512;
+  std::size_t min_pairs_per_parallel_run = 128;
   // false: every loop on one thread (the solver turns OpenMP off for small models; a
   // parallel region there costs more than it saves, and far more on a loaded machine).
   bool parallel = true;

@@ -206,10 +206,10 @@ std::size_t estimate_memory_bytes(const PreparedRun& run) {
   //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0, 3 Vec3 tensors) ~ 150 B,
   //         solver (element forces, energy, incidence, joints; damping forces when beta > 0)
   //         ~ 130 B, contact shape and broad-phase entries ~ 220 B, VTU frame ~ 250 B;
-  //   joint: Joints (4 nodes, 2 triangles, state, damage, lengths, tractions) ~ 250 B,
-  //         crack output ~ 100 B.
+  //   joint: Joints (4 nodes, 2 triangles, two 48-byte end-point states, length, scale,
+  //         break record) ~ 150 B, force slots 32 B, crack output ~ 100 B.
   // Plus ~60 MB for the program and its libraries (VTK, Gmsh, HDF5).
-  constexpr std::size_t kNode = 260, kTriangle = 750, kJoint = 350, kBase = 60u << 20;
+  constexpr std::size_t kNode = 260, kTriangle = 750, kJoint = 280, kBase = 60u << 20;
   std::size_t bytes = kBase + m.nodes.size() * kNode + m.triangles.size() * kTriangle + m.joints.size() * kJoint;
   for (const auto& rec : {run.quake_horizontal, run.quake_vertical})
     if (rec) bytes += rec->a.size() * 3 * sizeof(double);
