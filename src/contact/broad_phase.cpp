@@ -7,29 +7,6 @@
 
 namespace dsdem::contact {
 
-bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
-                               bool parallel) const {
-  if (builds_ == 0 || x.size() != n_nodes_) return true;
-  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(tris_.size());
-  // pos(i) is x[i] or X[i] + u[i], chosen once for the loop rather than per node.
-  auto scan = [&](auto pos) {
-    int out = 0;  // a flag, so any thread count gives the same answer
-#pragma omp parallel for schedule(static) reduction(| : out) if (parallel && ns > 4096)
-    for (std::ptrdiff_t s = 0; s < ns; ++s) {
-      if (out) continue;
-      const auto& c = conn[tris_[s]];
-      const Aabb& b = boxes_[s];
-      for (int k = 0; k < 3; ++k) {
-        const Vec2 p = pos(c[k]);
-        if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) out = 1;
-      }
-    }
-    return out != 0;
-  };
-  if (x.u.empty()) return scan([&x](Index i) { return Vec2(x.x[i]); });
-  return scan([&x](Index i) { return Vec2(x.x[i] + x.u[i]); });
-}
-
 void BroadPhase::bin(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
                      std::span<const std::uint8_t> active, double skin) {
   ++builds_;

@@ -18,6 +18,10 @@
 
 namespace dsdem::contact {
 
+// Below this many triangles the per-triangle loops of the contact phase run on one
+// thread: a parallel region costs a few microseconds (threads spinning) to tens (asleep).
+constexpr std::ptrdiff_t kMinParallelTriangles = 1024;
+
 struct ContactPair {
   Index i = 0;
   Index j = 0;  // i < j
@@ -40,8 +44,15 @@ class BroadPhase {
   // True when some active triangle of the last build has a node outside its enlarged
   // box of the build (or there was no build, or the node count changed). conn must be
   // the connectivity of the build. parallel: OpenMP over the triangles of large sets.
+  // check(t): test only the triangles it accepts (the contact phase tests the others
+  // while it updates their shapes).
+  template <class Check>
+  bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn, bool parallel,
+                     Check&& check) const;
   bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
-                     bool parallel = false) const;
+                     bool parallel = false) const {
+    return needs_rebuild(x, conn, parallel, [](Index) { return true; });
+  }
 
   // True when there was no build or the node count changed (a rebuild is due whatever
   // the positions).
@@ -80,6 +91,30 @@ class BroadPhase {
   std::size_t n_nodes_ = 0;
   long builds_ = 0;
 };
+
+template <class Check>
+bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn, bool parallel,
+                               Check&& check) const {
+  if (builds_ == 0 || x.size() != n_nodes_) return true;
+  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(tris_.size());
+  // pos(i) is x[i] or X[i] + u[i], chosen once for the loop rather than per node.
+  auto scan = [&](auto pos) {
+    int out = 0;  // a flag, so any thread count gives the same answer
+#pragma omp parallel for schedule(static) reduction(| : out) if (parallel && ns > kMinParallelTriangles)
+    for (std::ptrdiff_t s = 0; s < ns; ++s) {
+      if (out || !check(tris_[s])) continue;
+      const auto& c = conn[tris_[s]];
+      const Aabb& b = boxes_[s];
+      for (int k = 0; k < 3; ++k) {
+        const Vec2 p = pos(c[k]);
+        if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) out = 1;
+      }
+    }
+    return out != 0;
+  };
+  if (x.u.empty()) return scan([&x](Index i) { return Vec2(x.x[i]); });
+  return scan([&x](Index i) { return Vec2(x.x[i] + x.u[i]); });
+}
 
 template <class Skip>
 void BroadPhase::build(const NodePositions& x, std::span<const std::array<Index, 3>> conn,

@@ -9,11 +9,6 @@
 
 namespace dsdem::contact {
 
-namespace {
-// Below this many triangles the per-triangle shape loops run on one thread: a parallel
-// region costs a few microseconds (threads spinning) to tens (threads asleep).
-constexpr std::ptrdiff_t kMinParallelShapes = 1024;
-}  // namespace
 
 ContactParamTable::ContactParamTable(const ContactProperties& default_props) {
   entries_.push_back(law_params(default_props));
@@ -129,7 +124,7 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   const std::span<const Aabb> build_box = broad_.boxes();
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
   int left = 0;  // a flag, so any thread count gives the same answer
-#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelShapes)
+#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelTriangles)
   for (std::ptrdiff_t s = 0; s < n; ++s) {
     const Index slot = shape_slots_[s];
     const Index t = tris[slot];
@@ -155,28 +150,9 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
 }
 
 bool ContactForces::others_left_box(const ContactInput& in) const {
-  // BroadPhase::needs_rebuild over the active triangles in no pair (no shape update).
-  const NodePositions x = in.positions();
-  const std::span<const Index> tris = broad_.active_triangles();
-  const std::span<const Aabb> build_box = broad_.boxes();
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(tris.size());
-  auto scan = [&](auto pos) {
-    int left = 0;
-#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelShapes)
-    for (std::ptrdiff_t slot = 0; slot < n; ++slot) {
-      const Index t = tris[slot];
-      if (in_pair_[t] & kInPair) continue;
-      const auto& c = in.conn[t];
-      const Aabb& b = build_box[slot];
-      for (int k = 0; k < 3; ++k) {
-        const Vec2 p = pos(c[k]);
-        if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) left = 1;
-      }
-    }
-    return left != 0;
-  };
-  if (x.u.empty()) return scan([&x](Index i) { return Vec2(x.x[i]); });
-  return scan([&x](Index i) { return Vec2(x.x[i] + x.u[i]); });
+  // The broad phase's rebuild test over the active triangles in no pair (no shape update).
+  return broad_.needs_rebuild(in.positions(), in.conn, settings_.parallel,
+                              [this](Index t) { return !(in_pair_[t] & kInPair); });
 }
 
 int ContactForces::begin_pairs(std::size_t n_pairs) {
