@@ -4,23 +4,11 @@
 #include <cmath>
 
 #include "boundary/boundary_setup.hpp"
+#include "common/materials.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
 
 using namespace dsdem;
-
-namespace {
-
-Material rock() {
-  Material m;
-  m.name = "rock";
-  m.E = 1e9;
-  m.nu = 0.25;
-  m.rho = 2000;
-  return m;
-}
-
-}  // namespace
 
 TEST(SurfaceProfile, TopOfTheOutlineAlongVerticalLines) {
   // A trapezoid (0,0) (10,0) (10,5) (0,2) in two triangles, and a detached triangle
@@ -42,7 +30,8 @@ TEST(SurfaceProfile, TopOfTheOutlineAlongVerticalLines) {
 // the wrong height: 10 m too high here, up to 58 m on Dr2's default mesh and 225 m at h = 12 m.
 TEST(BoundarySetup, FreeFieldColumnReachesTheSurfaceDirectlyAbove) {
   const double W = 400.0, H = 100.0;
-  Model model = mesh::build_model(mesh::rectangle_mesh(4, 1, W, H, mesh::Diagonal::Alternate), rock());
+  Model model = mesh::build_model(mesh::rectangle_mesh(4, 1, W, H, mesh::Diagonal::Alternate),
+                                  test::elastic_material("rock", 1e9, 0.25, 2000));
   // Top nodes at x = 100, 200, 300 moved 40 m right; the top rises by 1 in 4.
   for (auto& X : model.nodes.X)
     if (X.y() == H) {

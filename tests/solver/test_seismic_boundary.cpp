@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "boundary/boundary_setup.hpp"
+#include "common/materials.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
 #include "seismic/accelerogram.hpp"
@@ -14,14 +15,7 @@ using namespace dsdem;
 
 namespace {
 
-Material soil() {
-  Material m;
-  m.name = "soil";
-  m.E = 1e9;
-  m.nu = 0.25;
-  m.rho = 2000;
-  return m;
-}
+Material soil() { return test::elastic_material("soil", 1e9, 0.25, 2000); }
 
 // Design velocity: a Ricker wavelet of peak V at t0; acceleration is its derivative.
 seismic::Accelerogram ricker(double V, double f, double t0, double dt, double duration) {
