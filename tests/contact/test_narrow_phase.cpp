@@ -19,6 +19,12 @@ Spheropolygon sp(Vec2 a, Vec2 b, Vec2 c, double r) { return Spheropolygon{{a, b,
 
 using Out = std::array<ContactGeometry, kMaxContactsPerPair>;
 
+// Two contact geometries equal in every field, bit for bit.
+bool same_geometry(const ContactGeometry& p, const ContactGeometry& q) {
+  return p.feature == q.feature && p.kind == q.kind && p.other == q.other && p.t == q.t && p.distance == q.distance &&
+         p.overlap == q.overlap && p.normal == q.normal && p.point == q.point;
+}
+
 void expect_vec(const Vec2& got, const Vec2& want, double tol) {
   EXPECT_NEAR(got.x(), want.x(), tol);
   EXPECT_NEAR(got.y(), want.y(), tol);
@@ -274,10 +280,6 @@ TEST(CoresApart, RejectsOnlyPairsWithoutContactAndFindsVertexNeighbours) {
   // r_a + r_b, and the scales overload gives exactly the CoreEdges overload's contacts.
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> ang(0.0, 2.0 * kPi), len(0.5, 2.0), off(-0.3, 0.3);
-  auto same = [](const ContactGeometry& p, const ContactGeometry& q) {
-    return p.feature == q.feature && p.kind == q.kind && p.other == q.other && p.t == q.t && p.distance == q.distance &&
-           p.overlap == q.overlap && p.normal == q.normal && p.point == q.point;
-  };
   int apart = 0, touching = 0;
   for (int k = 0; k < 4000; ++k) {
     const Vec2 P(1000.0 + off(rng), 500.0 + off(rng));  // away from the origin, as real coordinates
@@ -302,7 +304,7 @@ TEST(CoresApart, RejectsOnlyPairsWithoutContactAndFindsVertexNeighbours) {
     const int n1 = narrow_phase(a, ea, b, eb, o1);
     const int n2 = narrow_phase(a, core_edge_scales(a.core), b, core_edge_scales(b.core), o2);
     ASSERT_EQ(n1, n2);
-    for (int c = 0; c < n1; ++c) EXPECT_TRUE(same(o1[c], o2[c]));
+    for (int c = 0; c < n1; ++c) EXPECT_TRUE(same_geometry(o1[c], o2[c]));
     touching += n1 > 0 ? 1 : 0;
   }
   EXPECT_GT(apart, 1000);    // most vertex neighbours are rejected cheaply
@@ -317,10 +319,6 @@ TEST(NarrowPhase, ClearanceWithoutContactBoundsTheCoreDistanceAndCheckApartChang
   // contacts. The nearest-query axis finds clearances cores_clearance() misses.
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> ang(0.0, 2.0 * kPi), len(0.5, 2.0), off(-0.3, 0.3);
-  auto same = [](const ContactGeometry& p, const ContactGeometry& q) {
-    return p.feature == q.feature && p.kind == q.kind && p.other == q.other && p.t == q.t && p.distance == q.distance &&
-           p.overlap == q.overlap && p.normal == q.normal && p.point == q.point;
-  };
   int from_sat = 0, from_query = 0, touching = 0;
   for (int k = 0; k < 4000; ++k) {
     const Vec2 P(1000.0 + off(rng), 500.0 + off(rng));
@@ -355,7 +353,7 @@ TEST(NarrowPhase, ClearanceWithoutContactBoundsTheCoreDistanceAndCheckApartChang
     const int n1 = narrow_phase(a, sa, b, sb, o1, &c1, true);
     const int n2 = narrow_phase(a, sa, b, sb, o2, &c2, false);
     ASSERT_EQ(n1, n2);
-    for (int c = 0; c < n1; ++c) EXPECT_TRUE(same(o1[c], o2[c]));
+    for (int c = 0; c < n1; ++c) EXPECT_TRUE(same_geometry(o1[c], o2[c]));
     if (n1 > 0) {
       ++touching;
       EXPECT_EQ(c1, 0.0);
