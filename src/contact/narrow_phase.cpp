@@ -196,11 +196,15 @@ double clearance_after(const Spheropolygon& a, const CoreEdges& ea, const Sphero
 int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
                 std::array<ContactGeometry, kMaxContactsPerPair>& out, double* clearance = nullptr) {
   const double rsum = a.r + b.r;
-  std::array<CoreClosest, 3> ca, cb;  // vertex of a on core of b, vertex of b on core of a
-  for (int v = 0; v < 3; ++v) {
-    ca[v] = closest_within(a.core[v], b.core, eb, rsum);
-    cb[v] = closest_within(b.core[v], a.core, ea, rsum);
-  }
+  // Vertex of a on the core of b, vertex of b on the core of a (built in place: no
+  // default fill first). The same calls as one loop over v, in another order: each
+  // query is independent.
+  const std::array<CoreClosest, 3> ca{closest_within(a.core[0], b.core, eb, rsum),
+                                      closest_within(a.core[1], b.core, eb, rsum),
+                                      closest_within(a.core[2], b.core, eb, rsum)};
+  const std::array<CoreClosest, 3> cb{closest_within(b.core[0], a.core, ea, rsum),
+                                      closest_within(b.core[1], a.core, ea, rsum),
+                                      closest_within(b.core[2], a.core, ea, rsum)};
   auto mutual_vv_a = [&](int v) {  // a's vertex v and b's vertex ca[v].vertex see each other
     const CoreClosest& o = cb[ca[v].vertex];
     return ca[v].at_vertex && o.at_vertex && o.vertex == v;

@@ -98,18 +98,21 @@ inline bool cores_apart(const Spheropolygon& a, const CoreEdges& ea, const Spher
 }
 
 // One contact between spheropolygons i and j.
+// No default values: narrow_phase() writes every field of the contacts it returns, and
+// the contact phase declares a buffer of kMaxContactsPerPair of these per pair, whose
+// zero-fill cost 3.5 % of a Dr2 late-phase step (issue 7 profile).
 struct ContactGeometry {
   // Identifies the contact within the pair, stable while the same vertex stays in
   // contact: 3*side + vertex, side 0 = a vertex of i on the core of j, side 1 = a
   // vertex of j on the core of i.
-  std::uint8_t feature = 0;
-  ContactKind kind = ContactKind::VertexEdge;
-  std::uint8_t other = 0;  // edge (VertexEdge) or vertex (VertexVertex) of the other core
-  double t = 0.0;          // parameter of the closest point on that core edge
-  double distance = 0.0;   // vertex to other core, m (negative if inside it)
-  double overlap = 0.0;    // delta = r_i + r_j - distance > 0, m
-  Vec2 normal = Vec2::Zero();  // unit, from j toward i (force on i = +Fn * normal)
-  Vec2 point = Vec2::Zero();   // contact point shared by both bodies: mid-overlap
+  std::uint8_t feature;
+  ContactKind kind;
+  std::uint8_t other;  // edge (VertexEdge) or vertex (VertexVertex) of the other core
+  double t;            // parameter of the closest point on that core edge
+  double distance;     // vertex to other core, m (negative if inside it)
+  double overlap;      // delta = r_i + r_j - distance > 0, m
+  Vec2 normal;         // unit, from j toward i (force on i = +Fn * normal)
+  Vec2 point;          // contact point shared by both bodies: mid-overlap
 };
 
 // All contacts of the pair (i = a, j = b), written to out[0..n), n returned (at most
