@@ -234,15 +234,32 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
   return -1.0;
 }
 
+void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f, Index lo, Index hi) const {
+  // add_point_force() restricted to [lo, hi): the same products, added in the same order.
+  auto add = [&f, lo, hi](const Vec3& N, const std::array<Index, 3>& nodes, const Vec2& F) {
+    for (int k = 0; k < 3; ++k)
+      if (nodes[k] >= lo && nodes[k] < hi) f[nodes[k]] += N[k] * F;
+  };
+  for (int t = 0; t < used_threads_; ++t) {
+    for (const ContactRecord& r : buffers_[t]) {
+      add(r.Ni, in.conn[r.key.i], r.force);
+      add(r.Nj, in.conn[r.key.j], -r.force);
+    }
+  }
+}
+
 ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {
   ContactStepStats st;
   history_.begin_step();
   const std::span<Vec2> fs(f);
+  const bool serial_scatter = used_threads_ <= 1;  // else done in the pair loop's region
   for (int t = 0; t < used_threads_; ++t) {
     for (const ContactRecord& r : buffers_[t]) {
       history_.record(r.key, r.ft);
-      add_point_force(r.Ni, in.conn[r.key.i], r.force, fs);
-      add_point_force(r.Nj, in.conn[r.key.j], -r.force, fs);
+      if (serial_scatter) {
+        add_point_force(r.Ni, in.conn[r.key.i], r.force, fs);
+        add_point_force(r.Nj, in.conn[r.key.j], -r.force, fs);
+      }
       ++st.active_contacts;
       st.sliding_contacts += r.sliding ? 1 : 0;
       st.elastic_energy += r.elastic_energy;

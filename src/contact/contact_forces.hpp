@@ -8,6 +8,7 @@
 // independently (in parallel with OpenMP, static contiguous chunks), and the forces
 // are added to the nodes serially in pair/feature order, so the result does not
 // depend on the thread count.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -191,8 +192,12 @@ class ContactForces {
                       std::vector<ContactRecord>& out) const;
   // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
   void collect_scale_triangles(int T);
-  // Serial, in order: history, node forces, sums.
+  // Serial, in order: history, node forces (unless the pair loop ran on several threads
+  // and added them already), sums.
   ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
+  // Adds the forces of every record of this call to the nodes in [lo, hi) of f, in
+  // record order (the others are left alone).
+  void scatter_forces(const ContactInput& in, std::vector<Vec2>& f, Index lo, Index hi) const;
 
   ContactSettings settings_;
   double skin_ = 0.0;
@@ -216,7 +221,7 @@ class ContactForces {
   std::vector<std::uint8_t> in_pair_;
   std::vector<Index> scale_tris_;
   // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
-  // the indices of the pairs thread t examines this call.
+  // the indices of such pairs that thread t found in its chunk of the pair list this call.
   std::vector<std::vector<Index>> todo_;
   // Pairs whose cores were found apart by some clearance are skipped until their cores
   // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
@@ -298,16 +303,41 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       edge_scales_[tri] = core_edge_scales(sp_[tri].core);
       in_pair_[tri] &= ~kScales;
     }
-    // 3. Narrow phase and law; concatenating the buffers in thread order gives pair order.
+    // 3. Narrow phase and law. The pairs to examine, in pair order (todo_[0], todo_[1],
+    // ...), are split into T contiguous runs of equal length, not by where the filter
+    // found them: on Dr2 the touching pairs crowd into part of the pair list (issue 7).
+    // Concatenating the buffers in thread order still gives pair order.
     std::vector<ContactRecord>& out = buffers_[t];
     out.clear();
-    ContactHistory::Cursor cursor;  // keys ascend within the chunk
-    for (const Index p : todo) {
-      const ContactPair pr = pairs[p];
-      const double moved = motion_[pr.i] + motion_[pr.j];
-      const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out);
-      // Half the clearance: margin for the float and for the sums' rounding.
-      skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : res < 0.0 ? -1.0f : 0.0f;
+    ContactHistory::Cursor cursor;  // keys ascend within the run
+    std::size_t total = 0;
+    for (int u = 0; u < T; ++u) total += todo_[u].size();
+    std::size_t first = total * t / T, count = total * (t + 1) / T - first;
+    for (int u = 0; u < T && count > 0; ++u) {
+      const std::vector<Index>& list = todo_[u];
+      if (first >= list.size()) {
+        first -= list.size();
+        continue;
+      }
+      const std::size_t end = std::min(list.size(), first + count);
+      for (std::size_t k = first; k < end; ++k) {
+        const Index p = list[k];
+        const ContactPair pr = pairs[p];
+        const double moved = motion_[pr.i] + motion_[pr.j];
+        const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out);
+        // Half the clearance: margin for the float and for the sums' rounding.
+        skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : res < 0.0 ? -1.0f : 0.0f;
+      }
+      count -= end - first;
+      first = 0;
+    }
+    // 4. With several threads the forces go to the nodes here: thread t adds every
+    // record's forces to the nodes of its own range, in record order, so each node gets
+    // the same sum, in the same order, as the serial loop in finish().
+    if (T > 1) {
+#pragma omp barrier
+      const std::size_t nn = f.size();
+      scatter_forces(in, f, static_cast<Index>(nn * t / T), static_cast<Index>(nn * (t + 1) / T));
     }
   }
   ContactStepStats st = finish(in, f);
