@@ -8,6 +8,10 @@
 
 #include "bench_models.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 using namespace dsdem;
 
 int main(int argc, char** argv) {
@@ -34,6 +38,11 @@ int main(int argc, char** argv) {
   const int warmup = argc > a + 1 ? std::atoi(argv[a + 1]) : 20;
   solver::Solver s(model);
   bench::prepare(s, std::move(dofs), g);
+  // As the benchmark: OpenMP on whenever more than one thread is given (the solver would
+  // otherwise choose by size and by timing, which makes profiles of small models serial).
+#ifdef _OPENMP
+  s.set_parallel(omp_get_max_threads() > 1);
+#endif
   for (int k = 0; k < warmup; ++k) s.step();
   long contacts = 0;
   for (int k = 0; k < steps; ++k) {

@@ -258,15 +258,15 @@ int narrow_phase(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygo
 int narrow_phase(const Spheropolygon& a, const CoreEdgeScales& sa, const Spheropolygon& b,
                  const CoreEdgeScales& sb, std::array<ContactGeometry, kMaxContactsPerPair>& out,
                  double* clearance, bool check_apart) {
+  if (clearance) *clearance = 0.0;
+  // A pair in contact at its last check: straight to the vertex queries.
+  if (!check_apart) return contacts_of(a, expand(a.core, sa), b, expand(b.core, sb), out, clearance);
   const std::array<Vec2, 3> na{edge_normal(a.core, sa, 0), edge_normal(a.core, sa, 1), edge_normal(a.core, sa, 2)};
   const std::array<Vec2, 3> nb{edge_normal(b.core, sb, 0), edge_normal(b.core, sb, 1), edge_normal(b.core, sb, 2)};
-  if (clearance) *clearance = 0.0;
-  if (check_apart) {
-    const double c = cores_clearance(a, na, b, nb);
-    if (c > 0.0) {
-      if (clearance) *clearance = c;
-      return 0;
-    }
+  const double c = cores_clearance(a, na, b, nb);
+  if (c > 0.0) {
+    if (clearance) *clearance = c;
+    return 0;
   }
   return contacts_of(a, expand(a.core, sa, na), b, expand(b.core, sb, nb), out, clearance);
 }

@@ -69,8 +69,19 @@ inline CoreEdges expand(const std::array<Vec2, 3>& core, const CoreEdgeScales& s
   ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
   return ce;
 }
+// Each edge vector computed once (edge_normal() computes the same one again).
 inline CoreEdges expand(const std::array<Vec2, 3>& core, const CoreEdgeScales& s) {
-  return expand(core, s, {edge_normal(core, s, 0), edge_normal(core, s, 1), edge_normal(core, s, 2)});
+  CoreEdges ce;
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 e = core[(k + 1) % 3] - core[k];
+    ce.e[k] = e;
+    ce.inv_len2[k] = s.inv_len2[k];
+    ce.n_out[k] = s.inv_len2[k] > 0.0 ? Vec2(s.n_scale[k] * Vec2(e.y(), -e.x())) : Vec2(Vec2::Zero());
+  }
+  ce.proper = s.proper;
+  ce.lo = core[0].cwiseMin(core[1]).cwiseMin(core[2]);
+  ce.hi = core[0].cwiseMax(core[1]).cwiseMax(core[2]);
+  return ce;
 }
 
 // Closest point on the core (either orientation) to p. Outside the core it is the
