@@ -176,8 +176,9 @@ void Solver::initialise() {
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
+  // The forces summed in n.a become the accelerations f/m, in place (as finish_velocities).
 #pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());
   if (damped()) damping_force_prev_ = damping_force_;
   update_energy();
   energy_.initial_total = energy_.mechanical() + energy_.dissipated() - energy_.external_work;
@@ -230,7 +231,8 @@ void Solver::kick_and_drift() {
   for (auto& bn : boundary_) bn.u_prev = n.u[bn.node];
   // One node loop (one parallel region) for the kick, the drift, clearing the forces
   // and gravity: each parallel region is a fork and a join, and on a loaded machine
-  // every join waits for the slowest thread (issue 7).
+  // every join waits for the slowest thread (issue 7). Once the kick has read the
+  // acceleration, n.a starts this step's force sum with gravity (Nodes::a).
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     n.v[i] += 0.5 * dt * n.a[i];
@@ -239,7 +241,7 @@ void Solver::kick_and_drift() {
       damping_force_[i].setZero();
     }
     n.u[i] += dt * n.v[i];
-    n.f[i] = n.m[i] * g;
+    n.a[i] = n.m[i] * g;
   }
   // Prescribed velocities, and the drift of those nodes redone with them (the same
   // expression u_prev + dt v as above, so bit-identical to prescribing before the drift).
@@ -256,7 +258,7 @@ void Solver::clear_forces() {
   const bool damped = this->damped();
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
-    n.f[i].setZero();
+    n.a[i].setZero();  // the force sum (Nodes::a)
     if (damped) damping_force_[i].setZero();
   }
 }
@@ -265,7 +267,7 @@ void Solver::add_gravity() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
 #pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.f[i] += n.m[i] * g;
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] += n.m[i] * g;
 }
 
 void Solver::add_internal_and_joint_forces() {
@@ -328,7 +330,7 @@ void Solver::add_internal_and_joint_forces() {
         if (c & 1) fj -= jf[c >> 1];  // face b: minus face a's force, bit for bit as adding it negated
         else fj += jf[c >> 1];
       }
-      n.f[i] += f + fd + fj;
+      n.a[i] += f + fd + fj;  // the force sum (Nodes::a)
       if (damped) damping_force_[i] += fd;
     }
   }
@@ -385,7 +387,7 @@ void Solver::add_contact_forces() {
   const contact::ContactInput in{n.X, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
                                  model_.triangles.group, cs.body, n.u};
   contact_stats_ = contact_->compute(in, contact_params_, settings_.dt,
-                                     [this](Index i, Index j) { return bonded(i, j); }, n.f,
+                                     [this](Index i, Index j) { return bonded(i, j); }, n.a,
                                      broken_joints_);  // bonded() changes only when a joint breaks
   energy_.contact_elastic = contact_stats_.elastic_energy;
   energy_.friction_dissipated += contact_stats_.friction_dissipation + contact_stats_.damping_dissipation;
@@ -427,7 +429,7 @@ void Solver::add_boundary_forces() {
       if (quake_v_.record) ff += boundary::free_field_column(boundary::IncidentWave::P, quake_v_, bn.medium, bn.y, bn.H, tq);
       F += boundary::free_field_input_force(bn.coef, bn.area, bn.normal, ff);
     }
-    n.f[i] += F;
+    n.a[i] += F;  // the force sum (Nodes::a)
     // Everything the boundary does (springs, dashpots, input) is booked as external work.
     work += 0.5 * (boundary_force_prev_[k] + F).dot(n.u[i] - bn.u_prev);
     boundary_force_prev_[k] = F;
@@ -442,7 +444,7 @@ void Solver::add_damping_forces() {
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     const Vec2 fd = -alpha * n.m[i] * n.v[i];
-    n.f[i] += fd;
+    n.a[i] += fd;
     damping_force_[i] += fd;
   }
 }
@@ -451,8 +453,8 @@ void Solver::apply_constraints() {
   auto& n = model_.nodes;
   for (auto& d : constraints_) {
     // The reaction makes the node follow its prescribed acceleration.
-    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.f[d.node][d.dir];
-    n.f[d.node][d.dir] += reaction;
+    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.a[d.node][d.dir];  // force sum
+    n.a[d.node][d.dir] += reaction;
     energy_.external_work += 0.5 * (d.reaction_prev + reaction) * (n.u[d.node][d.dir] - d.u_prev);
     d.reaction_prev = reaction;
   }
@@ -463,7 +465,7 @@ void Solver::finish_velocities() {
   const double dt = settings_.dt;
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
-    n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
+    n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());  // force sum -> f/m, in place
     n.v[i] += 0.5 * dt * n.a[i];
   }
   for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, time_);
