@@ -48,6 +48,10 @@ struct Triangles {
   std::vector<Zone> zone;
   std::vector<Mat2> Dm_inv;   // inverse of the reference edge matrix [X1-X0, X2-X0]
   std::vector<double> area0;  // reference area, m^2
+  // Output buffers of the current state, empty unless filled (issue 7: 48 B per
+  // triangle): Solver::update_stress() fills them for a field frame and
+  // release_stress() empties them again; a solver whose stress is not on demand (the
+  // default, used by tests) keeps them sized and writes them every step.
   std::vector<Vec3> stress;   // Cauchy stress (xx, yy, xy), Pa
   std::vector<Vec3> strain;   // Green-Lagrange strain (xx, yy, 2*xy engineering shear)
   // Initial (in-situ) stress kept from an earlier stage, Pa; empty = zero everywhere (the
@@ -63,8 +67,6 @@ struct Triangles {
     zone.resize(n, Zone::Bedrock);
     Dm_inv.resize(n, Mat2::Identity());
     area0.resize(n, 0.0);
-    stress.resize(n, Vec3::Zero());
-    strain.resize(n, Vec3::Zero());
   }
 };
 

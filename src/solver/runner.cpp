@@ -493,7 +493,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
 
   Solver solver(model);
   // Stress and strain are needed by the field frames and the checkpoint only: computed
-  // there (write_fields, save_checkpoint) instead of every step.
+  // there (write_fields; Solver::save) instead of every step, and not kept in between.
   solver.set_stress_on_demand(true);
   const bool plane_strain = !model.plane_stress;
   const std::string energy_unit = plane_strain ? "J_per_m" : "J";
@@ -602,7 +602,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   };
   auto write_fields = [&] {
     if (!options.write_fields) return;
-    solver.update_stress();  // on demand (see below)
+    solver.update_stress();  // on demand: computed for this frame, released after it
     const fs::path file = fields.frame_path(fields.size());
     io::VtuOptions vo;
     vo.time_s = solver.time();
@@ -614,6 +614,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
       cell_extra.push_back(io::scalar_field("fragment", "", std::span<const std::int32_t>(fragment_label)));
     }
     io::write_triangles_vtu(file, model.nodes, model.triangles, model.materials, {}, cell_extra, vo);
+    solver.release_stress();  // 48 B per triangle, not held between frames (issue 7)
     fields.add(solver.time(), file);
     if (cracks) {
       const fs::path cfile = cracks->frame_path(cracks->size());
@@ -656,8 +657,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   const fs::path checkpoint_path = out / "checkpoint.h5";
   // The history on disk must hold exactly the rows written so far: a resumed run keeps
   // that many rows and appends after them.
-  auto save_checkpoint = [&] {
-    solver.update_stress();
+  auto save_checkpoint = [&] {  // (Solver::save computes the stress it writes)
     history.flush();
     state.time = solver.time();
     state.history_rows = history.rows_written();

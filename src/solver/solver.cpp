@@ -88,6 +88,7 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   const std::size_t ne = model_.triangles.size();
   element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   element_strain_energy_.assign(ne, 0.0);
+  set_stress_on_demand(false);  // sizes the triangles' stress and strain
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
   build_node_incidence();
   build_joint_incidence();
@@ -356,8 +357,21 @@ fem::TriangleInput Solver::triangle_input(std::size_t t) const {
   return in;
 }
 
-void Solver::update_stress() {
+void Solver::set_stress_on_demand(bool on) {
+  stress_on_demand_ = on;
   auto& tri = model_.triangles;
+  if (on) {
+    release_stress();
+  } else if (tri.stress.size() != tri.size()) {  // the element loop writes them every step
+    tri.stress.assign(tri.size(), Vec3::Zero());
+    tri.strain.assign(tri.size(), Vec3::Zero());
+  }
+}
+
+void Solver::compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const {
+  const auto& tri = model_.triangles;
+  stress.resize(tri.size());
+  strain.resize(tri.size());
   // The element loop's kernel on the same inputs (positions unchanged since the step):
   // the same stress and strain bits. Damping does not enter the Cauchy stress.
 #pragma omp parallel for schedule(static) if (parallel_)
@@ -366,9 +380,17 @@ void Solver::update_stress() {
     fem::TriangleResponse r;
     std::array<Vec2, 3> no_damping;
     fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);
-    tri.stress[t] = r.cauchy;
-    tri.strain[t] = r.green;
+    stress[t] = r.cauchy;
+    strain[t] = r.green;
   }
+}
+
+void Solver::update_stress() { compute_stress(model_.triangles.stress, model_.triangles.strain); }
+
+void Solver::release_stress() {
+  if (!stress_on_demand_) return;  // the steps write them
+  std::vector<Vec3>().swap(model_.triangles.stress);
+  std::vector<Vec3>().swap(model_.triangles.strain);
 }
 
 bool Solver::bonded(Index i, Index j) const {

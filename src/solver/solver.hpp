@@ -103,10 +103,13 @@ class Solver {
   }
   bool parallel() const { return parallel_; }
   // Triangles' stress and strain are output only: with on_demand the step leaves them
-  // (the Cauchy stress is 3 % of a Dr2 step, issue 7) and update_stress() computes them,
-  // for the current state, the same as a step would have. Off by default.
-  void set_stress_on_demand(bool on) { stress_on_demand_ = on; }
+  // (the Cauchy stress is 3 % of a Dr2 step, issue 7) and the model holds no arrays
+  // for them (48 B per triangle) except between update_stress(), which computes them
+  // for the current state, the same as a step would have, and release_stress(). The
+  // checkpoint computes its own. Off by default: every step writes them (sized here).
+  void set_stress_on_demand(bool on);
   void update_stress();
+  void release_stress();
   // Current positions and reference data of triangle t (no velocities, beta 0): the
   // element loop and update_stress() both start from it.
   fem::TriangleInput triangle_input(std::size_t t) const;
@@ -146,6 +149,9 @@ class Solver {
     if (contact_) contact_->set_parallel(on);
   }
   void probe_parallel(double step_seconds);  // the automatic choice, after each step
+
+  // Stress and strain of every triangle at the current state (update_stress, save).
+  void compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const;
 
   void build_node_incidence();
   void build_joint_incidence();
