@@ -5,9 +5,11 @@
 
 #include <cstring>
 #include <filesystem>
+#include <random>
 #include <unistd.h>
 
 #include "common/block_on_ground.hpp"
+#include "joint/joint_phase.hpp"
 #include "solver/constraints.hpp"
 #include "solver/solver.hpp"
 
@@ -145,4 +147,59 @@ TEST(DampingBuffers, DampingSwitchedOffThenRestartedFromACheckpointKeepsTheBits)
   EXPECT_TRUE(same_bits(sa.energy().external_work, sb.energy().external_work));
   EXPECT_GT(sa.energy().damping_dissipated, 0.0);
   std::filesystem::remove(path);
+}
+
+// Own triangles (discrete block) add their element and joint forces to their nodes
+// themselves and shared ones (the continuous ground) go through buffers and incidence
+// lists (issue 7, memory): every node's force must still be the per-node gather
+// m g + ((sum of element forces + sum of damping forces) + joint forces in joint order),
+// bit for bit, with stiffness damping, a broken joint, and on 1 and 2 threads.
+TEST(ForceGather, OwnAndSharedTrianglesGiveThePerNodeGatherBitForBit) {
+  for (bool parallel : {false, true}) {
+    Model model = impact_model();
+    model.contact.enabled = false;  // no contact forces at this state: the sums above only
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> d(-1e-6, 1e-6);
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+      model.nodes.u[i] += Vec2(d(rng), d(rng));
+      model.nodes.v[i] += Vec2(1e3 * d(rng), 1e3 * d(rng));
+    }
+    model.joints.set_initially_broken(5, model.nodes.X[model.joints.nodes[5][0]], model.nodes.X[model.joints.nodes[5][1]]);
+    Model ref = model;
+    const Vec2 g(0.0, -9.81);
+    const double beta = 1e-6;
+    solver::Solver s(model);
+    s.set_parallel(parallel);
+    s.set_settings({g, 0.0, beta, 1e-7, true});
+    s.initialise();
+
+    // The reference: element forces by incidence in triangle order, joint forces
+    // scattered in joint order into zeros (add_joint_forces), per node.
+    const std::size_t nn = ref.nodes.size();
+    std::vector<Vec2> f(nn, Vec2::Zero()), fd(nn, Vec2::Zero()), fj(nn, Vec2::Zero());
+    for (std::size_t t = 0; t < ref.triangles.size(); ++t) {
+      fem::TriangleInput in = s.triangle_input(t);
+      for (int k = 0; k < 3; ++k) in.v[k] = ref.nodes.v[ref.triangles.conn[t][k]];
+      in.beta = beta;
+      const Material& m = ref.materials[ref.triangles.material[t]];
+      fem::TriangleResponse r;
+      std::array<Vec2, 3> damping;
+      fem::triangle_internal_force(in, {m.lambda(), m.mu()}, r, damping);
+      for (int k = 0; k < 3; ++k) {
+        f[ref.triangles.conn[t][k]] += r.force[k];
+        fd[ref.triangles.conn[t][k]] += damping[k];
+      }
+    }
+    add_joint_forces(ref.nodes, fj, ref.joints, ref.joint_properties, 0.0, true, ref.thickness);
+    std::size_t moving = 0;
+    for (std::size_t i = 0; i < nn; ++i) {
+      const Vec2 sum = ref.nodes.m[i] * g + (f[i] + fd[i] + fj[i]);
+      const Vec2 a = ref.nodes.m[i] > 0.0 ? Vec2(sum / ref.nodes.m[i]) : Vec2(Vec2::Zero());
+      ASSERT_TRUE(std::memcmp(a.data(), model.nodes.a[i].data(), sizeof(Vec2)) == 0)
+          << "node " << i << (parallel ? " (2 threads)" : " (1 thread)");
+      moving += fj[i].norm() > 0.0 && fd[i].norm() > 0.0;
+    }
+    EXPECT_GT(moving, nn / 2);  // joint and damping forces really were in the sums
+    EXPECT_TRUE(model.joints.broken[5]);
+  }
 }
