@@ -201,10 +201,12 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
 std::size_t estimate_memory_bytes(const PreparedRun& run) {
   const Model& m = run.model;
   // Per entity, from the data structures (model + solver scratch + output buffers):
-  //   node: Nodes (X u v a f: 5 Vec2, m, origin) ~ 92 B, solver (incidence; damping forces
-  //         x2 and u_prev in a damped stage) ~ 60 B, VTU frame ~ 100 B;
-  //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0, 3 Vec3 tensors) ~ 150 B,
-  //         solver (element forces, energy, incidence, joints; damping forces when beta > 0)
+  //   node: Nodes (X u v a: 4 Vec2, m, origin) ~ 76 B, solver (incidence of the nodes of
+  //         continuous zones; damping forces x2 and u_prev in a damped stage) ~ 60 B, VTU
+  //         frame ~ 100 B;
+  //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0; stress0 when set;
+  //         stress and strain while a frame is written) ~ 110 B, solver (energy, joint slots;
+  //         element forces and incidence in continuous zones; damping forces when beta > 0)
   //         ~ 130 B, contact shape and broad-phase entries ~ 220 B, VTU frame ~ 250 B;
   //   joint: Joints (4 nodes, 2 triangles, two 48-byte end-point states, length, scale,
   //         break record) ~ 150 B, force slots 32 B, crack output ~ 100 B.
