@@ -68,6 +68,8 @@ void BM_TriangleInternalForce(benchmark::State& state) {
   const fem::ElasticConstants c{model.materials[0].lambda(), model.materials[0].mu()};
   std::vector<std::array<Vec2, 3>> force(ne), dforce(ne);
   std::vector<double> energy(ne), detF(ne);
+  tri.stress.assign(ne, Vec3::Zero());  // output buffers (empty in a built model)
+  tri.strain.assign(ne, Vec3::Zero());
   for (auto _ : state) {
     for (std::size_t t = 0; t < ne; ++t) {
       const auto& cn = tri.conn[t];

@@ -38,7 +38,7 @@ namespace {
 
 }  // namespace
 
-JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
+JointPhaseTotals add_joint_forces(const Nodes& nodes, std::vector<Vec2>& force, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
                                   bool damage_enabled, double thickness) {
   JointPhaseTotals tot;
@@ -56,8 +56,8 @@ JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
     }
     const auto& nd = joints.nodes[j];
     for (int k = 0; k < 2; ++k) {
-      nodes.f[nd[k]] += f[k];
-      nodes.f[nd[2 + k]] -= f[k];  // == += (-f[k]) bit for bit
+      force[nd[k]] += f[k];
+      force[nd[2 + k]] -= f[k];  // == += (-f[k]) bit for bit
     }
     tot.energy += energy;
   }

@@ -16,12 +16,12 @@ struct JointPhaseTotals {
   Index broken_now = 0;      // joints that broke in this call
 };
 
-// Reads the current positions X + u of nodes, adds the joint forces to nodes.f.
-// damage_enabled = false (gravity stage) freezes the joint histories: no damage, no
-// break. Serial: the scatter into nodes.f is in joint order, so results are
+// Reads the current positions X + u of nodes, adds the joint forces to force (one per
+// node, N). damage_enabled = false (gravity stage) freezes the joint histories: no
+// damage, no break. Serial: the scatter into force is in joint order, so results are
 // bit-identical run to run. thickness (m) scales forces and energies (plane stress);
 // plane strain is per unit thickness.
-JointPhaseTotals add_joint_forces(Nodes& nodes, Joints& joints,
+JointPhaseTotals add_joint_forces(const Nodes& nodes, std::vector<Vec2>& force, Joints& joints,
                                   const std::vector<JointProperties>& properties, double time,
                                   bool damage_enabled = true, double thickness = 1.0);
 

@@ -19,8 +19,12 @@ struct Nodes {
   std::vector<Vec2> X;    // reference position, m
   std::vector<Vec2> u;    // displacement, m (current position x = X + u)
   std::vector<Vec2> v;    // velocity, m/s
-  std::vector<Vec2> a;    // acceleration, m/s^2
-  std::vector<Vec2> f;    // total force this step, N (per unit thickness in plane strain)
+  // Acceleration, m/s^2, between steps (outputs, gauges, checkpoint, the next step's
+  // first half-kick). During a step the solver sums the nodal forces in this same array
+  // (N, per unit thickness in plane strain) and finish_velocities() divides them by the
+  // masses in place: the force of a step is dead once its acceleration exists, so one
+  // array holds both (issue 7: 16 B per node).
+  std::vector<Vec2> a;
   std::vector<double> m;  // lumped mass, kg
   std::vector<Index> origin;       // the mesh node this node was split from (joint insertion)
   // Prescribed motions are solver::PrescribedDof lists (per stage), not per-node arrays.
@@ -31,7 +35,6 @@ struct Nodes {
     u.resize(n, Vec2::Zero());
     v.resize(n, Vec2::Zero());
     a.resize(n, Vec2::Zero());
-    f.resize(n, Vec2::Zero());
     m.resize(n, 0.0);
     origin.resize(n, kNoIndex);
   }
@@ -45,6 +48,10 @@ struct Triangles {
   std::vector<Zone> zone;
   std::vector<Mat2> Dm_inv;   // inverse of the reference edge matrix [X1-X0, X2-X0]
   std::vector<double> area0;  // reference area, m^2
+  // Output buffers of the current state, empty unless filled (issue 7: 48 B per
+  // triangle): Solver::update_stress() fills them for a field frame and
+  // release_stress() empties them again; a solver whose stress is not on demand (the
+  // default, used by tests) keeps them sized and writes them every step.
   std::vector<Vec3> stress;   // Cauchy stress (xx, yy, xy), Pa
   std::vector<Vec3> strain;   // Green-Lagrange strain (xx, yy, 2*xy engineering shear)
   // Initial (in-situ) stress kept from an earlier stage, Pa; empty = zero everywhere (the
@@ -60,8 +67,6 @@ struct Triangles {
     zone.resize(n, Zone::Bedrock);
     Dm_inv.resize(n, Mat2::Identity());
     area0.resize(n, 0.0);
-    stress.resize(n, Vec3::Zero());
-    strain.resize(n, Vec3::Zero());
   }
 };
 

@@ -201,10 +201,12 @@ void apply_stage(Solver& solver, const io::StageSpec& stage, const io::Scenario&
 std::size_t estimate_memory_bytes(const PreparedRun& run) {
   const Model& m = run.model;
   // Per entity, from the data structures (model + solver scratch + output buffers):
-  //   node: Nodes (X u v a f: 5 Vec2, m, origin) ~ 92 B, solver (incidence; damping forces
-  //         x2 and u_prev in a damped stage) ~ 60 B, VTU frame ~ 100 B;
-  //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0, 3 Vec3 tensors) ~ 150 B,
-  //         solver (element forces, energy, incidence, joints; damping forces when beta > 0)
+  //   node: Nodes (X u v a: 4 Vec2, m, origin) ~ 76 B, solver (incidence of the nodes of
+  //         continuous zones; damping forces x2 and u_prev in a damped stage) ~ 60 B, VTU
+  //         frame ~ 100 B;
+  //   triangle: Triangles (conn, group, material, zone, Dm_inv, area0; stress0 when set;
+  //         stress and strain while a frame is written) ~ 110 B, solver (energy, joint slots;
+  //         element forces and incidence in continuous zones; damping forces when beta > 0)
   //         ~ 130 B, contact shape and broad-phase entries ~ 220 B, VTU frame ~ 250 B;
   //   joint: Joints (4 nodes, 2 triangles, two 48-byte end-point states, length, scale,
   //         break record) ~ 150 B, force slots 32 B, crack output ~ 100 B.
@@ -493,7 +495,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
 
   Solver solver(model);
   // Stress and strain are needed by the field frames and the checkpoint only: computed
-  // there (write_fields, save_checkpoint) instead of every step.
+  // there (write_fields; Solver::save) instead of every step, and not kept in between.
   solver.set_stress_on_demand(true);
   const bool plane_strain = !model.plane_stress;
   const std::string energy_unit = plane_strain ? "J_per_m" : "J";
@@ -602,7 +604,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   };
   auto write_fields = [&] {
     if (!options.write_fields) return;
-    solver.update_stress();  // on demand (see below)
+    solver.update_stress();  // on demand: computed for this frame, released after it
     const fs::path file = fields.frame_path(fields.size());
     io::VtuOptions vo;
     vo.time_s = solver.time();
@@ -614,6 +616,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
       cell_extra.push_back(io::scalar_field("fragment", "", std::span<const std::int32_t>(fragment_label)));
     }
     io::write_triangles_vtu(file, model.nodes, model.triangles, model.materials, {}, cell_extra, vo);
+    solver.release_stress();  // 48 B per triangle, not held between frames (issue 7)
     fields.add(solver.time(), file);
     if (cracks) {
       const fs::path cfile = cracks->frame_path(cracks->size());
@@ -656,8 +659,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   const fs::path checkpoint_path = out / "checkpoint.h5";
   // The history on disk must hold exactly the rows written so far: a resumed run keeps
   // that many rows and appends after them.
-  auto save_checkpoint = [&] {
-    solver.update_stress();
+  auto save_checkpoint = [&] {  // (Solver::save computes the stress it writes)
     history.flush();
     state.time = solver.time();
     state.history_rows = history.rows_written();

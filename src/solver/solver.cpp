@@ -86,11 +86,10 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
   auto_parallel_ = parallel_ && omp_get_max_threads() > 1;
 #endif
   const std::size_t ne = model_.triangles.size();
-  element_force_.assign(ne, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   element_strain_energy_.assign(ne, 0.0);
+  set_stress_on_demand(false);  // sizes the triangles' stress and strain
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
-  build_node_incidence();
-  build_joint_incidence();
+  build_gather();
   for (auto b : model_.joints.broken) broken_joints_ += b ? 1 : 0;
   if (model_.contact.enabled) {
     contact::ContactSettings cs;
@@ -99,43 +98,102 @@ Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() >
     contact_ = std::make_unique<contact::ContactForces>(cs);
     contact_params_.set_default(model_.contact.defaults);
     for (const auto& p : model_.contact.pairs) contact_params_.set(p.group_a, p.group_b, p.props);
-    triangle_joints_.assign(ne, {kNoIndex, kNoIndex, kNoIndex});
-    const auto& J = model_.joints;
-    for (std::size_t j = 0; j < J.size(); ++j)
-      for (Index t : {J.tri_a[j], J.tri_b[j]})
-        for (auto& slot : triangle_joints_[t])
-          if (slot == kNoIndex) {
-            slot = static_cast<Index>(j);
-            break;
-          }
   }
 }
 
-void Solver::build_node_incidence() {
-  const std::size_t nn = model_.nodes.size();
-  incidence_offset_.assign(nn + 1, 0);
-  for (const auto& c : model_.triangles.conn)
-    for (Index n : c) ++incidence_offset_[n + 1];
-  for (std::size_t i = 0; i < nn; ++i) incidence_offset_[i + 1] += incidence_offset_[i];
-  incidence_entry_.assign(incidence_offset_[nn], 0);
-  std::vector<Index> fill(incidence_offset_.begin(), incidence_offset_.end() - 1);
-  for (std::size_t t = 0; t < model_.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) incidence_entry_[fill[model_.triangles.conn[t][k]]++] = static_cast<Index>(3 * t + k);
-}
-
-void Solver::build_joint_incidence() {
-  const std::size_t nn = model_.nodes.size(), nj = model_.joints.size();
+void Solver::build_gather() {
+  const auto& tri = model_.triangles;
+  const auto& J = model_.joints;
+  const std::size_t nn = model_.nodes.size(), ne = tri.size(), nj = J.size();
   joint_buf_.prepare(model_.joints, model_.joint_properties);
-  joint_incidence_offset_.assign(nn + 1, 0);
-  for (const auto& nd : model_.joints.nodes)
-    for (Index n : nd) ++joint_incidence_offset_[n + 1];
-  for (std::size_t i = 0; i < nn; ++i) joint_incidence_offset_[i + 1] += joint_incidence_offset_[i];
-  joint_incidence_entry_.assign(joint_incidence_offset_[nn], 0);
-  std::vector<Index> fill(joint_incidence_offset_.begin(), joint_incidence_offset_.end() - 1);
+  // Joints per triangle, in joint order. A triangle with more than 3 joints (not made by
+  // joint insertion: one joint per edge) is left shared; its slots keep the first 3.
+  triangle_joints_.assign(ne, {kNoIndex, kNoIndex, kNoIndex});
+  own_corners_.assign(ne, 0);
+  for (std::size_t j = 0; j < nj; ++j)
+    for (Index t : {J.tri_a[j], J.tri_b[j]}) {
+      auto& slots = triangle_joints_[t];
+      auto free = std::find(slots.begin(), slots.end(), kNoIndex);
+      if (free == slots.end()) own_corners_[t] = kSharedTriangle;
+      else *free = static_cast<Index>(j);
+    }
+  // Own triangles: each of their nodes in this triangle only (a count per node, 0..2).
+  {
+    std::vector<std::uint8_t> count(nn, 0);
+    for (const auto& c : tri.conn)
+      for (Index i : c) count[i] = static_cast<std::uint8_t>(std::min(count[i] + 1, 2));
+    for (std::size_t t = 0; t < ne; ++t)
+      for (Index i : tri.conn[t])
+        if (count[i] != 1) own_corners_[t] = kSharedTriangle;
+  }
+  // Corners of each own triangle's joints: end e of joint j is node nodes[j][e] on face a
+  // and nodes[j][2 + e] on face b.
+  for (std::size_t t = 0; t < ne; ++t) {
+    if (own_corners_[t] == kSharedTriangle) continue;
+    std::uint16_t code = 0;
+    for (int s = 0; s < 3; ++s) {
+      const Index j = triangle_joints_[t][s];
+      if (j == kNoIndex) break;
+      const bool face_b = J.tri_b[j] == static_cast<Index>(t);
+      unsigned bits = face_b ? 16u : 0u;
+      for (int e = 0; e < 2; ++e) {
+        const Index node = J.nodes[j][2 * face_b + e];
+        const auto& c = tri.conn[t];
+        const auto k = std::find(c.begin(), c.end(), node) - c.begin();
+        if (k == 3) throw std::logic_error(fmt::format("joint {} does not use the nodes of its triangle {}", j, t));
+        bits |= static_cast<unsigned>(k) << (2 * e);
+      }
+      code = static_cast<std::uint16_t>(code | (bits << (5 * s)));
+    }
+    own_corners_[t] = code;
+  }
+  // Shared triangles, and the nodes gathered by incidence: those of shared triangles and
+  // those of no triangle at all (their sums stay as the gather leaves them).
+  shared_triangles_.clear();
+  std::vector<std::uint8_t> gathered(nn, 1);
+  for (std::size_t t = 0; t < ne; ++t) {
+    if (own_corners_[t] == kSharedTriangle) shared_triangles_.push_back(static_cast<Index>(t));
+    else for (Index i : tri.conn[t]) gathered[i] = 0;
+  }
+  gathered_nodes_.clear();
+  for (std::size_t i = 0; i < nn; ++i)
+    if (gathered[i]) gathered_nodes_.push_back(static_cast<Index>(i));
+  std::vector<std::uint8_t>().swap(gathered);
+  shared_force_.assign(shared_triangles_.size(), {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+  auto slot_of = [this](Index node) {  // position in gathered_nodes_, or -1
+    const auto it = std::lower_bound(gathered_nodes_.begin(), gathered_nodes_.end(), node);
+    return it != gathered_nodes_.end() && *it == node ? static_cast<Index>(it - gathered_nodes_.begin()) : kNoIndex;
+  };
+  // CSR over the gathered nodes, entries in ascending triangle / joint order.
+  const std::size_t ng = gathered_nodes_.size();
+  gather_offset_.assign(ng + 1, 0);
+  for (Index t : shared_triangles_)
+    for (Index i : tri.conn[t]) ++gather_offset_[slot_of(i) + 1];
+  for (std::size_t g = 0; g < ng; ++g) gather_offset_[g + 1] += gather_offset_[g];
+  gather_entry_.assign(gather_offset_[ng], 0);
+  std::vector<Index> fill(gather_offset_.begin(), gather_offset_.end() - 1);
+  for (std::size_t s = 0; s < shared_triangles_.size(); ++s)
+    for (int k = 0; k < 3; ++k)
+      gather_entry_[fill[slot_of(tri.conn[shared_triangles_[s]][k])]++] = static_cast<Index>(3 * s + k);
+  gather_joint_offset_.assign(ng + 1, 0);
+  for (const auto& nd : J.nodes)
+    for (Index i : nd)
+      if (const Index g = slot_of(i); g != kNoIndex) ++gather_joint_offset_[g + 1];
+  for (std::size_t g = 0; g < ng; ++g) gather_joint_offset_[g + 1] += gather_joint_offset_[g];
+  gather_joint_entry_.assign(gather_joint_offset_[ng], 0);
+  fill.assign(gather_joint_offset_.begin(), gather_joint_offset_.end() - 1);
   for (std::size_t j = 0; j < nj; ++j)
     // Entry 2 (2 j + e) + side: force slot 2 j + e (end e), side 1 = face b (negated).
     for (int k = 0; k < 4; ++k)
-      joint_incidence_entry_[fill[model_.joints.nodes[j][k]]++] = static_cast<Index>(2 * (2 * j + k % 2) + k / 2);
+      if (const Index g = slot_of(J.nodes[j][k]); g != kNoIndex)
+        gather_joint_entry_[fill[g]++] = static_cast<Index>(2 * (2 * j + k % 2) + k / 2);
+  // Every (joint, node) once: by its own triangle's slot or by a gathered node.
+  std::size_t covered = gather_joint_entry_.size();
+  for (std::size_t t = 0; t < ne; ++t)
+    if (own_corners_[t] != kSharedTriangle)
+      for (Index j : triangle_joints_[t]) covered += j != kNoIndex ? 2 : 0;
+  if (covered != 4 * nj)
+    throw std::logic_error(fmt::format("joint nodes outside their triangles: {} of {} joint-node pairs reached", covered, 4 * nj));
 }
 
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
@@ -144,7 +202,7 @@ void Solver::set_settings(const StepSettings& s) {
   settings_ = s;
   if (s.alpha > 0.0 || s.beta > 0.0) allocate_damping_buffers();
   // The element buffer only feeds this step's gather: it can go as soon as beta is 0.
-  if (!(s.beta > 0.0)) std::vector<std::array<Vec2, 3>>().swap(element_damping_force_);
+  if (!(s.beta > 0.0)) std::vector<std::array<Vec2, 3>>().swap(shared_damping_force_);
 }
 
 void Solver::allocate_damping_buffers() {
@@ -154,8 +212,8 @@ void Solver::allocate_damping_buffers() {
     damping_force_prev_.assign(nn, Vec2::Zero());
     u_prev_.assign(nn, Vec2::Zero());
   }
-  if (settings_.beta > 0.0 && element_damping_force_.empty())
-    element_damping_force_.assign(model_.triangles.size(), {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+  if (settings_.beta > 0.0 && shared_damping_force_.size() != shared_triangles_.size())
+    shared_damping_force_.assign(shared_triangles_.size(), {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
 }
 
 void Solver::release_damping_buffers_if_unused() {
@@ -176,8 +234,9 @@ void Solver::initialise() {
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
+  // The forces summed in n.a become the accelerations f/m, in place (as finish_velocities).
 #pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());
   if (damped()) damping_force_prev_ = damping_force_;
   update_energy();
   energy_.initial_total = energy_.mechanical() + energy_.dissipated() - energy_.external_work;
@@ -230,7 +289,8 @@ void Solver::kick_and_drift() {
   for (auto& bn : boundary_) bn.u_prev = n.u[bn.node];
   // One node loop (one parallel region) for the kick, the drift, clearing the forces
   // and gravity: each parallel region is a fork and a join, and on a loaded machine
-  // every join waits for the slowest thread (issue 7).
+  // every join waits for the slowest thread (issue 7). Once the kick has read the
+  // acceleration, n.a starts this step's force sum with gravity (Nodes::a).
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     n.v[i] += 0.5 * dt * n.a[i];
@@ -239,7 +299,7 @@ void Solver::kick_and_drift() {
       damping_force_[i].setZero();
     }
     n.u[i] += dt * n.v[i];
-    n.f[i] = n.m[i] * g;
+    n.a[i] = n.m[i] * g;
   }
   // Prescribed velocities, and the drift of those nodes redone with them (the same
   // expression u_prev + dt v as above, so bit-identical to prescribing before the drift).
@@ -256,7 +316,7 @@ void Solver::clear_forces() {
   const bool damped = this->damped();
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
-    n.f[i].setZero();
+    n.a[i].setZero();  // the force sum (Nodes::a)
     if (damped) damping_force_[i].setZero();
   }
 }
@@ -265,7 +325,7 @@ void Solver::add_gravity() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
 #pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.f[i] += n.m[i] * g;
+  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] += n.m[i] * g;
 }
 
 void Solver::add_internal_and_joint_forces() {
@@ -276,59 +336,101 @@ void Solver::add_internal_and_joint_forces() {
   const double thickness = model_.thickness;
   const bool joints = J.size() > 0;
   const bool damped = this->damped();
-  const bool element_damping = !element_damping_force_.empty();  // beta > 0
-  const std::ptrdiff_t ne = ssize(tri.size()), nn = ssize(n.size());
+  const bool element_damping = beta > 0.0;  // the stiffness-damping forces (Rayleigh beta)
+  const std::ptrdiff_t ne = ssize(tri.size()), ns = ssize(shared_triangles_.size()), ng = ssize(gathered_nodes_.size());
   int inverted = 0;
   Index broken_now = 0;
-  // One region per step for elements, joints and the gather (issue 7): the element and
-  // joint loops share the threads without a barrier between them; the gather waits.
+  // One triangle: stress (unless on demand), strain energy, nodal forces r.force and
+  // the stiffness-damping forces into damping (zeros when beta = 0).
+  auto element = [&](std::size_t t, std::array<Vec2, 3>& damping) {
+    fem::TriangleInput in = triangle_input(t);
+    if (element_damping)  // the kernel reads v only when beta > 0
+      for (int k = 0; k < 3; ++k) in.v[k] = n.v[tri.conn[t][k]];
+    in.beta = beta;
+    in.cauchy = !stress_on_demand_;
+    fem::TriangleResponse r;
+    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, damping);
+    if (!stress_on_demand_) {
+      tri.stress[t] = r.cauchy;
+      tri.strain[t] = r.green;
+    }
+    element_strain_energy_[t] = r.strain_energy;
+    return r;
+  };
+  // One region per step (issue 7). Phase 1: the shared triangles into their buffers and
+  // the joints into theirs, sharing the threads without a barrier between them. Phase 2,
+  // after the barrier: the own triangles (element force and their joints' forces straight
+  // into their nodes' sums) and the gathered nodes. Every node's sum is formed as
+  // f + fd + fj in a fixed order (elements, then joints in joint order): bit-identical
+  // for any thread count. A broken joint's slots stay zero.
 #pragma omp parallel if (parallel_)
   {
 #pragma omp for schedule(static) nowait reduction(| : inverted)
-    for (std::ptrdiff_t t = 0; t < ne; ++t) {
-      fem::TriangleInput in = triangle_input(static_cast<std::size_t>(t));
-      if (element_damping)  // the kernel reads v only when beta > 0
-        for (int k = 0; k < 3; ++k) in.v[k] = n.v[tri.conn[t][k]];
-      in.beta = beta;
-      in.cauchy = !stress_on_demand_;
-      fem::TriangleResponse r;
+    for (std::ptrdiff_t s = 0; s < ns; ++s) {
       std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
-      fem::triangle_internal_force(in, elastic_[tri.material[t]], r,
-                                   element_damping ? element_damping_force_[t] : no_damping);
-      element_force_[t] = r.force;
-      if (!stress_on_demand_) {
-        tri.stress[t] = r.cauchy;
-        tri.strain[t] = r.green;
-      }
-      element_strain_energy_[t] = r.strain_energy;
+      const auto t = static_cast<std::size_t>(shared_triangles_[s]);
+      const fem::TriangleResponse r = element(t, element_damping ? shared_damping_force_[s] : no_damping);
+      shared_force_[s] = r.force;
       // check_stability() finds the element when this flag is set.
       if (!(r.detF > 0.0)) inverted = 1;
     }
     if (joints)
       evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now);
 #pragma omp barrier
-    // Gather per node in a fixed order (elements, then joints): bit-identical for any
-    // thread count. A broken joint's slots stay zero.
-    // Flat views: entry 3 t + k is element_force_[t][k], entry 2 j + e joint_buf_.force[j][e].
-    const Vec2* ef = element_force_.empty() ? nullptr : element_force_[0].data();
-    const Vec2* edf = element_damping_force_.empty() ? nullptr : element_damping_force_[0].data();
+    const std::array<Vec2, 2>* jforce = joint_buf_.force.data();
+#pragma omp for schedule(static) nowait reduction(| : inverted)
+    for (std::ptrdiff_t t = 0; t < ne; ++t) {
+      const std::uint16_t code = own_corners_[t];
+      if (code == kSharedTriangle) continue;
+      std::array<Vec2, 3> df;
+      const fem::TriangleResponse r = element(static_cast<std::size_t>(t), df);
+      if (!(r.detF > 0.0)) inverted = 1;
+      // The joints' forces per corner, in joint order (as a per-node incidence would).
+      std::array<Vec2, 3> fj{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+      for (int s = 0; s < 3; ++s) {
+        const Index j = triangle_joints_[t][s];
+        if (j == kNoIndex) break;
+        const unsigned c = static_cast<unsigned>(code) >> (5 * s);
+        const std::array<Vec2, 2>& F = jforce[j];
+        if (c & 16u) {  // face b: minus face a's force, bit for bit as adding it negated
+          fj[c & 3u] -= F[0];
+          fj[(c >> 2) & 3u] -= F[1];
+        } else {
+          fj[c & 3u] += F[0];
+          fj[(c >> 2) & 3u] += F[1];
+        }
+      }
+      for (int k = 0; k < 3; ++k) {
+        const Index i = tri.conn[t][k];
+        // The sums a gather over one element would form: +0 + force (and damping force).
+        Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
+        f += r.force[k];
+        if (element_damping) fd += df[k];  // without beta fd stays +0 (bit-identical)
+        n.a[i] += f + fd + fj[k];  // the force sum (Nodes::a)
+        if (damped) damping_force_[i] += fd;
+      }
+    }
+    // Flat views: entry 3 s + k is shared_force_[s][k], entry 2 j + e joint_buf_.force[j][e].
+    const Vec2* sf = shared_force_.empty() ? nullptr : shared_force_[0].data();
+    const Vec2* sdf = shared_damping_force_.empty() ? nullptr : shared_damping_force_[0].data();
     const Vec2* jf = joint_buf_.force.empty() ? nullptr : joint_buf_.force[0].data();
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t i = 0; i < nn; ++i) {
+    for (std::ptrdiff_t g = 0; g < ng; ++g) {
+      const Index i = gathered_nodes_[g];
       Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
       // Without beta fd stays +0, the sum of the kernel's zeros it replaces (bit-identical).
-      for (Index k = incidence_offset_[i]; k < incidence_offset_[i + 1]; ++k) {
-        const Index e = incidence_entry_[k];
-        f += ef[e];
-        if (edf) fd += edf[e];
+      for (Index k = gather_offset_[g]; k < gather_offset_[g + 1]; ++k) {
+        const Index e = gather_entry_[k];
+        f += sf[e];
+        if (sdf) fd += sdf[e];
       }
       Vec2 fj = Vec2::Zero();
-      for (Index k = joint_incidence_offset_[i]; k < joint_incidence_offset_[i + 1]; ++k) {
-        const Index c = joint_incidence_entry_[k];
+      for (Index k = gather_joint_offset_[g]; k < gather_joint_offset_[g + 1]; ++k) {
+        const Index c = gather_joint_entry_[k];
         if (c & 1) fj -= jf[c >> 1];  // face b: minus face a's force, bit for bit as adding it negated
         else fj += jf[c >> 1];
       }
-      n.f[i] += f + fd + fj;
+      n.a[i] += f + fd + fj;  // the force sum (Nodes::a)
       if (damped) damping_force_[i] += fd;
     }
   }
@@ -354,8 +456,21 @@ fem::TriangleInput Solver::triangle_input(std::size_t t) const {
   return in;
 }
 
-void Solver::update_stress() {
+void Solver::set_stress_on_demand(bool on) {
+  stress_on_demand_ = on;
   auto& tri = model_.triangles;
+  if (on) {
+    release_stress();
+  } else if (tri.stress.size() != tri.size()) {  // the element loop writes them every step
+    tri.stress.assign(tri.size(), Vec3::Zero());
+    tri.strain.assign(tri.size(), Vec3::Zero());
+  }
+}
+
+void Solver::compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const {
+  const auto& tri = model_.triangles;
+  stress.resize(tri.size());
+  strain.resize(tri.size());
   // The element loop's kernel on the same inputs (positions unchanged since the step):
   // the same stress and strain bits. Damping does not enter the Cauchy stress.
 #pragma omp parallel for schedule(static) if (parallel_)
@@ -364,9 +479,17 @@ void Solver::update_stress() {
     fem::TriangleResponse r;
     std::array<Vec2, 3> no_damping;
     fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);
-    tri.stress[t] = r.cauchy;
-    tri.strain[t] = r.green;
+    stress[t] = r.cauchy;
+    strain[t] = r.green;
   }
+}
+
+void Solver::update_stress() { compute_stress(model_.triangles.stress, model_.triangles.strain); }
+
+void Solver::release_stress() {
+  if (!stress_on_demand_) return;  // the steps write them
+  std::vector<Vec3>().swap(model_.triangles.stress);
+  std::vector<Vec3>().swap(model_.triangles.strain);
 }
 
 bool Solver::bonded(Index i, Index j) const {
@@ -385,7 +508,7 @@ void Solver::add_contact_forces() {
   const contact::ContactInput in{n.X, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
                                  model_.triangles.group, cs.body, n.u};
   contact_stats_ = contact_->compute(in, contact_params_, settings_.dt,
-                                     [this](Index i, Index j) { return bonded(i, j); }, n.f,
+                                     [this](Index i, Index j) { return bonded(i, j); }, n.a,
                                      broken_joints_);  // bonded() changes only when a joint breaks
   energy_.contact_elastic = contact_stats_.elastic_energy;
   energy_.friction_dissipated += contact_stats_.friction_dissipation + contact_stats_.damping_dissipation;
@@ -427,7 +550,7 @@ void Solver::add_boundary_forces() {
       if (quake_v_.record) ff += boundary::free_field_column(boundary::IncidentWave::P, quake_v_, bn.medium, bn.y, bn.H, tq);
       F += boundary::free_field_input_force(bn.coef, bn.area, bn.normal, ff);
     }
-    n.f[i] += F;
+    n.a[i] += F;  // the force sum (Nodes::a)
     // Everything the boundary does (springs, dashpots, input) is booked as external work.
     work += 0.5 * (boundary_force_prev_[k] + F).dot(n.u[i] - bn.u_prev);
     boundary_force_prev_[k] = F;
@@ -442,7 +565,7 @@ void Solver::add_damping_forces() {
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
     const Vec2 fd = -alpha * n.m[i] * n.v[i];
-    n.f[i] += fd;
+    n.a[i] += fd;
     damping_force_[i] += fd;
   }
 }
@@ -451,8 +574,8 @@ void Solver::apply_constraints() {
   auto& n = model_.nodes;
   for (auto& d : constraints_) {
     // The reaction makes the node follow its prescribed acceleration.
-    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.f[d.node][d.dir];
-    n.f[d.node][d.dir] += reaction;
+    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.a[d.node][d.dir];  // force sum
+    n.a[d.node][d.dir] += reaction;
     energy_.external_work += 0.5 * (d.reaction_prev + reaction) * (n.u[d.node][d.dir] - d.u_prev);
     d.reaction_prev = reaction;
   }
@@ -463,7 +586,7 @@ void Solver::finish_velocities() {
   const double dt = settings_.dt;
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
-    n.a[i] = n.m[i] > 0.0 ? Vec2(n.f[i] / n.m[i]) : Vec2(Vec2::Zero());
+    n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());  // force sum -> f/m, in place
     n.v[i] += 0.5 * dt * n.a[i];
   }
   for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, time_);

@@ -103,10 +103,13 @@ class Solver {
   }
   bool parallel() const { return parallel_; }
   // Triangles' stress and strain are output only: with on_demand the step leaves them
-  // (the Cauchy stress is 3 % of a Dr2 step, issue 7) and update_stress() computes them,
-  // for the current state, the same as a step would have. Off by default.
-  void set_stress_on_demand(bool on) { stress_on_demand_ = on; }
+  // (the Cauchy stress is 3 % of a Dr2 step, issue 7) and the model holds no arrays
+  // for them (48 B per triangle) except between update_stress(), which computes them
+  // for the current state, the same as a step would have, and release_stress(). The
+  // checkpoint computes its own. Off by default: every step writes them (sized here).
+  void set_stress_on_demand(bool on);
   void update_stress();
+  void release_stress();
   // Current positions and reference data of triangle t (no velocities, beta 0): the
   // element loop and update_stress() both start from it.
   fem::TriangleInput triangle_input(std::size_t t) const;
@@ -147,8 +150,10 @@ class Solver {
   }
   void probe_parallel(double step_seconds);  // the automatic choice, after each step
 
-  void build_node_incidence();
-  void build_joint_incidence();
+  // Stress and strain of every triangle at the current state (update_stress, save).
+  void compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const;
+
+  void build_gather();
 
   Model& model_;
   // Small models run serially: a parallel region costs more than it saves there.
@@ -165,11 +170,13 @@ class Solver {
   int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
   double created_prev_ = 0.0;    // energy created (not put in) at the previous step
 
-  // Contact: driver, pair parameters, joints per triangle. The contact phase reads the
-  // positions as X + u (no copy of them: 16 B per node, issue 7).
+  // Contact: driver, pair parameters. The contact phase reads the positions as X + u
+  // (no copy of them: 16 B per node, issue 7).
   std::unique_ptr<contact::ContactForces> contact_;
   contact::ContactParamTable contact_params_;
   contact::ContactStepStats contact_stats_;
+  // Joints per triangle (bonded(), and the own triangles' joint gather): up to 3, in
+  // ascending joint order, then kNoIndex.
   std::vector<std::array<Index, 3>> triangle_joints_;
 
   // Viscous-spring boundary and earthquake.
@@ -178,18 +185,33 @@ class Solver {
   boundary::IncidentMotion quake_h_, quake_v_;
   double quake_start_ = 0.0;
 
-  // Per-element scratch (no allocation in the loop): nodal forces before the gather.
-  // The stiffness-damping forces only while beta > 0 (else empty).
-  std::vector<std::array<Vec2, 3>> element_force_;
-  std::vector<std::array<Vec2, 3>> element_damping_force_;
+  // Element and joint forces into the node force sums, deterministic for any thread
+  // count without a force buffer per element nor an incidence per node where possible
+  // (issue 7, memory): an "own" triangle, whose three nodes belong to no other triangle
+  // (every triangle of a discrete zone), adds its element force and its joints' forces
+  // (from joint_buf_, in joint order) to its nodes itself. The other, "shared" triangles
+  // (continuous zones, or a triangle with more than 3 joints) write their forces into
+  // shared_force_, and the nodes of shared triangles and the nodes of no triangle (the
+  // "gathered" nodes) sum them, and their joints' forces, through incidence lists (CSR).
+  // own_corners_[t]: kSharedTriangle for a shared triangle; for an own one, per joint
+  // slot s of triangle_joints_[t], bits 5s..5s+4: the corner of the joint's end 0 (2
+  // bits), of its end 1 (2 bits), and 1 when t is the joint's face b (minus the force).
+  static constexpr std::uint16_t kSharedTriangle = 0x8000;
+  std::vector<std::uint16_t> own_corners_;
+  std::vector<Index> shared_triangles_;  // ascending; shared slot s = position here
+  // Per shared slot: nodal forces; the stiffness-damping forces only while beta > 0.
+  std::vector<std::array<Vec2, 3>> shared_force_;
+  std::vector<std::array<Vec2, 3>> shared_damping_force_;
+  std::vector<Index> gathered_nodes_;  // ascending
+  // Per gathered node: shared slot entries 3 s + corner (ascending triangle), joint
+  // entries 2 (2 j + end) + side (ascending joint; side 1 = face b, negated).
+  std::vector<Index> gather_offset_, gather_entry_;
+  std::vector<Index> gather_joint_offset_, gather_joint_entry_;
   std::vector<double> element_strain_energy_;
   bool inverted_ = false;  // some element had det F <= 0 in the last element loop (check_stability finds it)
   bool stress_on_demand_ = false;
-  // Joints: per-joint forces before the gather, node -> (joint * 4 + k) incidence (CSR).
+  // Joints: per-joint forces (face a; face b gets their negatives) before the gathers.
   JointPhaseBuffers joint_buf_;
-  std::vector<Index> joint_incidence_offset_, joint_incidence_entry_;
-  // Node -> (element * 3 + local) incidence, CSR, for a deterministic parallel gather.
-  std::vector<Index> incidence_offset_, incidence_entry_;
   // Damping forces of the previous and current step and the displacement before the
   // drift (trapezoidal work of the damping), per node; empty when undamped (see damped()).
   // Constrained and boundary nodes keep their own u_prev (PrescribedDof, BoundaryNode).

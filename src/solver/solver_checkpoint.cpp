@@ -70,8 +70,17 @@ void Solver::save(io::CheckpointWriter& out) const {
   const std::vector<Vec2> zeros(damped() ? 0 : n.size(), Vec2::Zero());
   out.put("nodes/u_prev", vec2s(damped() ? u_prev_ : zeros));
   out.put("nodes/damping_force_prev", vec2s(damped() ? damping_force_prev_ : zeros));
-  out.put("triangles/stress", vec3s(tri.stress));
-  out.put("triangles/strain", vec3s(tri.strain));
+  // Stress and strain of the current state: the steps' own when they write them, else
+  // computed here (the values update_stress() gives; the model holds no arrays then).
+  if (stress_on_demand_) {
+    std::vector<Vec3> stress, strain;
+    compute_stress(stress, strain);
+    out.put("triangles/stress", vec3s(stress));
+    out.put("triangles/strain", vec3s(strain));
+  } else {
+    out.put("triangles/stress", vec3s(tri.stress));
+    out.put("triangles/strain", vec3s(tri.strain));
+  }
   // Initial stresses: zeros when the model holds none (the file layout stays the same).
   out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
   // Joints (checkpoint version 2): per end point dn_max, s_max, damage, dn, ds, ss and
@@ -160,8 +169,13 @@ void Solver::restore(const io::CheckpointReader& in) {
       damping_force_prev_ = std::move(df_prev);
     }
   }
-  read_vec3s(in, "triangles/stress", tri.stress);
-  read_vec3s(in, "triangles/strain", tri.strain);
+  if (stress_on_demand_) {  // recomputed from the restored state when needed: only checked
+    check_size("triangles/stress", in.doubles("triangles/stress").size(), 3 * tri.size());
+    check_size("triangles/strain", in.doubles("triangles/strain").size(), 3 * tri.size());
+  } else {
+    read_vec3s(in, "triangles/stress", tri.stress);
+    read_vec3s(in, "triangles/strain", tri.strain);
+  }
   {
     std::vector<Vec3> s0(tri.size(), Vec3::Zero());
     read_vec3s(in, "triangles/stress0", s0);
