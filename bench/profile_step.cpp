@@ -60,8 +60,8 @@ int main(int argc, char** argv) {
     }
   };
   for (std::size_t i = 0; i < model.nodes.size(); ++i) mix(model.nodes.u[i]), mix(model.nodes.v[i]);
-  std::printf("elements %zu joints %zu steps %d contacts/step %.1f broken %ld state %016llx\n", model.triangles.size(),
-              model.joints.size(), steps, static_cast<double>(contacts) / steps, s.broken_joints(),
-              static_cast<unsigned long long>(h));
+  std::printf("elements %zu joints %zu steps %d contacts/step %.1f broken %ld broad-phase builds %ld state %016llx\n",
+              model.triangles.size(), model.joints.size(), steps, static_cast<double>(contacts) / steps, s.broken_joints(),
+              s.contact() ? s.contact()->broad_phase().builds() : 0L, static_cast<unsigned long long>(h));
   return 0;
 }

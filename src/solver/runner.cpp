@@ -399,7 +399,9 @@ RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun&
         "the run in it is complete (all {} stages done at t = {} s): add a stage to the scenario to continue it",
         s.stage, s.time));
   s.stage_starts = in.doubles("runner/stage_starts");
-  if (s.stage_starts.size() != s.stage + 1)
+  // Inside stage s.stage: its start is recorded. A complete run's end state (stage = the
+  // number of stages done) has not entered the stage added since: run() enters it.
+  if (s.stage_starts.size() != s.stage + 1 && s.stage_starts.size() != s.stage)
     throw std::runtime_error("its stage record is inconsistent (damaged file?)");
   const auto sc = in.doubles("runner/scalars");
   const auto counts = in.doubles("runner/counts");
@@ -675,18 +677,22 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   };
   const bool resumed = checkpoint.has_value();
   const std::size_t resume_stage = state.stage;
+  // false: the checkpoint is a complete run's end state and resume_stage a stage added
+  // to the scenario since, entered below as a run going on would enter it.
+  const bool resume_inside_stage = resumed && state.stage_starts.size() > resume_stage;
   try {
     if (resumed) {
       // Each stage's supports, viscous boundary and earthquake as the original run set
       // them (at their own start times), then the saved state over them.
-      for (std::size_t si = 0; si <= resume_stage; ++si) {
+      for (std::size_t si = 0; si < state.stage_starts.size(); ++si) {
         apply_stage(solver, sc.stages[si], sc, prepared.dt, state.stage_starts[si], &prepared);
         if (si == 0) solver.initialise();
       }
       solver.restore(*checkpoint);
       checkpoint.reset();
-      log->info("restarted from {} at step {}, t = {:.6g} s, in stage {} '{}'", options.restart_from,
-                solver.step_count(), solver.time(), resume_stage + 1, sc.stages[resume_stage].name);
+      log->info("restarted from {} at step {}, t = {:.6g} s, {} stage {} '{}'", options.restart_from,
+                solver.step_count(), solver.time(), resume_inside_stage ? "in" : "at the start of", resume_stage + 1,
+                sc.stages[resume_stage].name);
       if (!continue_files) {
         write_fields();
         write_history(static_cast<int>(resume_stage));
@@ -695,7 +701,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     first_step = steps_at_last_progress = solver.step_count();
     for (std::size_t si = state.stage; si < sc.stages.size(); ++si) {
       const io::StageSpec& stage = sc.stages[si];
-      if (!(resumed && si == resume_stage)) {
+      if (!(resume_inside_stage && si == resume_stage)) {
         apply_stage(solver, stage, sc, prepared.dt, solver.time(), &prepared);
         state.stage = si;
         state.stage_starts.push_back(solver.time());

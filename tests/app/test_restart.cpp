@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <thread>
@@ -234,6 +235,67 @@ TEST_F(Restart, RefusesAnotherModelOrACompleteRunWithExitCode2) {
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("bad.h5"), std::string::npos) << bad.output;
   fs::remove_all(out);
+}
+
+// "add a stage to the scenario to continue it", as the refusal above says: the complete
+// run's end state, continued with the scenario plus one stage, gives what the longer
+// scenario gives run straight through. (The restart used to stop with "its stage record is
+// inconsistent (damaged file?)".)
+TEST_F(Restart, CompleteRunContinuesWithAnAddedStage) {
+  const fs::path dir = fresh_dir("restart_added_stage");
+  fs::create_directories(dir);
+  // The example with a third stage, 0.2 s more of free run on the viscous boundary.
+  std::string yaml = read_text(example("dr2/shear_sliding.yaml"));
+  const std::string mesh = "file: dr2.geo";
+  ASSERT_NE(yaml.find(mesh), std::string::npos);
+  yaml.replace(yaml.find(mesh), mesh.size(), "file: " + example("dr2/dr2.geo"));
+  const auto time_key = yaml.find("\ntime:");
+  ASSERT_NE(time_key, std::string::npos);
+  yaml.insert(time_key + 1,
+              "  - name: more\n"
+              "    duration: 0.2\n"
+              "    failure: true\n"
+              "    boundaries:\n"
+              "      - {group: base, type: viscous_spring, scattering_centre: [450, 960]}\n"
+              "      - {group: left, type: viscous_spring, scattering_centre: [450, 960]}\n"
+              "      - {group: right, type: viscous_spring, scattering_centre: [450, 960]}\n");
+  std::ofstream(dir / "three_stages.yaml") << yaml;
+  auto three_stages = [&] {
+    std::string args = small_dr2();
+    args.replace(0, example("dr2/shear_sliding.yaml").size(), (dir / "three_stages.yaml").string());
+    return args;
+  };
+  const fs::path straight = dir / "straight", continued = dir / "continued";
+  const auto a = run_dsdem("run " + three_stages() + " -o " + straight.string());
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+
+  // The complete two-stage run (the suite's reference), copied, then continued in place.
+  fs::create_directories(continued);
+  for (const auto& e : fs::recursive_directory_iterator(reference_)) {
+    const fs::path to = continued / fs::relative(e.path(), reference_);
+    if (e.is_directory()) fs::create_directories(to);
+    else fs::copy_file(e.path(), to);
+  }
+  const auto b = run_dsdem("run " + three_stages() + " --restart " + (continued / "checkpoint.h5").string());
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_NE(read_text(continued / "dsdem.log").find("at the start of stage 3 'more'"), std::string::npos)
+      << read_text(continued / "dsdem.log");
+  const std::string s = read_text(continued / "summary.json");
+  EXPECT_NE(s.find("\"completed\": true"), std::string::npos) << s;
+  // The same history, cracks and end state. (The continued folder also keeps the frame
+  // the complete run wrote of its last state, at the end of stage 2.)
+  EXPECT_EQ(read_text(straight / "history.csv"), read_text(continued / "history.csv")) << "history.csv differs";
+  EXPECT_EQ(read_text(straight / "cracks.csv"), read_text(continued / "cracks.csv")) << "cracks.csv differs";
+  EXPECT_EQ(summary_results(straight), summary_results(continued));
+  auto last_frame = [](const fs::path& out, const char* index) {
+    const std::string pvd = read_text(out / index);
+    const auto f = pvd.rfind("file=\"");
+    EXPECT_NE(f, std::string::npos) << pvd;
+    return read_text(out / pvd.substr(f + 6, pvd.find('"', f + 6) - (f + 6)));
+  };
+  for (const char* index : {"fields.pvd", "cracks.pvd"})
+    EXPECT_EQ(last_frame(straight, index), last_frame(continued, index)) << "last frame of " << index << " differs";
+  fs::remove_all(dir);
 }
 
 }  // namespace
