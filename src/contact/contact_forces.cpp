@@ -240,26 +240,27 @@ void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f,
     for (int k = 0; k < 3; ++k)
       if (nodes[k] >= lo && nodes[k] < hi) f[nodes[k]] += N[k] * F;
   };
+  const bool all = lo == 0 && static_cast<std::size_t>(hi) == f.size();  // one thread: no range test
+  const std::span<Vec2> fs(f);
   for (int t = 0; t < used_threads_; ++t) {
     for (const ContactRecord& r : buffers_[t]) {
-      add(r.Ni, in.conn[r.key.i], r.force);
-      add(r.Nj, in.conn[r.key.j], -r.force);
+      if (all) {
+        add_point_force(r.Ni, in.conn[r.key.i], r.force, fs);
+        add_point_force(r.Nj, in.conn[r.key.j], -r.force, fs);
+      } else {
+        add(r.Ni, in.conn[r.key.i], r.force);
+        add(r.Nj, in.conn[r.key.j], -r.force);
+      }
     }
   }
 }
 
-ContactStepStats ContactForces::finish(const ContactInput& in, std::vector<Vec2>& f) {
+ContactStepStats ContactForces::finish() {
   ContactStepStats st;
   history_.begin_step();
-  const std::span<Vec2> fs(f);
-  const bool serial_scatter = used_threads_ <= 1;  // else done in the pair loop's region
   for (int t = 0; t < used_threads_; ++t) {
     for (const ContactRecord& r : buffers_[t]) {
       history_.record(r.key, r.ft);
-      if (serial_scatter) {
-        add_point_force(r.Ni, in.conn[r.key.i], r.force, fs);
-        add_point_force(r.Nj, in.conn[r.key.j], -r.force, fs);
-      }
       ++st.active_contacts;
       st.sliding_contacts += r.sliding ? 1 : 0;
       st.elastic_energy += r.elastic_energy;

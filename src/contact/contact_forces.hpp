@@ -192,9 +192,8 @@ class ContactForces {
                       std::vector<ContactRecord>& out) const;
   // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
   void collect_scale_triangles(int T);
-  // Serial, in order: history, node forces (unless the pair loop ran on several threads
-  // and added them already), sums.
-  ContactStepStats finish(const ContactInput& in, std::vector<Vec2>& f);
+  // Serial, in order: history and sums (the forces reached the nodes in the pair loop).
+  ContactStepStats finish();
   // Adds the forces of every record of this call to the nodes in [lo, hi) of f, in
   // record order (the others are left alone).
   void scatter_forces(const ContactInput& in, std::vector<Vec2>& f, Index lo, Index hi) const;
@@ -331,16 +330,16 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       count -= end - first;
       first = 0;
     }
-    // 4. With several threads the forces go to the nodes here: thread t adds every
-    // record's forces to the nodes of its own range, in record order, so each node gets
-    // the same sum, in the same order, as the serial loop in finish().
+    // 4. The forces to the nodes: thread t adds every record's forces to the nodes of its
+    // own range, in record order, so each node gets the same sum, in the same order, for
+    // any thread count.
     if (T > 1) {
 #pragma omp barrier
-      const std::size_t nn = f.size();
-      scatter_forces(in, f, static_cast<Index>(nn * t / T), static_cast<Index>(nn * (t + 1) / T));
     }
+    const std::size_t nn = f.size();
+    scatter_forces(in, f, static_cast<Index>(nn * t / T), static_cast<Index>(nn * (t + 1) / T));
   }
-  ContactStepStats st = finish(in, f);
+  ContactStepStats st = finish();
   st.rebuilt = rebuilt;
   st.candidate_pairs = static_cast<Index>(np);
   st.skipped_pairs = skipped;
