@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/input_file.hpp"
 #include "io/schema.hpp"
 
 namespace dsdem::io {
@@ -284,8 +285,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
       const std::string ext = std::filesystem::path(sc.mesh_file).extension().string();
       if (ext != ".msh" && ext != ".geo")
         r.error(mesh["file"], "mesh.file", fmt::format("'{}' is neither a .msh nor a .geo file", sc.mesh_file));
-      else if (!std::filesystem::exists(sc.resolve(sc.mesh_file)))
-        r.error(mesh["file"], "mesh.file", fmt::format("file not found: {}", sc.resolve(sc.mesh_file)));
+      else if (const std::string problem = input_file_problem(sc.resolve(sc.mesh_file)); !problem.empty())
+        r.error(mesh["file"], "mesh.file", problem);
       else if (ext == ".geo" && !sc.element_size)
         r.error(mesh, "mesh.element_size", "a .geo geometry needs an element size to be meshed");
     }
@@ -477,7 +478,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
       spec->units = r.string(m, mp, "units").value_or("g");
       if (auto f = r.string(m, mp, "file")) {
         spec->file = sc.resolve(*f);
-        if (!std::filesystem::exists(spec->file)) r.error(m["file"], mp.child("file").actual, "file not found: " + spec->file);
+        if (const std::string problem = input_file_problem(spec->file); !problem.empty())
+          r.error(m["file"], mp.child("file").actual, problem);
       }
       if (YAML::Node g = r.section(m, mp, "generate", YAML::NodeType::Map); g.IsDefined()) {
         const KeyPath gp = mp.child("generate");

@@ -13,6 +13,8 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "io/input_file.hpp"
+
 namespace dsdem::mesh {
 
 namespace {
@@ -102,7 +104,8 @@ void check_msh_structure(const std::string& path) {
 }  // namespace
 
 RawMesh read_msh(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw std::runtime_error(fmt::format("{}: mesh file not found", path));
+  if (const std::string problem = io::input_file_problem(path); !problem.empty())
+    throw std::runtime_error(fmt::format("mesh: {}", problem));
   check_msh_structure(path);
   std::lock_guard<std::mutex> lock(gmsh_mutex());
   GmshSession session;
@@ -249,7 +252,8 @@ RawMesh read_msh(const std::string& path) {
 }
 
 void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh) {
-  if (!std::filesystem::exists(geo_path)) throw std::runtime_error(fmt::format("{}: geometry file not found", geo_path));
+  if (const std::string problem = io::input_file_problem(geo_path); !problem.empty())
+    throw std::runtime_error(fmt::format("geometry: {}", problem));
   std::string gmsh_exe = DSDEM_GMSH_EXECUTABLE;
   if (gmsh_exe.empty() || gmsh_exe.find("NOTFOUND") != std::string::npos) gmsh_exe = "gmsh";
   const std::string log = out_msh + ".gmsh.log";
@@ -257,7 +261,7 @@ void mesh_geo(const std::string& geo_path, double element_size, const std::strin
   const std::string cmd = fmt::format("\"{}\" -2 -format msh41 -clmax {:.17g} -o \"{}\" \"{}\" > \"{}\" 2>&1",
                                       gmsh_exe, element_size, out_msh, geo_path, log);
   const int rc = std::system(cmd.c_str());
-  if (rc != 0 || !std::filesystem::exists(out_msh)) {
+  if (rc != 0 || !io::input_file_problem(out_msh).empty()) {
     std::string tail;
     if (FILE* f = std::fopen(log.c_str(), "r")) {
       char buf[4096];

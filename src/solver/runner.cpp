@@ -452,8 +452,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     }
   }
   // Keep the mesh the run used next to its results.
-  if (!prepared.mesh_file.empty() && fs::exists(prepared.mesh_file)) {
-    std::error_code ec;
+  if (!prepared.mesh_file.empty()) {
+    std::error_code ec;  // best effort: a mesh that cannot be copied does not stop the run
     fs::copy_file(prepared.mesh_file, out / fs::path(prepared.mesh_file).filename(), fs::copy_options::overwrite_existing, ec);
   }
 

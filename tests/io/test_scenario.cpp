@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
 #include "mesh/model_builder.hpp"
@@ -133,6 +135,24 @@ TEST(Scenario, UnknownMaterialAndMissingMeshFile) {
                         "regions[0].material: no material 'rok' under materials; did you mean 'rock'?"));
   EXPECT_TRUE(has_error(errors_of(replace(good(), "square.geo", "nothere.geo")), "mesh.file: file not found"));
   EXPECT_TRUE(has_error(errors_of(replace(good(), "  element_size: 0.25\n", "")), "mesh.element_size: a .geo geometry needs an element size"));
+}
+
+// A file name the OS refuses (here longer than NAME_MAX) used to escape as a
+// std::filesystem::filesystem_error from exists() and abort the process (fuzz_scenario,
+// CI of session 5). It is an input error naming the key, like a missing file.
+TEST(Scenario, FileNamesTheSystemRefusesAreInputErrorsNotCrashes) {
+  const std::string long_name(5000, 'x');
+  const auto mesh_errors = errors_of(replace(good(), "square.geo", long_name + ".geo"));
+  EXPECT_TRUE(has_error(mesh_errors, "mesh.file: cannot access"));
+  EXPECT_TRUE(has_error(mesh_errors, "File name too long"));
+  const std::string quake = "earthquake:\n  horizontal:\n    file: " + long_name + ".csv\n";
+  EXPECT_TRUE(has_error(errors_of(good() + quake), "earthquake.horizontal.file: cannot access"));
+  // A folder is not a mesh file either.
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("dsdem-test-mesh-folder-" + std::to_string(::getpid()) + ".msh");
+  std::filesystem::create_directories(folder);
+  EXPECT_TRUE(has_error(errors_of(replace(good(), std::string(DSDEM_TEST_DATA_DIR) + "/mesh/square.geo", folder.string())),
+                        "is a directory, not a file"));
+  std::filesystem::remove(folder);
 }
 
 TEST(Scenario, RollerNeedsDirectionAndVelocityNeedsValues) {
