@@ -2,6 +2,7 @@
 // Reductions that give bit-identical results for any thread count: the sum is split
 // into fixed-size chunks (independent of the number of threads), each chunk summed in
 // order, and the chunk sums added serially (DESIGN.md §9, issue 7).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -9,6 +10,21 @@
 namespace dsdem {
 
 constexpr std::size_t kReductionChunk = 2048;
+
+// The automatic choice between one thread and OpenMP (Solver::probe_parallel): true
+// when the parallel steps' median time is below the serial steps'. Medians, not sums:
+// a few steps slowed by something else (a broad-phase rebuild, a page-fault burst, a
+// descheduled thread) in one window must not decide for the next thousands of steps
+// (a full Dr2 run once stayed on one thread for its last 100 s, issue 7).
+template <std::size_t N>
+bool parallel_steps_faster(std::array<double, N> serial, std::array<double, N> parallel) {
+  static_assert(N > 0);
+  auto median = [](std::array<double, N>& t) {
+    std::sort(t.begin(), t.end());
+    return N % 2 == 1 ? t[N / 2] : 0.5 * (t[N / 2 - 1] + t[N / 2]);
+  };
+  return median(parallel) < median(serial);
+}
 
 template <class Term>
 double deterministic_sum(std::size_t n, Term term, std::vector<double>& scratch) {

@@ -845,6 +845,8 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["dt_controlled_by"] = prepared.stable.controlled_by;
   summary["end_time_s"] = solver.time();
   summary["threads"] = threads;
+  const long steps_run = solver.step_count() - first_step;
+  if (threads > 1) summary["steps_on_one_thread"] = solver.serial_steps_chosen();
   summary["wall_time_s"] = wall;
   if (resumed) {
     summary["restarted_from"] = options.restart_from;
@@ -891,6 +893,12 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   else
     log->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(), human_time(wall),
             max_balance_error, out.string());
+  // The timed thread choice (Solver::probe_parallel) fell back to one thread for a large
+  // part of the run: say so, or a slow run on a busy machine is a mystery.
+  if (threads > 1 && steps_run > 0 && solver.serial_steps_chosen() > steps_run / 10)
+    log->info("{} of the {} steps ({:.0f} %) ran on one thread: timing found the {} threads slower then "
+              "(other busy processes on the machine?)",
+              solver.serial_steps_chosen(), steps_run, 100.0 * solver.serial_steps_chosen() / steps_run, threads);
   spdlog::drop("dsdem");
 
   RunResult result;

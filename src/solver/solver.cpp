@@ -260,6 +260,7 @@ void Solver::step() {
 void Solver::probe_parallel(double step_seconds) {
   // The probe window is steps probe_start_ .. + 2 kProbeSteps - 1: the first half on one
   // thread, the second with OpenMP; then the faster mode runs until the next probe.
+  if (!parallel_) ++serial_steps_chosen_;
   const long k = step_ - 1 - probe_start_;  // position of the step just done in the window
   if (k == -1) use_parallel(false);  // the window starts with the next step
   if (k < 0) return;
@@ -268,13 +269,17 @@ void Solver::probe_parallel(double step_seconds) {
     use_parallel(false);
     return;
   }
-  probe_time_[k < kProbeSteps ? 0 : 1] += step_seconds;
+  if (k < kProbeSteps)
+    probe_serial_[static_cast<std::size_t>(k)] = step_seconds;
+  else
+    probe_parallel_[static_cast<std::size_t>(k - kProbeSteps)] = step_seconds;
   if (k + 1 == kProbeSteps) {
     use_parallel(true);
   } else if (k + 1 == 2 * kProbeSteps) {
-    use_parallel(probe_time_[1] < probe_time_[0]);
-    probe_time_[0] = probe_time_[1] = 0.0;
-    probe_start_ = step_ + kProbeInterval;
+    const bool was_parallel = chose_parallel_;
+    chose_parallel_ = parallel_steps_faster(probe_serial_, probe_parallel_);
+    use_parallel(chose_parallel_);
+    probe_start_ = step_ + (was_parallel && !chose_parallel_ ? kRecheckInterval : kProbeInterval);
   }
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // The explicit time step (DESIGN.md §1): one short named sequence of phases.
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -118,8 +119,14 @@ class Solver {
   // keep the faster: on a machine shared with other busy processes the threads of a
   // parallel region wait for each other at every barrier, and a run can be 10x slower
   // than on one thread (issue 7, Dr2 measured). Results are bit-identical either way.
+  // A switch to one thread is checked again after kRecheckInterval steps: one window's
+  // verdict against the threads should not hold for the full interval.
   static constexpr long kProbeInterval = 4000;
+  static constexpr long kRecheckInterval = 500;
   static constexpr int kProbeSteps = 8;
+  // Steps run on one thread by the automatic choice (probe windows included): the run's
+  // log reports them, so a run slowed by a busy machine says why.
+  long serial_steps_chosen() const { return serial_steps_chosen_; }
 
  private:
   // Phases of one step, in order.
@@ -160,7 +167,10 @@ class Solver {
   bool parallel_ = false;
   bool auto_parallel_ = false;           // choose parallel_ by timing (see kProbeInterval)
   long probe_start_ = kProbeSteps;       // step at which the next probe starts (after a warm-up)
-  double probe_time_[2] = {0.0, 0.0};    // summed step times, serial [0] and parallel [1], s
+  std::array<double, kProbeSteps> probe_serial_{};    // step times of the window, s
+  std::array<double, kProbeSteps> probe_parallel_{};
+  long serial_steps_chosen_ = 0;
+  bool chose_parallel_ = true;  // the last window's verdict (before the first: threads)
   StepSettings settings_;
   std::vector<PrescribedDof> constraints_;
   EnergyLedger energy_;

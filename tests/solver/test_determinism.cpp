@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <vector>
 
@@ -13,6 +14,7 @@
 
 #include "common/block_on_ground.hpp"
 #include "solver/constraints.hpp"
+#include "solver/parallel.hpp"
 #include "solver/solver.hpp"
 
 using namespace dsdem;
@@ -107,4 +109,20 @@ TEST(Determinism, AutomaticSwitchBetweenSerialAndParallelKeepsTheBits) {
 #else
   GTEST_SKIP() << "built without OpenMP";
 #endif
+}
+
+// The timed thread choice compares medians: one slow step in either window (a broad-phase
+// rebuild, a page-fault burst) does not decide; a window that is slow throughout does.
+TEST(ThreadChoice, MedianStepTimeDecidesNotOneOutlier) {
+  const std::array<double, 8> serial{3.0, 3.1, 2.9, 3.0, 3.2, 3.0, 2.9, 3.1};  // ms
+  std::array<double, 8> parallel{1.7, 1.8, 1.7, 1.7, 1.8, 1.7, 1.7, 1.8};
+  EXPECT_TRUE(parallel_steps_faster(serial, parallel));
+  parallel[0] = 30.0;  // one step 17x slower: a sum would say 1 thread (43.4 > 24.4 ms)
+  EXPECT_TRUE(parallel_steps_faster(serial, parallel));
+  std::array<double, 8> outlier_serial = serial;
+  outlier_serial[3] = 0.1;  // one impossibly fast serial step does not flip it either
+  EXPECT_TRUE(parallel_steps_faster(outlier_serial, parallel));
+  const std::array<double, 8> busy{9.0, 8.5, 30.0, 9.5, 8.8, 1.8, 9.1, 9.9};  // threads waiting at barriers
+  EXPECT_FALSE(parallel_steps_faster(serial, busy));
+  EXPECT_FALSE(parallel_steps_faster(serial, serial));  // a tie keeps one thread
 }
