@@ -2,6 +2,7 @@
 // Spheropolygon geometry of one triangle (DESIGN.md §4; paper §1.1, Fig. 1): the core
 // triangle eroded by the rounding radius r, swept by a disc of radius r, so that the
 // rounded outline lies inside the triangle and touches each of its edges.
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -23,6 +24,13 @@ struct Aabb {
 inline bool overlaps(const Aabb& a, const Aabb& b) {
   return a.lo.x() <= b.hi.x() && b.lo.x() <= a.hi.x() && a.lo.y() <= b.hi.y() &&
          b.lo.y() <= a.hi.y();
+}
+
+// How far apart two boxes are along x or y (the larger), > 0 only when they do not
+// overlap. Each bound of a triangle's box moves at most as far as its farthest vertex,
+// so the gap shrinks by at most the two triangles' vertex motions (ContactForces).
+inline double box_gap(const Aabb& a, const Aabb& b) {
+  return std::max(std::max(b.lo.x() - a.hi.x(), a.lo.x() - b.hi.x()), std::max(b.lo.y() - a.hi.y(), a.lo.y() - b.hi.y()));
 }
 
 struct Incircle {
