@@ -85,22 +85,25 @@ struct ContactInput {
 // late-phase step, issue 7 profile).
 struct ContactRecord {
   ContactRecord() {}  // user-provided: emplace_back() does not zero-fill either
+  // What scatter_forces() reads comes first and together (key, force, Ni, Nj: 80 B, two
+  // cache lines, not three): on two threads each thread reads every record (issue 7).
   ContactKey key;  // triangles i < j and feature (see ContactGeometry)
   ContactKind kind;
   std::uint8_t other;
   bool sliding;
-  double overlap;                // m
-  Vec2 normal;                   // from j to i
-  Vec2 point;                    // contact point, m
-  double fn;                     // normal force on i, N/m
-  Vec2 ft;                       // tangential force on i, N/m
   Vec2 force;                    // total force on i (on j: -force)
   Vec3 Ni;                       // shape functions of i and j at the point
   Vec3 Nj;
+  double overlap;                // m
+  double fn;                     // normal force on i, N/m
+  Vec2 normal;                   // from j to i
+  Vec2 point;                    // contact point, m
+  Vec2 ft;                       // tangential force on i, N/m
   double elastic_energy;         // J/m
   double friction_dissipation;   // J/m this step
   double damping_dissipation;    // J/m this step
 };
+static_assert(sizeof(ContactRecord) <= 176, "keep the contact record compact (issue 7 memory)");
 
 struct ContactStepStats {
   Index active_contacts = 0;
