@@ -156,6 +156,7 @@ class Solver {
     if (contact_) contact_->set_parallel(on);
   }
   void probe_parallel(double step_seconds);  // the automatic choice, after each step
+  void release_setup_memory();               // after the first step (see solver.cpp)
 
   // Stress and strain of every triangle at the current state (update_stress, save).
   void compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const;
@@ -170,6 +171,7 @@ class Solver {
   std::array<double, kProbeSteps> probe_serial_{};    // step times of the window, s
   std::array<double, kProbeSteps> probe_parallel_{};
   long serial_steps_chosen_ = 0;
+  bool setup_memory_released_ = false;  // after the first step of this solver (a restart's too)
   bool chose_parallel_ = true;  // the last window's verdict (before the first: threads)
   StepSettings settings_;
   std::vector<PrescribedDof> constraints_;
