@@ -72,6 +72,12 @@ class Lines {
   long line_no() const { return line_no_; }
   // Bytes not read yet: caps every reservation made from a count in the file.
   std::size_t remaining() const { return pos_ >= text_.size() ? 0 : text_.size() - pos_; }
+  // Whether the text still holds `s` (at the start of a line) after the current line.
+  bool ahead(std::string_view s) const {
+    for (std::size_t at = text_.find(s, std::min(pos_, text_.size())); at != std::string_view::npos; at = text_.find(s, at + 1))
+      if (at == 0 || text_[at - 1] == '\n') return true;
+    return false;
+  }
   [[noreturn]] void fail(const std::string& what) const { fail_at(line_no_, what); }
   [[noreturn]] void fail_at(long line, const std::string& what) const {
     throw std::runtime_error(fmt::format("{}:{}: {}", path_, line, what));
@@ -136,12 +142,15 @@ class Section {
   // A count of entries that each take at least min_bytes of the rest of the file.
   std::size_t count(std::string_view tok, const char* what, std::size_t min_bytes) {
     const auto n = static_cast<std::size_t>(integer(tok, what, 0, std::int64_t(1) << 53));
-    if (n > lines_.remaining() / min_bytes)
+    if (n > lines_.remaining() / min_bytes) {
+      if (!lines_.ahead("$End" + name_)) fail(fmt::format("${} is not closed (truncated file?)", name_));
       fail(fmt::format("{} {} in {} is more than the rest of the file can hold (truncated file?)", what, n, where()));
+    }
     return n;
   }
 
   [[noreturn]] void fail(const std::string& what) { lines_.fail(what); }
+  [[noreturn]] void fail_at(long line, const std::string& what) { lines_.fail_at(line, what); }
   long line_no() const { return lines_.line_no(); }
   std::string where() const { return "$" + name_; }
 
@@ -320,6 +329,7 @@ class Parser {
   void nodes41() {
     Section s(lines_, "Nodes");
     const auto& h = s.line(4, "numEntityBlocks numNodes minNodeTag maxNodeTag");
+    const long header_line = s.line_no();
     const std::size_t blocks = s.count(h[0], "number of node blocks", 8);
     const std::size_t total = s.count(h[1], "number of nodes", 8);
     const std::int64_t lo = s.integer(h[2], "minimum node tag", 0, kTagMax);
@@ -348,7 +358,7 @@ class Parser {
       }
     }
     if (file_.node_tags.size() != total)
-      s.fail(fmt::format("node blocks hold {} nodes; the header counts {}", file_.node_tags.size(), total));
+      s.fail_at(header_line, fmt::format("node blocks hold {} nodes; the header counts {}", file_.node_tags.size(), total));
     s.end();
   }
 
@@ -393,6 +403,7 @@ class Parser {
   void elements41() {
     Section s(lines_, "Elements");
     const auto& h = s.line(4, "numEntityBlocks numElements minElementTag maxElementTag");
+    const long header_line = s.line_no();
     const std::size_t blocks = s.count(h[0], "number of element blocks", 8);
     const std::size_t total = s.count(h[1], "number of elements", 4);
     const std::int64_t lo = s.integer(h[2], "minimum element tag", 0, kTagMax);
@@ -419,7 +430,7 @@ class Parser {
         add_element(s, s.integer(t[0], "element tag", lo, hi), type, t, 1, e);
       }
     }
-    if (seen != total) s.fail(fmt::format("element blocks hold {} elements; the header counts {}", seen, total));
+    if (seen != total) s.fail_at(header_line, fmt::format("element blocks hold {} elements; the header counts {}", seen, total));
     s.end();
   }
 
