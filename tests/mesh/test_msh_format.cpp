@@ -201,6 +201,10 @@ TEST(MshFormat, UnknownSectionsCrlfAndBlankLinesAreSkipped) {
     for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
     EXPECT_EQ(parse(crlf).triangles, ref.triangles);
   }
+  // Parametric nodes (gmsh -parametric): u on curves, u v on surfaces, ignored.
+  const std::string parametric = with(kMsh41, "2 1 0 2\n3\n4\n1 1 0\n0 1 0\n", "2 1 1 2\n3\n4\n1 1 0 0.5 0.5\n0 1 0 0 1\n");
+  EXPECT_EQ(parse(parametric).nodes, ref.nodes);
+  EXPECT_ERROR(with(parametric, "0 1 0 0 1\n", "0 1 0 0\n"), "t.msh:29:", "(expected 5: x y z and the parametric coordinates)");
   // Unnamed physical groups get a made-up name, as before.
   EXPECT_EQ(parse(with(kMsh41, "0 3 \"corner\"\n", "0 4 \"other\"\n")).groups[0].name, "physical_0_3");
 }
