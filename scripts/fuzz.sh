@@ -18,7 +18,7 @@ ci_runs() {
     fuzz_scenario) echo 20000 ;;
     fuzz_accel_at2) echo 100000 ;;
     fuzz_accel_csv) echo 20000 ;;
-    fuzz_msh) echo 3000 ;;
+    fuzz_msh) echo 100000 ;;
     *) echo 5000 ;;
   esac
 }

@@ -5,7 +5,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev
-  gmsh libgmsh-dev
+  gmsh
   libvtk9-dev
   libyaml-cpp-dev
   libcli11-dev

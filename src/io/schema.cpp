@@ -48,7 +48,7 @@ std::vector<KeySpec> build_schema() {
   s.push_back(of("title", KeyType::String, "", "Free text shown in the log, summary and report."));
   s.push_back(of("mesh", KeyType::Map, "required", "The Gmsh mesh or geometry."));
   s.push_back(of("mesh.file", KeyType::String, "required",
-                 "Gmsh .msh (format 4.1) or .geo file, relative to the scenario file."));
+                 "Gmsh ASCII .msh (format 4.1 or 2.2) or .geo file, relative to the scenario file."));
   s.push_back(num("mesh.element_size", "m", "", 0, kInf,
                   "Maximum element size used to mesh a .geo (required for .geo, ignored for .msh).", true));
   s.push_back(choice("mesh.plane", {"strain", "stress"}, "strain",

@@ -1,6 +1,7 @@
 #pragma once
-// Gmsh input (DESIGN.md §9): .msh 4.1 read through the Gmsh C++ API; a .geo is first
-// meshed by the gmsh command line with the element size the scenario gives.
+// Gmsh input (DESIGN.md §9): ASCII .msh 4.1 or 2.2 read by dsdem's own strict parser
+// (mesh/msh_format); a .geo is first meshed by the gmsh command line with the element
+// size the scenario gives.
 #include <string>
 
 #include "mesh/raw_mesh.hpp"
@@ -8,9 +9,10 @@
 namespace dsdem::mesh {
 
 // Reads a Gmsh .msh file: nodes, 3-node triangles, 2-node lines and points with their
-// physical groups. Triangles are made counter-clockwise. Throws std::runtime_error
-// naming the file for unreadable files, higher-order or unsupported elements,
-// triangles outside every physical surface, degenerate or inverted (folded) elements.
+// physical groups, in the order the Gmsh API gave them. Triangles are made
+// counter-clockwise. Throws std::runtime_error naming the file (and line) for malformed
+// or unreadable files, higher-order or unsupported elements, triangles outside every
+// physical surface, degenerate or inverted (folded) elements.
 RawMesh read_msh(const std::string& path);
 
 // Meshes a .geo with `gmsh -2` at the given maximum element size (m) into out_msh.

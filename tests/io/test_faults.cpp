@@ -111,8 +111,8 @@ TEST(Faults, SetOverrideThroughAScalarIsAScenarioError) {
   }
 }
 
-// Fuzz find: Gmsh 4.8 crashes (SEGV in GModel::setPhysicalName) on a physical name of
-// dimension 4; the reader now rejects it before Gmsh sees the file.
+// Fuzz find: Gmsh 4.8 crashed (SEGV in GModel::setPhysicalName) on a physical name of
+// dimension 4; dsdem's own .msh parser (no libgmsh since) rejects it with the line.
 TEST(Faults, MshPhysicalNameOfDimensionFourIsRejectedBeforeGmsh) {
   const std::string msg = msh_error(kHeader + "$PhysicalNames\n1\n4 1 \"block\"\n$EndPhysicalNames\n$Nodes\n0 0 0 0\n$EndNodes\n");
   EXPECT_NE(msg.find("physical name with dimension 4"), std::string::npos) << msg;

@@ -1,4 +1,4 @@
-// Gmsh input: .geo meshed by the gmsh CLI, .msh 4.1 read through the C++ API.
+// Gmsh input: .geo meshed by the gmsh CLI, .msh read by the strict parser (mesh/msh_format).
 #include <gtest/gtest.h>
 
 #include <filesystem>
