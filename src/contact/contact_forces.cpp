@@ -182,7 +182,7 @@ void ContactForces::collect_scale_triangles(int T) {
 double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
                                    const ContactParamTable& params, double dt, bool check_apart,
                                    ContactHistory::Cursor& cursor,
-                                   std::vector<ContactRecord>& out) const {
+                                   std::vector<ContactRecord>& out, std::span<Vec2> f_now) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
   double clearance = 0.0;
   const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance, check_apart);
@@ -230,6 +230,10 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.elastic_energy = law.elastic_energy;
     r.friction_dissipation = law.friction_dissipation;
     r.damping_dissipation = law.damping_dissipation;
+    if (!f_now.empty()) {
+      add_point_force(r.Ni, ci, r.force, f_now);
+      add_point_force(r.Nj, cj, -r.force, f_now);
+    }
   }
   return -1.0;
 }
@@ -240,17 +244,10 @@ void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f,
     for (int k = 0; k < 3; ++k)
       if (nodes[k] >= lo && nodes[k] < hi) f[nodes[k]] += N[k] * F;
   };
-  const bool all = lo == 0 && static_cast<std::size_t>(hi) == f.size();  // one thread: no range test
-  const std::span<Vec2> fs(f);
   for (int t = 0; t < used_threads_; ++t) {
     for (const ContactRecord& r : buffers_[t]) {
-      if (all) {
-        add_point_force(r.Ni, in.conn[r.key.i], r.force, fs);
-        add_point_force(r.Nj, in.conn[r.key.j], -r.force, fs);
-      } else {
-        add(r.Ni, in.conn[r.key.i], r.force);
-        add(r.Nj, in.conn[r.key.j], -r.force);
-      }
+      add(r.Ni, in.conn[r.key.i], r.force);
+      add(r.Nj, in.conn[r.key.j], -r.force);
     }
   }
 }

@@ -190,15 +190,17 @@ class ContactForces {
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
   // the cores' clearance (narrow_phase) when they are apart, -1 when they touch, else 0.
   // check_apart: see narrow_phase().
+  // f_now: on one thread, the pair's forces go to the nodes at once, while its records
+  // are in cache (in record order, as scatter_forces() would add them); empty otherwise.
   double process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
                       double dt, bool check_apart, ContactHistory::Cursor& cursor,
-                      std::vector<ContactRecord>& out) const;
+                      std::vector<ContactRecord>& out, std::span<Vec2> f_now) const;
   // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
   void collect_scale_triangles(int T);
   // Serial, in order: history and sums (the forces reached the nodes in the pair loop).
   ContactStepStats finish();
   // Adds the forces of every record of this call to the nodes in [lo, hi) of f, in
-  // record order (the others are left alone).
+  // record order (the others are left alone). More than one thread only.
   void scatter_forces(const ContactInput& in, std::vector<Vec2>& f, Index lo, Index hi) const;
 
   ContactSettings settings_;
@@ -318,6 +320,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // t = 21 s). Concatenating the buffers in thread order still gives pair order.
     std::vector<ContactRecord>& out = buffers_[t];
     out.clear();
+    const std::span<Vec2> f_now = T == 1 ? std::span<Vec2>(f) : std::span<Vec2>();
     ContactHistory::Cursor cursor;  // keys ascend within the run
     std::size_t total = 0;
     for (int u = 0; u < T; ++u) total += todo_[u].size();
@@ -333,21 +336,21 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
         const Index p = list[k];
         const ContactPair pr = pairs[p];
         const double moved = motion_[pr.i] + motion_[pr.j];
-        const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out);
+        const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out, f_now);
         // Half the clearance: margin for the float and for the sums' rounding.
         skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : res < 0.0 ? -1.0f : 0.0f;
       }
       count -= end - first;
       first = 0;
     }
-    // 4. The forces to the nodes: thread t adds every record's forces to the nodes of its
-    // own range, in record order, so each node gets the same sum, in the same order, for
-    // any thread count.
+    // 4. The forces to the nodes (one thread: done in step 3): thread t adds every
+    // record's forces to the nodes of its own range, in record order, so each node gets
+    // the same sum, in the same order, for any thread count.
     if (T > 1) {
 #pragma omp barrier
+      const std::size_t nn = f.size();
+      scatter_forces(in, f, static_cast<Index>(nn * t / T), static_cast<Index>(nn * (t + 1) / T));
     }
-    const std::size_t nn = f.size();
-    scatter_forces(in, f, static_cast<Index>(nn * t / T), static_cast<Index>(nn * (t + 1) / T));
   }
   ContactStepStats st = finish();
   st.rebuilt = rebuilt;
