@@ -292,10 +292,18 @@ void Solver::probe_parallel(double step_seconds) {
   if (k + 1 == kProbeSteps) {
     use_parallel(true);
   } else if (k + 1 == 2 * kProbeSteps) {
-    const bool was_parallel = chose_parallel_;
-    chose_parallel_ = parallel_steps_faster(probe_serial_, probe_parallel_);
-    use_parallel(chose_parallel_);
-    probe_start_ = step_ + (was_parallel && !chose_parallel_ ? kRecheckInterval : kProbeInterval);
+    // One thread is re-checked soon, then less and less often while it stays faster
+    // (kRecheckInterval, doubling up to kProbeInterval): a slow spell of the other core
+    // does not hold the run on one thread for long, and a busy machine pays few probes.
+    const bool parallel = choose_parallel(probe_serial_, probe_parallel_);
+    use_parallel(parallel);
+    if (parallel) {
+      probe_start_ = step_ + kProbeInterval;
+      serial_recheck_ = kRecheckInterval;
+    } else {
+      probe_start_ = step_ + serial_recheck_;
+      serial_recheck_ = std::min(2 * serial_recheck_, kProbeInterval);
+    }
   }
 }
 

@@ -119,8 +119,8 @@ class Solver {
   // keep the faster: on a machine shared with other busy processes the threads of a
   // parallel region wait for each other at every barrier, and a run can be 10x slower
   // than on one thread (issue 7, Dr2 measured). Results are bit-identical either way.
-  // A switch to one thread is checked again after kRecheckInterval steps: one window's
-  // verdict against the threads should not hold for the full interval.
+  // A verdict for one thread is checked again after kRecheckInterval steps, then after
+  // twice as many, and so on up to kProbeInterval (see probe_parallel).
   static constexpr long kProbeInterval = 4000;
   static constexpr long kRecheckInterval = 500;
   static constexpr int kProbeSteps = 8;
@@ -172,7 +172,7 @@ class Solver {
   std::array<double, kProbeSteps> probe_parallel_{};
   long serial_steps_chosen_ = 0;
   bool setup_memory_released_ = false;  // after the first step of this solver (a restart's too)
-  bool chose_parallel_ = true;  // the last window's verdict (before the first: threads)
+  long serial_recheck_ = kRecheckInterval;  // steps to the next probe after a verdict for one thread
   StepSettings settings_;
   std::vector<PrescribedDof> constraints_;
   EnergyLedger energy_;
