@@ -109,7 +109,9 @@ struct ContactStepStats {
   Index active_contacts = 0;
   Index sliding_contacts = 0;
   Index candidate_pairs = 0;
-  Index skipped_pairs = 0;               // candidates known to be apart (not examined): their cores or boxes were apart by more than they moved since
+  // Candidates known to be apart (not examined): their cores or boxes were apart by more
+  // than they have moved since.
+  Index skipped_pairs = 0;
   bool rebuilt = false;                  // the broad phase was rebuilt this call
   double elastic_energy = 0.0;           // stored in all contacts now, J/m
   double elastic_energy_increment = 0.0; // change since the previous call, J/m
@@ -230,7 +232,8 @@ class ContactForces {
   // Pairs whose cores were found apart by some clearance are skipped until their cores
   // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
   // are vertex neighbours that never touch); so are pairs whose boxes were apart (half
-  // the candidates late in Dr2: the skin's extras), without loading the boxes again. motion_[t]: summed largest core-vertex
+  // the candidates late in Dr2: the skin's extras), without loading the boxes again.
+  // motion_[t]: summed largest core-vertex
   // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
   // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
   // the narrow phase would find without contact, so results do not change. -1: the pair
