@@ -16,6 +16,8 @@ std::string input_file_problem(const std::filesystem::path& path) {
     return fmt::format("cannot access {}: {}", shown, ec.message());
   }
   if (st.type() == fs::file_type::directory) return fmt::format("{} is a directory, not a file", path.string());
+  // A device or pipe (e.g. /dev/zero) could be read forever: only regular files.
+  if (st.type() != fs::file_type::regular) return fmt::format("{}: not a regular file (a device, pipe or socket)", path.string());
   return "";
 }
 

@@ -7,8 +7,9 @@
 
 namespace dsdem::io {
 
-// "" when `path` names an existing file that is not a directory; otherwise why not, as
-// "file not found: P", "P is a directory, not a file" or "cannot access P: <OS error>".
+// "" when `path` names an existing regular file (symbolic links followed); otherwise why
+// not, as "file not found: P", "P is a directory, not a file", "P: not a regular file
+// (...)" or "cannot access P: <OS error>".
 std::string input_file_problem(const std::filesystem::path& path);
 
 }  // namespace dsdem::io

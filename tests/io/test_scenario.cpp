@@ -147,6 +147,9 @@ TEST(Scenario, FileNamesTheSystemRefusesAreInputErrorsNotCrashes) {
   EXPECT_TRUE(has_error(mesh_errors, "File name too long"));
   const std::string quake = "earthquake:\n  horizontal:\n    file: " + long_name + ".csv\n";
   EXPECT_TRUE(has_error(errors_of(good() + quake), "earthquake.horizontal.file: cannot access"));
+  // A device would be read forever: only regular files (the mesh reader's rule, now for every input file).
+  EXPECT_TRUE(has_error(errors_of(good() + "earthquake:\n  horizontal:\n    file: /dev/zero\n"),
+                        "earthquake.horizontal.file: /dev/zero: not a regular file"));
   // A folder is not a mesh file either.
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("dsdem-test-mesh-folder-" + std::to_string(::getpid()) + ".msh");
   std::filesystem::create_directories(folder);
