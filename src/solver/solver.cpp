@@ -114,6 +114,7 @@ void Solver::build_gather() {
   // joint insertion: one joint per edge) is left shared; its slots keep the first 3.
   triangle_joints_.assign(ne, {kNoIndex, kNoIndex, kNoIndex});
   own_corners_.assign(ne, 0);
+  own_bounds_.clear();
   for (std::size_t j = 0; j < nj; ++j)
     for (Index t : {J.tri_a[j], J.tri_b[j]}) {
       auto& slots = triangle_joints_[t];
@@ -198,6 +199,14 @@ void Solver::build_gather() {
       for (Index j : triangle_joints_[t]) covered += j != kNoIndex ? 2 : 0;
   if (covered != 4 * nj)
     throw std::logic_error(fmt::format("joint nodes outside their triangles: {} of {} joint-node pairs reached", covered, 4 * nj));
+}
+
+void Solver::ensure_own_bounds(int threads) {
+  while (static_cast<int>(own_bounds_.size()) < threads) {
+    const int T = static_cast<int>(own_bounds_.size()) + 1;
+    own_bounds_.push_back(equal_share_bounds(own_corners_.size(), T,
+                                             [this](std::size_t t) { return own_corners_[t] != kSharedTriangle; }));
+  }
 }
 
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
@@ -366,7 +375,7 @@ void Solver::add_internal_and_joint_forces() {
   const bool joints = J.size() > 0;
   const bool damped = this->damped();
   const bool element_damping = beta > 0.0;  // the stiffness-damping forces (Rayleigh beta)
-  const std::ptrdiff_t ne = ssize(tri.size()), ns = ssize(shared_triangles_.size()), ng = ssize(gathered_nodes_.size());
+  const std::ptrdiff_t ns = ssize(shared_triangles_.size()), ng = ssize(gathered_nodes_.size());
   int inverted = 0;
   Index broken_now = 0;
   // One triangle: stress (unless on demand), strain energy, nodal forces r.force and
@@ -392,9 +401,19 @@ void Solver::add_internal_and_joint_forces() {
   // into their nodes' sums) and the gathered nodes. Every node's sum is formed as
   // f + fd + fj in a fixed order (elements, then joints in joint order): bit-identical
   // for any thread count. A broken joint's slots stay zero.
-#pragma omp parallel if (parallel_)
+  int threads = 1;
+#ifdef _OPENMP
+  if (parallel_) threads = omp_get_max_threads();
+#endif
+  ensure_own_bounds(threads);
+#pragma omp parallel num_threads(threads) if (parallel_) reduction(| : inverted)
   {
-#pragma omp for schedule(static) nowait reduction(| : inverted)
+    int thread = 0, team = 1;
+#ifdef _OPENMP
+    thread = omp_get_thread_num();
+    team = omp_get_num_threads();  // <= threads: own_bounds_ has its split
+#endif
+#pragma omp for schedule(static) nowait
     for (std::ptrdiff_t s = 0; s < ns; ++s) {
       std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
       const auto t = static_cast<std::size_t>(shared_triangles_[s]);
@@ -407,12 +426,13 @@ void Solver::add_internal_and_joint_forces() {
       evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now);
 #pragma omp barrier
     const std::array<Vec2, 2>* jforce = joint_buf_.force.data();
-#pragma omp for schedule(static) nowait reduction(| : inverted)
-    for (std::ptrdiff_t t = 0; t < ne; ++t) {
+    // Own triangles: this thread's share (they write only their own nodes; no order).
+    const std::vector<std::size_t>& own_range = own_bounds_[team - 1];
+    for (std::size_t t = own_range[thread]; t < own_range[thread + 1]; ++t) {
       const std::uint16_t code = own_corners_[t];
       if (code == kSharedTriangle) continue;
       std::array<Vec2, 3> df;
-      const fem::TriangleResponse r = element(static_cast<std::size_t>(t), df);
+      const fem::TriangleResponse r = element(t, df);
       if (!(r.detF > 0.0)) inverted = 1;
       // The joints' forces per corner, in joint order (as a per-node incidence would).
       std::array<Vec2, 3> fj{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};

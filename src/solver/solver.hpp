@@ -215,6 +215,10 @@ class Solver {
   std::vector<std::array<Vec2, 3>> shared_force_;
   std::vector<std::array<Vec2, 3>> shared_damping_force_;
   std::vector<Index> gathered_nodes_;  // ascending
+  // own_bounds_[T - 1][t .. t + 1]: the triangle index range of thread t of T in the
+  // own-triangle loop, with equal shares of the own triangles (equal_share_bounds).
+  std::vector<std::vector<std::size_t>> own_bounds_;
+  void ensure_own_bounds(int threads);
   // Per gathered node: shared slot entries 3 s + corner (ascending triangle), joint
   // entries 2 (2 j + end) + side (ascending joint; side 1 = face b, negated).
   std::vector<Index> gather_offset_, gather_entry_;

@@ -134,3 +134,28 @@ TEST(ThreadChoice, MedianStepTimeDecidesNotOneOutlier) {
   EXPECT_FALSE(choose_parallel(dr2_serial, dr2_slow));
   EXPECT_TRUE(choose_parallel(serial, serial));  // a tie keeps the threads
 }
+
+// The own-triangle loop splits its work by count, not by index: Dr2 numbers its 3 233
+// own (zone A) triangles first and its 5 385 shared ones after, and a split of the index
+// range gave one thread all of the own triangles (issue 7, 2-thread profile).
+TEST(WorkSplit, EqualSharesOfTheCountedItemsWhereverTheyAreNumbered) {
+  const std::size_t n = 8618, n_own = 3233;
+  auto own_first = [&](std::size_t i) { return i < n_own; };
+  for (int T : {1, 2, 3, 4}) {
+    const std::vector<std::size_t> b = equal_share_bounds(n, T, own_first);
+    ASSERT_EQ(b.size(), static_cast<std::size_t>(T) + 1);
+    EXPECT_EQ(b.front(), 0u);
+    EXPECT_EQ(b.back(), n);
+    for (int k = 0; k < T; ++k) {
+      std::size_t share = 0;
+      for (std::size_t i = b[k]; i < b[k + 1]; ++i) share += own_first(i) ? 1 : 0;
+      EXPECT_EQ(share, n_own * (k + 1) / T - n_own * k / T) << "T = " << T << ", range " << k;
+    }
+  }
+  // Every third index counted, and none at all: ranges still tile [0, n).
+  const std::vector<std::size_t> every_third = equal_share_bounds(10, 2, [](std::size_t i) { return i % 3 == 0; });
+  EXPECT_EQ(every_third, (std::vector<std::size_t>{0, 6, 10}));  // counted 0, 3 | 6, 9
+  const std::vector<std::size_t> none = equal_share_bounds(5, 2, [](std::size_t) { return false; });
+  EXPECT_EQ(none, (std::vector<std::size_t>{0, 5, 5}));
+  EXPECT_EQ(equal_share_bounds(0, 2, [](std::size_t) { return true; }), (std::vector<std::size_t>{0, 0, 0}));
+}
