@@ -145,6 +145,7 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
       motion_[t] += std::sqrt(d2);
     }
     box_[t] = bounding_box(sp_[t]);
+    if (scales_with_shapes_) edge_scales_[t] = core_edge_scales(sp_[t].core);
   }
   return left != 0;
 }

@@ -59,6 +59,10 @@ struct ContactSettings {
   // false: every loop on one thread (the solver turns OpenMP off for small models; a
   // parallel region there costs more than it saves, and far more on a loaded machine).
   bool parallel = true;
+  // Where the cores' edge data are computed (ContactForces::edge_scales_): automatic
+  // chooses each step; the others force one way (tests: the results are the same).
+  enum class EdgeScales { automatic, with_shapes, examined_only };
+  EdgeScales edge_scales = EdgeScales::automatic;
 };
 
 // The model arrays the contact phase reads (sizes: nodes for x, v, mass, u; triangles
@@ -121,7 +125,8 @@ struct ContactStepStats {
 
 class ContactForces {
  public:
-  explicit ContactForces(const ContactSettings& settings = {}) : settings_(settings) {}
+  explicit ContactForces(const ContactSettings& settings = {})
+      : settings_(settings), scales_with_shapes_(settings.edge_scales == ContactSettings::EdgeScales::with_shapes) {}
 
   // Adds the contact forces to f (size = node count) and returns the step's counts
   // and energies. Pairs of triangles sharing a node (continuous mesh) or a body id
@@ -175,6 +180,8 @@ class ContactForces {
   double skin() const { return skin_; }
   // OpenMP threads that ran the pair loop of the last call.
   int threads_used() const { return used_threads_; }
+  // The next call computes the edge data of every triangle in a candidate pair.
+  bool edge_scales_with_shapes() const { return scales_with_shapes_; }
   // Spheropolygon of triangle t at the last call (contact triangles that are in some
   // candidate pair of the broad phase; the others are not updated).
   const Spheropolygon& spheropolygon(Index t) const { return sp_[t]; }
@@ -212,9 +219,15 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
-  // Of sp_[t].core, computed each step only for the triangles of the pairs examined
-  // (scale_tris_); expand() per pair (issue 7 memory).
+  // Of sp_[t].core; expand() per pair (issue 7 memory). Computed each step either for
+  // the triangles of the pairs examined only (scale_tris_, collected by a serial pass),
+  // or, while most triangles of the candidate pairs are in pairs examined, with their
+  // shapes in update_shapes() (scales_with_shapes_): late in Dr2 3 200 of 3 600 are,
+  // and the serial pass and its barrier cost two threads more than the extra scales;
+  // in the Brazilian disc 5-25 % are, and computing all would cost 7.5 % more
+  // instructions (issue 7 profile). The same values either way.
   std::vector<CoreEdgeScales> edge_scales_;
+  bool scales_with_shapes_ = false;  // decided at the end of each call for the next one
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
   // Broad-phase slots (BroadPhase::active_triangles()) of the triangles in some candidate
   // pair (ascending), set at each broad-phase build: only their shapes are updated each
@@ -303,19 +316,20 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       }
       todo.push_back(static_cast<Index>(p));
     }
-    // 2. Edge data of the triangles in those pairs only (once each).
+    // 2. Edge data of the triangles in those pairs only (once each), unless
+    // update_shapes() did it for all.
+    if (t == 0) used_threads_ = T;
 #pragma omp barrier
+    if (!scales_with_shapes_) {
 #pragma omp single
-    {
-      used_threads_ = T;
       collect_scale_triangles(T);
-    }
-    const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
+      const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t s = 0; s < ns; ++s) {
-      const Index tri = scale_tris_[s];
-      edge_scales_[tri] = core_edge_scales(sp_[tri].core);
-      in_pair_[tri] &= ~kScales;
+      for (std::ptrdiff_t s = 0; s < ns; ++s) {
+        const Index tri = scale_tris_[s];
+        edge_scales_[tri] = core_edge_scales(sp_[tri].core);
+        in_pair_[tri] &= ~kScales;
+      }
     }
     // 3. Narrow phase and law. The pairs to examine, in pair order (todo_[0], todo_[1],
     // ...), are split into T contiguous runs of equal length, whatever share of them each
@@ -355,6 +369,12 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       scatter_forces(in, f, static_cast<Index>(nn * t / T), static_cast<Index>(nn * (t + 1) / T));
     }
   }
+  std::size_t examined = 0;
+  for (int u = 0; u < used_threads_; ++u) examined += todo_[u].size();
+  // Examined pairs per triangle of the candidate pairs: the disc < 0.25, late Dr2 > 1.4.
+  using Mode = ContactSettings::EdgeScales;
+  scales_with_shapes_ = settings_.edge_scales == Mode::automatic ? 2 * examined >= shape_slots_.size()
+                                                                 : settings_.edge_scales == Mode::with_shapes;
   ContactStepStats st = finish();
   st.rebuilt = rebuilt;
   st.candidate_pairs = static_cast<Index>(np);

@@ -426,3 +426,51 @@ TEST(ContactForces, PairsSkippedWhileApartGiveTheSameForcesAsCheckingEveryPair) 
   EXPECT_GT(contacts, 1000);
   EXPECT_GT(skipped, 500);
 }
+
+TEST(ContactForces, EdgeDataWithTheShapesOrPerExaminedPairGiveTheSameForces) {
+  // The cores' edge data are computed either with every shape of the candidate pairs or
+  // only for the triangles of the pairs examined (chosen per step, issue 7): the same
+  // forces bit for bit, on one thread and (with OpenMP) on two.
+  using Mode = ContactSettings::EdgeScales;
+#ifdef _OPENMP
+  const int saved = omp_get_max_threads();
+  const std::vector<int> thread_counts{1, 2};
+#else
+  const std::vector<int> thread_counts{1};
+#endif
+  for (const int threads : thread_counts) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    Pile p = make_pile(24, 20);
+    const ContactParamTable params = pile_params();
+    ContactForces shapes({.skin = 0.04, .min_pairs_per_parallel_run = 0, .edge_scales = Mode::with_shapes});
+    ContactForces examined({.skin = 0.04, .min_pairs_per_parallel_run = 0, .edge_scales = Mode::examined_only});
+    ContactForces automatic({.skin = 0.04, .min_pairs_per_parallel_run = 0});
+    std::vector<Vec2> f1(p.mesh.x.size()), f2(p.mesh.x.size()), f3(p.mesh.x.size());
+    int with_shapes = 0, per_pair = 0;
+    for (int step = 0; step < 200; ++step) {
+      p.set_time(step * p.dt);
+      for (auto* f : {&f1, &f2, &f3}) std::fill(f->begin(), f->end(), Vec2::Zero());
+      (automatic.edge_scales_with_shapes() ? with_shapes : per_pair) += 1;
+      const ContactStepStats a = shapes.compute(p.mesh.input(), params, p.dt, f1);
+      const ContactStepStats b = examined.compute(p.mesh.input(), params, p.dt, f2);
+      automatic.compute(p.mesh.input(), params, p.dt, f3);
+      ASSERT_EQ(std::memcmp(f1.data(), f2.data(), f1.size() * sizeof(Vec2)), 0) << "step " << step;
+      ASSERT_EQ(std::memcmp(f1.data(), f3.data(), f1.size() * sizeof(Vec2)), 0) << "step " << step;
+      ASSERT_EQ(a.active_contacts, b.active_contacts);
+      ASSERT_EQ(std::memcmp(&a.elastic_energy, &b.elastic_energy, sizeof(double)), 0);
+    }
+    EXPECT_TRUE(shapes.edge_scales_with_shapes());
+    EXPECT_FALSE(examined.edge_scales_with_shapes());
+    // The dense pile: with the shapes from the second step on (the first has no count).
+    EXPECT_EQ(per_pair, 1);
+    EXPECT_EQ(with_shapes, 199);
+    // Few pairs examined (here none: all skipped): per examined pair again.
+    automatic.compute(p.mesh.input(), params, p.dt, [](Index, Index) { return true; }, f3);
+    EXPECT_FALSE(automatic.edge_scales_with_shapes());
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(saved);
+#endif
+}
