@@ -11,7 +11,13 @@
 #include "mesh/gmsh_reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/dsdem_fuzz_msh_" + std::to_string(::getpid()) + ".msh";
+  // One file per process; the pid padded to a fixed width, so the name's length (which
+  // the error messages carry) is the same in every run of the CI smoke.
+  static const std::string path = [] {
+    char name[64];
+    std::snprintf(name, sizeof name, "/tmp/dsdem_fuzz_msh_%010d.msh", static_cast<int>(::getpid()));
+    return std::string(name);
+  }();
   FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;
   std::fwrite(data, 1, size, f);
