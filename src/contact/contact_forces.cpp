@@ -163,6 +163,7 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
   if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
+  if (touching_.size() < static_cast<std::size_t>(nt) * nt) touching_.resize(static_cast<std::size_t>(nt) * nt);
   return nt;
 }
 
@@ -239,16 +240,34 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
   return -1.0;
 }
 
-void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f, Index lo, Index hi) const {
+void ContactForces::note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t nn,
+                                  std::size_t first, std::size_t last) {
+  const auto& ci = in.conn[pr.i];
+  const auto& cj = in.conn[pr.j];
+  for (int c = 0; c < T; ++c) {
+    const Index lo = range_begin(nn, c, T), hi = range_begin(nn, c + 1, T);
+    bool touches = false;
+    for (int k = 0; k < 3; ++k) touches |= (ci[k] >= lo && ci[k] < hi) || (cj[k] >= lo && cj[k] < hi);
+    if (!touches) continue;
+    std::vector<Index>& list = touching_[t * T + c];
+    for (std::size_t r = first; r < last; ++r) list.push_back(static_cast<Index>(r));
+  }
+}
+
+void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f, int c, int T) const {
+  const std::size_t nn = f.size();
+  const Index lo = range_begin(nn, c, T), hi = range_begin(nn, c + 1, T);
   // add_point_force() restricted to [lo, hi): the same products, added in the same order.
   auto add = [&f, lo, hi](const Vec3& N, const std::array<Index, 3>& nodes, const Vec2& F) {
     for (int k = 0; k < 3; ++k)
       if (nodes[k] >= lo && nodes[k] < hi) f[nodes[k]] += N[k] * F;
   };
-  for (int t = 0; t < used_threads_; ++t) {
-    for (const ContactRecord& r : buffers_[t]) {
-      add(r.Ni, in.conn[r.key.i], r.force);
-      add(r.Nj, in.conn[r.key.j], -r.force);
+  for (int u = 0; u < T; ++u) {
+    const std::vector<ContactRecord>& records = buffers_[u];
+    for (const Index r : touching_[u * T + c]) {
+      const ContactRecord& rec = records[r];
+      add(rec.Ni, in.conn[rec.key.i], rec.force);
+      add(rec.Nj, in.conn[rec.key.j], -rec.force);
     }
   }
 }
@@ -270,6 +289,11 @@ ContactStepStats ContactForces::finish() {
   // Spare room so that a slowly growing contact count does not reallocate every step.
   for (int t = 0; t < used_threads_; ++t) {
     reserve_with_headroom(buffers_[t], buffers_[t].size() + buffers_[t].size() / 8);
+    if (used_threads_ > 1)
+      for (int c = 0; c < used_threads_; ++c) {
+        std::vector<Index>& list = touching_[t * used_threads_ + c];
+        reserve_with_headroom(list, list.size() + buffers_[t].size() / 8);
+      }
   }
   const std::size_t n_contacts = static_cast<std::size_t>(st.active_contacts);
   history_.reserve(n_contacts + n_contacts / 8);
