@@ -163,6 +163,7 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
   if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
+  if (todo_weight_.size() < static_cast<std::size_t>(nt)) todo_weight_.resize(nt);
   if (touching_.size() < static_cast<std::size_t>(nt) * nt) touching_.resize(static_cast<std::size_t>(nt) * nt);
   return nt;
 }
@@ -232,19 +233,38 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.elastic_energy = law.elastic_energy;
     r.friction_dissipation = law.friction_dissipation;
     r.damping_dissipation = law.damping_dissipation;
-    if (!f_now.empty()) {
+    if (f_now.size() == in.x.size()) {
       add_point_force(r.Ni, ci, r.force, f_now);
       add_point_force(r.Nj, cj, -r.force, f_now);
+    } else if (!f_now.empty()) {  // add_point_force() on the nodes below f_now.size() only
+      const Index end = static_cast<Index>(f_now.size());
+      const Vec2 minus = -r.force;
+      for (int k = 0; k < 3; ++k)
+        if (ci[k] < end) f_now[ci[k]] += r.Ni[k] * r.force;
+      for (int k = 0; k < 3; ++k)
+        if (cj[k] < end) f_now[cj[k]] += r.Nj[k] * minus;
     }
   }
-  return -1.0;
+  return -static_cast<double>(n);
+}
+
+std::size_t ContactForces::pairs_within_weight(std::uint64_t w, int T) const {
+  std::size_t before = 0;
+  for (int u = 0; u < T; ++u) {
+    const std::vector<std::uint32_t>& upto = todo_weight_[u];
+    const std::uint64_t in_list = upto.empty() ? 0 : upto.back();
+    if (w < in_list) return before + static_cast<std::size_t>(std::upper_bound(upto.begin(), upto.end(), w) - upto.begin());
+    w -= in_list;
+    before += upto.size();
+  }
+  return before;
 }
 
 void ContactForces::note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t nn,
                                   std::size_t first, std::size_t last) {
   const auto& ci = in.conn[pr.i];
   const auto& cj = in.conn[pr.j];
-  for (int c = 0; c < T; ++c) {
+  for (int c = t == 0 ? 1 : 0; c < T; ++c) {
     const Index lo = range_begin(nn, c, T), hi = range_begin(nn, c + 1, T);
     bool touches = false;
     for (int k = 0; k < 3; ++k) touches |= (ci[k] >= lo && ci[k] < hi) || (cj[k] >= lo && cj[k] < hi);

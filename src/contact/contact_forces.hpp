@@ -197,10 +197,12 @@ class ContactForces {
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
-  // the cores' clearance (narrow_phase) when they are apart, -1 when they touch, else 0.
+  // the cores' clearance (narrow_phase) when they are apart, -(contact count) when they
+  // touch, else 0.
   // check_apart: see narrow_phase().
-  // f_now: on one thread, the pair's forces go to the nodes at once, while its records
-  // are in cache (in record order, as scatter_forces() would add them); empty otherwise.
+  // f_now: the pair's forces go at once to the nodes below f_now.size(), while its records
+  // are in cache (in record order, as scatter_forces() would add them): f itself on one
+  // thread, the first node range on the first of several, empty on the others.
   double process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
                       double dt, bool check_apart, ContactHistory::Cursor& cursor,
                       std::vector<ContactRecord>& out, std::span<Vec2> f_now) const;
@@ -211,7 +213,8 @@ class ContactForces {
   // Node range of thread c of T: [nn c / T, nn (c + 1) / T).
   static Index range_begin(std::size_t nn, int c, int T) { return static_cast<Index>(nn * c / T); }
   // More than one thread: thread t notes its records [first, last) (one pair's) in the
-  // lists of the node ranges that the pair's six nodes touch.
+  // lists of the node ranges that the pair's six nodes touch (thread 0 not in its own:
+  // it added those forces in the pair loop).
   void note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t nn, std::size_t first,
                      std::size_t last);
   // More than one thread: adds the forces of the records that touch node range c (of T)
@@ -248,6 +251,18 @@ class ContactForces {
   // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
   // the indices of such pairs that thread t found in its chunk of the pair list this call.
   std::vector<std::vector<Index>> todo_;
+  // More than one thread: running sums of the examined pairs' expected costs
+  // (pair_weight), per list of todo_. The pair loop splits the pairs by these sums, not by
+  // count: late in Dr2 one of two equal-count halves had 8 % more contacts (issue 7).
+  std::vector<std::vector<std::uint32_t>> todo_weight_;
+  // Expected cost of examining a pair, from skip_below_ (its last check): a pair with n
+  // contacts costs about 2 + 2 n times one found apart (issue 7 profile: the narrow phase
+  // ~700 instructions per pair, the law and mapping ~650 per contact).
+  static std::uint32_t pair_weight(float skip_below) {
+    return skip_below < 0.0f ? 2u + 2u * static_cast<std::uint32_t>(-skip_below) : 1u;
+  }
+  // Examined pairs, in pair order over todo_[0..T), whose running weight is <= w.
+  std::size_t pairs_within_weight(std::uint64_t w, int T) const;
   // Pairs whose cores were found apart by some clearance are skipped until their cores
   // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
   // are vertex neighbours that never touch); so are pairs whose boxes were apart (half
@@ -255,8 +270,8 @@ class ContactForces {
   // motion_[t]: summed largest core-vertex
   // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
   // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
-  // the narrow phase would find without contact, so results do not change. -1: the pair
-  // was in contact at its last check (its next check skips cores_clearance()); +inf:
+  // the narrow phase would find without contact, so results do not change. -n: the pair
+  // had n contacts at its last check (its next check skips cores_clearance()); +inf:
   // skip() said yes in this skip_epoch_.
   std::vector<double> motion_;
   std::vector<float> skip_below_;
@@ -303,7 +318,10 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // 1. The pairs to examine, in pair order per contiguous chunk: rounded boxes overlap,
     // not known to be apart (see skip_below_), not skipped by the caller.
     std::vector<Index>& todo = todo_[t];
+    std::vector<std::uint32_t>& upto = todo_weight_[t];
     todo.clear();
+    upto.clear();
+    std::uint32_t weight = 0;
     const std::size_t b = np * t / T, e = np * (t + 1) / T;
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
@@ -325,6 +343,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
         continue;
       }
       todo.push_back(static_cast<Index>(p));
+      if (T > 1) upto.push_back(weight += pair_weight(sb));
     }
     // 2. Edge data of the triangles in those pairs only (once each), unless
     // update_shapes() did it for all.
@@ -342,19 +361,26 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       }
     }
     // 3. Narrow phase and law. The pairs to examine, in pair order (todo_[0], todo_[1],
-    // ...), are split into T contiguous runs of equal length, whatever share of them each
-    // thread's filter found (on Dr2 that share happened to be even: 2 350 / 2 338 at
-    // t = 21 s). Concatenating the buffers in thread order still gives pair order.
+    // ...), are split into T contiguous runs of equal expected cost (todo_weight_),
+    // whatever share of them each thread's filter found. Concatenating the buffers in
+    // thread order still gives pair order.
     std::vector<ContactRecord>& out = buffers_[t];
     out.clear();
-    const std::span<Vec2> f_now = T == 1 ? std::span<Vec2>(f) : std::span<Vec2>();
+    // Forces added at once, while the records are in cache: by one thread, to every node;
+    // by the first of several, to the nodes of its range (no earlier pair touches them).
     const std::size_t nn = f.size();
+    const std::span<Vec2> f_now = t == 0 ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(nn, 1, T)))
+                                         : std::span<Vec2>();
     if (T > 1)
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
     ContactHistory::Cursor cursor;  // keys ascend within the run
-    std::size_t total = 0;
-    for (int u = 0; u < T; ++u) total += todo_[u].size();
-    std::size_t first = total * t / T, count = total * (t + 1) / T - first;
+    std::size_t first = 0, count = todo_[0].size();
+    if (T > 1) {
+      std::uint64_t total = 0;
+      for (int u = 0; u < T; ++u) total += todo_weight_[u].empty() ? 0 : todo_weight_[u].back();
+      first = pairs_within_weight(total * t / T, T);
+      count = pairs_within_weight(total * (t + 1) / T, T) - first;
+    }
     for (int u = 0; u < T && count > 0; ++u) {
       const std::vector<Index>& list = todo_[u];
       if (first >= list.size()) {
@@ -370,13 +396,14 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
         const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out, f_now);
         if (T > 1 && out.size() > before) note_touching(in, pr, t, T, nn, before, out.size());
         // Half the clearance: margin for the float and for the sums' rounding.
-        skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : res < 0.0 ? -1.0f : 0.0f;
+        skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : static_cast<float>(res);
       }
       count -= end - first;
       first = 0;
     }
     // 4. The forces to the nodes (one thread: done in step 3): thread t adds the forces
-    // of the records that touch its node range to those nodes, in record order, so each
+    // of the records that touch its node range to those nodes (thread 0's own ones: done
+    // in step 3), in record order, so each
     // node gets the same sum, in the same order, for any thread count.
     if (T > 1) {
 #pragma omp barrier

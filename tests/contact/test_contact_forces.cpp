@@ -379,20 +379,27 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
     }
     return cf.threads_used();
   };
-  std::vector<std::vector<Vec2>> f1, f2;
-  std::vector<ContactStepStats> s1, s2;
+  // Three threads too (oversubscribed here): a middle thread, and the pair loop's split
+  // by expected cost (todo_weight_) across three filter lists.
+  std::vector<std::vector<Vec2>> f1, f2, f3;
+  std::vector<ContactStepStats> s1, s2, s3;
   EXPECT_EQ(run(1, f1, s1), 1);
   EXPECT_EQ(run(2, f2, s2), 2);
+  EXPECT_EQ(run(3, f3, s3), 3);
   omp_set_num_threads(saved);
   ASSERT_EQ(f1.size(), f2.size());
+  ASSERT_EQ(f1.size(), f3.size());
   long active = 0;
   for (std::size_t k = 0; k < f1.size(); ++k) {
-    // Bit for bit.
-    ASSERT_EQ(std::memcmp(f1[k].data(), f2[k].data(), f1[k].size() * sizeof(Vec2)), 0) << "step " << k;
-    EXPECT_EQ(s1[k].active_contacts, s2[k].active_contacts);
-    EXPECT_EQ(s1[k].elastic_energy, s2[k].elastic_energy);
-    EXPECT_EQ(s1[k].friction_dissipation, s2[k].friction_dissipation);
-    EXPECT_EQ(s1[k].damping_dissipation, s2[k].damping_dissipation);
+    for (const auto* other : {&f2, &f3}) {  // bit for bit
+      ASSERT_EQ(std::memcmp(f1[k].data(), (*other)[k].data(), f1[k].size() * sizeof(Vec2)), 0) << "step " << k;
+    }
+    for (const auto* other : {&s2, &s3}) {
+      EXPECT_EQ(s1[k].active_contacts, (*other)[k].active_contacts);
+      EXPECT_EQ(s1[k].elastic_energy, (*other)[k].elastic_energy);
+      EXPECT_EQ(s1[k].friction_dissipation, (*other)[k].friction_dissipation);
+      EXPECT_EQ(s1[k].damping_dissipation, (*other)[k].damping_dissipation);
+    }
     active += s1[k].active_contacts;
   }
   EXPECT_GT(active, 100 * 50);
