@@ -14,6 +14,9 @@ RAW="$BUILD/bench-raw"
 # default here; OMP_WAIT_POLICY=active bash scripts/bench.sh on a dedicated machine.
 export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 mkdir -p "$RAW"
+# Only this run's numbers go into results.md: a QUICK run must not report the 10^6-element
+# rows (or examples) of an earlier full run as if measured now.
+rm -f "$RAW"/*.json "$RAW/examples.tsv"
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
