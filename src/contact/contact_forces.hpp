@@ -21,6 +21,7 @@
 #endif
 
 #include "contact/broad_phase.hpp"
+#include "contact/buffer.hpp"
 #include "contact/contact_history.hpp"
 #include "contact/contact_law.hpp"
 #include "contact/narrow_phase.hpp"
@@ -250,11 +251,11 @@ class ContactForces {
   std::vector<Index> scale_tris_;
   // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
   // the indices of such pairs that thread t found in its chunk of the pair list this call.
-  std::vector<std::vector<Index>> todo_;
+  std::vector<ThreadVector<Index>> todo_;
   // More than one thread: running sums of the examined pairs' expected costs
   // (pair_weight), per list of todo_. The pair loop splits the pairs by these sums, not by
   // count: late in Dr2 one of two equal-count halves had 8 % more contacts (issue 7).
-  std::vector<std::vector<std::uint32_t>> todo_weight_;
+  std::vector<ThreadVector<std::uint32_t>> todo_weight_;
   // Expected cost of examining a pair, from skip_below_ (its last check): a pair with n
   // contacts costs about 2 + 2 n times one found apart (issue 7 profile: the narrow phase
   // ~700 instructions per pair, the law and mapping ~650 per contact).
@@ -276,11 +277,11 @@ class ContactForces {
   std::vector<double> motion_;
   std::vector<float> skip_below_;
   long skip_epoch_ = -1;
-  std::vector<std::vector<ContactRecord>> buffers_;  // one per thread
+  std::vector<ThreadVector<ContactRecord>> buffers_;  // one per thread
   // touching_[u T + c]: indices into buffers_[u] of the records with a node in range c,
   // ascending (more than one thread). Each thread reads only those in the scatter, not
   // every record: on late Dr2 each of two threads read all ~6 400 (issue 7 profile).
-  std::vector<std::vector<Index>> touching_;
+  std::vector<ThreadVector<Index>> touching_;
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;
 };

@@ -14,6 +14,7 @@
 #endif
 
 #include "common/alloc_counter.hpp"
+#include "contact/buffer.hpp"
 #include "contact/contact_forces.hpp"
 #include "contact/shape_map.hpp"
 
@@ -405,6 +406,23 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   EXPECT_GT(active, 100 * 50);
 }
 #endif
+
+TEST(ThreadVector, EachThreadsVectorHasCacheLinesOfItsOwn) {
+  // The per-thread lists of the contact phase (todo_, buffers_, touching_): vectors that
+  // share a 64-byte line make two threads' push_backs take it from each other (late Dr2:
+  // the pair filter no faster on 2 threads than on 1, issue 7).
+  static_assert(alignof(dsdem::contact::ThreadVector<int>) == 64);
+  static_assert(sizeof(dsdem::contact::ThreadVector<int>) % 64 == 0);
+  std::vector<dsdem::contact::ThreadVector<int>> lists(4);
+  for (std::size_t k = 0; k < lists.size(); ++k) {
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&lists[k]) % 64, 0u) << k;
+    lists[k].push_back(static_cast<int>(k));
+  }
+  dsdem::contact::reserve_with_headroom(lists[1], 100);
+  EXPECT_GE(lists[1].capacity(), 100u);
+  const std::vector<int>& plain = lists[3];  // used as a std::vector everywhere
+  EXPECT_EQ(plain, std::vector<int>{3});
+}
 
 TEST(ContactForces, PairsSkippedWhileApartGiveTheSameForcesAsCheckingEveryPair) {
   // The same wobbling pile through two drivers: one keeps its pair list (pairs whose
