@@ -244,6 +244,8 @@ class ContactForces {
   // step. A contact zone's interior (one body, no pairs) is skipped: on Dr2 that was
   // most of the 12 % the shapes took (issue 7 profile).
   std::vector<Index> shape_slots_;
+  // The other active triangles' slots (ascending), for the rebuild test of others_left_box().
+  std::vector<Index> other_slots_;
   // Per triangle flags: kInPair (in some candidate pair of the build), and kScales
   // within a call for the triangles put into scale_tris_.
   static constexpr std::uint8_t kInPair = 2, kScales = 1;

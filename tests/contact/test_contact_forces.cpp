@@ -407,6 +407,45 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
 }
 #endif
 
+TEST(ContactForces, ATriangleInNoPairThatMovesIntoAnotherIsCaught) {
+  // A row of 400 separate triangles 2 m apart: no candidate pairs, so every triangle is in
+  // the rebuild test of the triangles in no pair (others_left_box). The last one (tested by
+  // the second thread on two) slides into its neighbour: the broad phase must be rebuilt
+  // in time, giving the same forces at every step as a driver rebuilt every step.
+  for (const int threads : {1, 2}) {
+#ifdef _OPENMP
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(threads);
+#else
+    if (threads > 1) continue;
+#endif
+    Mesh s;
+    for (int i = 0; i < 400; ++i) s.add_triangle(Vec2(3.0 * i, 0), Vec2(3.0 * i + 1, 0), Vec2(3.0 * i + 0.5, 1));
+    const ContactParamTable params({1e9, 5e8, 0.5, 0.5});
+    ContactForces kept, fresh;
+    std::vector<Vec2> f1(s.x.size()), f2(s.x.size());
+    long rebuilds = 0, contacts = 0;
+    for (int step = 0; step < 60; ++step) {
+      for (const Index n : s.conn.back()) s.x[n].x() -= 0.05;  // 3 m in 60 steps
+      std::fill(f1.begin(), f1.end(), Vec2::Zero());
+      std::fill(f2.begin(), f2.end(), Vec2::Zero());
+      fresh.invalidate();
+      const ContactStepStats a = kept.compute(s.input(), params, 1e-5, f1);
+      const ContactStepStats b = fresh.compute(s.input(), params, 1e-5, f2);
+      if (step == 0) EXPECT_EQ(a.candidate_pairs, 0);
+      ASSERT_EQ(std::memcmp(f1.data(), f2.data(), f1.size() * sizeof(Vec2)), 0) << "threads " << threads << " step " << step;
+      ASSERT_EQ(a.active_contacts, b.active_contacts);
+      rebuilds += a.rebuilt ? 1 : 0;
+      contacts += a.active_contacts;
+    }
+    EXPECT_GT(contacts, 0) << threads;  // they did meet
+    EXPECT_LT(rebuilds, 60) << threads;  // and the test is not a rebuild every step
+#ifdef _OPENMP
+    omp_set_num_threads(saved);
+#endif
+  }
+}
+
 TEST(ThreadVector, EachThreadsVectorHasCacheLinesOfItsOwn) {
   // The per-thread lists of the contact phase (todo_, buffers_, touching_): vectors that
   // share a 64-byte line make two threads' push_backs take it from each other (late Dr2:
