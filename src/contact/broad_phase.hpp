@@ -107,10 +107,8 @@ bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::arra
       if (out || !check(tris_[s])) continue;
       const auto& c = conn[tris_[s]];
       const Aabb& b = boxes_[s];
-      for (int k = 0; k < 3; ++k) {
-        const Vec2 p = pos(c[k]);
-        if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) out = 1;
-      }
+      for (int k = 0; k < 3; ++k)
+        if (!contains(b, pos(c[k]))) out = 1;
     }
     return out != 0;
   };

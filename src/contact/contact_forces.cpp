@@ -135,7 +135,7 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
     const Aabb& b = build_box[slot];
     // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
     for (const Vec2& p : {p0, p1, p2})
-      if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) left = 1;
+      if (!contains(b, p)) left = 1;
     const Spheropolygon old = sp_[t];
     sp_[t] = make_spheropolygon(p0, p1, p2, in.rounding_radius[t]);
     // The largest core-vertex displacement since the last step bounds how much any gap
@@ -167,11 +167,8 @@ bool ContactForces::others_left_box(const ContactInput& in) const {
     if (left) continue;
     const Index slot = other_slots_[s];
     const auto& c = in.conn[tris[slot]];
-    const Aabb& b = build_box[slot];
-    for (int k = 0; k < 3; ++k) {
-      const Vec2 p = x[c[k]];
-      if (p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) left = 1;
-    }
+    for (int k = 0; k < 3; ++k)
+      if (!contains(build_box[slot], x[c[k]])) left = 1;
   }
   return left != 0;
 }

@@ -26,6 +26,11 @@ inline bool overlaps(const Aabb& a, const Aabb& b) {
          b.lo.y() <= a.hi.y();
 }
 
+// p inside the closed box (the broad phase's rebuild test: a node that left its box).
+inline bool contains(const Aabb& b, const Vec2& p) {
+  return !(p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y());
+}
+
 // How far apart two boxes are along x or y (the larger), > 0 only when they do not
 // overlap. Each bound of a triangle's box moves at most as far as its farthest vertex,
 // so the gap shrinks by at most the two triangles' vertex motions (ContactForces).

@@ -153,3 +153,14 @@ TEST(Spheropolygon, SquashedTriangleCollapsesCoreToIncentre) {
     EXPECT_NEAR(q.y(), 1.0, 1e-15);
   }
 }
+
+TEST(Aabb, ContainsIsClosedAndRejectsEachSide) {
+  const Aabb b{Vec2(0.0, -1.0), Vec2(2.0, 1.0)};
+  EXPECT_TRUE(contains(b, Vec2(1.0, 0.0)));
+  EXPECT_TRUE(contains(b, Vec2(0.0, -1.0)));  // corners belong to the box
+  EXPECT_TRUE(contains(b, Vec2(2.0, 1.0)));
+  EXPECT_FALSE(contains(b, Vec2(-1e-12, 0.0)));
+  EXPECT_FALSE(contains(b, Vec2(2.0 + 1e-12, 0.0)));
+  EXPECT_FALSE(contains(b, Vec2(1.0, -1.0 - 1e-12)));
+  EXPECT_FALSE(contains(b, Vec2(1.0, 1.0 + 1e-12)));
+}
