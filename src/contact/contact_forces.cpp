@@ -83,11 +83,11 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   sp_.resize(nt);
   edge_scales_.resize(nt);
   box_.resize(nt);
-  // Without a pending rebuild, the shape update also runs the rebuild test of its
-  // triangles (their nodes are loaded anyway) and the scan covers only the others: a
-  // rebuild then redoes the shapes of the new pair list (the same values: same inputs).
+  // Without a pending rebuild, the shape update also runs the broad phase's rebuild test,
+  // of its triangles (their nodes are loaded anyway) and of the others: a rebuild then
+  // redoes the shapes of the new pair list (the same values: same inputs).
   bool rebuilt = invalidated_ || nt != n_triangles_ || broad_.stale(x.size());
-  if (!rebuilt && (update_shapes(in, false) || others_left_box(in))) rebuilt = true;
+  if (!rebuilt && update_shapes(in, false)) rebuilt = true;
   if (rebuilt) {
     const auto conn = in.conn;
     const auto body = in.body;
@@ -125,50 +125,44 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   const std::span<const Index> tris = broad_.active_triangles();
   const std::span<const Aabb> build_box = broad_.boxes();
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
+  const std::ptrdiff_t n_others = rebuilt ? 0 : static_cast<std::ptrdiff_t>(other_slots_.size());
   int left = 0;  // a flag, so any thread count gives the same answer
-#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelTriangles)
-  for (std::ptrdiff_t s = 0; s < n; ++s) {
-    const Index slot = shape_slots_[s];
-    const Index t = tris[slot];
-    const auto& c = in.conn[t];
-    const Vec2 p0 = x[c[0]], p1 = x[c[1]], p2 = x[c[2]];
-    const Aabb& b = build_box[slot];
-    // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
-    for (const Vec2& p : {p0, p1, p2})
-      if (!contains(b, p)) left = 1;
-    const Spheropolygon old = sp_[t];
-    sp_[t] = make_spheropolygon(p0, p1, p2, in.rounding_radius[t]);
-    // The largest core-vertex displacement since the last step bounds how much any gap
-    // measured between this core and another can have shrunk (triangle inequality). At
-    // a build the motions restart from these shapes (some were not updated before).
-    if (!rebuilt) {
-      double d2 = 0.0;
-      for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
-      motion_[t] += std::sqrt(d2);
+#pragma omp parallel reduction(| : left) if (settings_.parallel && n + n_others > kMinParallelTriangles)
+  {
+#pragma omp for schedule(static) nowait
+    for (std::ptrdiff_t s = 0; s < n; ++s) {
+      const Index slot = shape_slots_[s];
+      const Index t = tris[slot];
+      const auto& c = in.conn[t];
+      const Vec2 p0 = x[c[0]], p1 = x[c[1]], p2 = x[c[2]];
+      // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
+      for (const Vec2& p : {p0, p1, p2})
+        if (!contains(build_box[slot], p)) left = 1;
+      const Spheropolygon old = sp_[t];
+      sp_[t] = make_spheropolygon(p0, p1, p2, in.rounding_radius[t]);
+      // The largest core-vertex displacement since the last step bounds how much any gap
+      // measured between this core and another can have shrunk (triangle inequality). At
+      // a build the motions restart from these shapes (some were not updated before).
+      if (!rebuilt) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
+        motion_[t] += std::sqrt(d2);
+      }
+      box_[t] = bounding_box(sp_[t]);
+      if (scales_with_shapes_) edge_scales_[t] = core_edge_scales(sp_[t].core);
     }
-    box_[t] = bounding_box(sp_[t]);
-    if (scales_with_shapes_) edge_scales_[t] = core_edge_scales(sp_[t].core);
-  }
-  return left != 0;
-}
-
-bool ContactForces::others_left_box(const ContactInput& in) const {
-  // The broad phase's rebuild test (BroadPhase::needs_rebuild) over the active triangles in
-  // no pair, from their list: each thread tests an equal share of them. (Dr2 numbers its
-  // discrete triangles, nearly all in pairs, first: a split of all the active slots gave
-  // one thread most of the tests, issue 7 profile.)
-  const NodePositions x = in.positions();
-  const std::span<const Index> tris = broad_.active_triangles();
-  const std::span<const Aabb> build_box = broad_.boxes();
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(other_slots_.size());
-  int left = 0;  // a flag, so any thread count gives the same answer
-#pragma omp parallel for schedule(static) reduction(| : left) if (settings_.parallel && n > kMinParallelTriangles)
-  for (std::ptrdiff_t s = 0; s < n; ++s) {
-    if (left) continue;
-    const Index slot = other_slots_[s];
-    const auto& c = in.conn[tris[slot]];
-    for (int k = 0; k < 3; ++k)
-      if (!contains(build_box[slot], x[c[k]])) left = 1;
+    // The same test for the active triangles in no pair (no shape to update), from their
+    // list: each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
+    // all in pairs, first: a split of all the active slots gave one thread 90 % of the
+    // tests, issue 7 profile.)
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t s = 0; s < n_others; ++s) {
+      if (left) continue;
+      const Index slot = other_slots_[s];
+      const auto& c = in.conn[tris[slot]];
+      for (int k = 0; k < 3; ++k)
+        if (!contains(build_box[slot], x[c[k]])) left = 1;
+    }
   }
   return left != 0;
 }

@@ -190,11 +190,10 @@ class ContactForces {
  private:
   // Checks sizes, rebuilds the broad phase if needed, updates the spheropolygons.
   bool prepare(const ContactInput& in, std::size_t n_forces);
-  // Shapes, boxes and (unless rebuilt) motions of the triangles of shape_slots_; returns
-  // true when a node of one of them has left its box of the broad-phase build.
+  // Shapes, boxes and (unless rebuilt) motions of the triangles of shape_slots_, in one
+  // parallel region with the rebuild test of the other active triangles (unless rebuilt);
+  // returns true when a node of an active triangle has left its box of the broad-phase build.
   bool update_shapes(const ContactInput& in, bool rebuilt);
-  // The same test for the other active triangles.
-  bool others_left_box(const ContactInput& in) const;
   // Thread count for this call; makes sure every thread has a buffer.
   int begin_pairs(std::size_t n_pairs);
   // Narrow phase + law of one pair whose rounded boxes overlap, appended to out; returns
@@ -244,7 +243,7 @@ class ContactForces {
   // step. A contact zone's interior (one body, no pairs) is skipped: on Dr2 that was
   // most of the 12 % the shapes took (issue 7 profile).
   std::vector<Index> shape_slots_;
-  // The other active triangles' slots (ascending), for the rebuild test of others_left_box().
+  // The other active triangles' slots (ascending), for their rebuild test in update_shapes().
   std::vector<Index> other_slots_;
   // Per triangle flags: kInPair (in some candidate pair of the build), and kScales
   // within a call for the triangles put into scale_tris_.

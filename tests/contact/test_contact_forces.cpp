@@ -409,7 +409,7 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
 
 TEST(ContactForces, ATriangleInNoPairThatMovesIntoAnotherIsCaught) {
   // A row of 400 separate triangles 2 m apart: no candidate pairs, so every triangle is in
-  // the rebuild test of the triangles in no pair (others_left_box). The last one (tested by
+  // the rebuild test of the triangles in no pair (in update_shapes). The last one (tested by
   // the second thread on two) slides into its neighbour: the broad phase must be rebuilt
   // in time, giving the same forces at every step as a driver rebuilt every step.
   for (const int threads : {1, 2}) {
