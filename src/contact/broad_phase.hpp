@@ -46,15 +46,9 @@ class BroadPhase {
   // True when some active triangle of the last build has a node outside its enlarged
   // box of the build (or there was no build, or the node count changed). conn must be
   // the connectivity of the build. parallel: OpenMP over the triangles of large sets.
-  // check(t): test only the triangles it accepts (the contact phase tests the others
-  // while it updates their shapes).
-  template <class Check>
-  bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn, bool parallel,
-                     Check&& check) const;
+  // (ContactForces runs the same test within its shape update, from its own lists.)
   bool needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
-                     bool parallel = false) const {
-    return needs_rebuild(x, conn, parallel, [](Index) { return true; });
-  }
+                     bool parallel = false) const;
 
   // True when there was no build or the node count changed (a rebuild is due whatever
   // the positions).
@@ -94,9 +88,8 @@ class BroadPhase {
   long builds_ = 0;
 };
 
-template <class Check>
-bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn, bool parallel,
-                               Check&& check) const {
+inline bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
+                                      bool parallel) const {
   if (builds_ == 0 || x.size() != n_nodes_) return true;
   const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(tris_.size());
   // pos(i) is x[i] or X[i] + u[i], chosen once for the loop rather than per node.
@@ -104,7 +97,7 @@ bool BroadPhase::needs_rebuild(const NodePositions& x, std::span<const std::arra
     int out = 0;  // a flag, so any thread count gives the same answer
 #pragma omp parallel for schedule(static) reduction(| : out) if (parallel && ns > kMinParallelTriangles)
     for (std::ptrdiff_t s = 0; s < ns; ++s) {
-      if (out || !check(tris_[s])) continue;
+      if (out) continue;
       const auto& c = conn[tris_[s]];
       const Aabb& b = boxes_[s];
       for (int k = 0; k < 3; ++k)

@@ -405,8 +405,8 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     }
     // 4. The forces to the nodes (one thread: done in step 3): thread t adds the forces
     // of the records that touch its node range to those nodes (thread 0's own ones: done
-    // in step 3), in record order, so each
-    // node gets the same sum, in the same order, for any thread count.
+    // in step 3), in record order, so each node gets the same sum, in the same order, for
+    // any thread count.
     if (T > 1) {
 #pragma omp barrier
       scatter_forces(in, f, t, T);
