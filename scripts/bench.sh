@@ -17,6 +17,9 @@ mkdir -p "$RAW"
 # Only this run's numbers go into results.md: a QUICK run must not report the 10^6-element
 # rows (or examples) of an earlier full run as if measured now.
 rm -f "$RAW"/*.json "$RAW/examples.tsv"
+# What was measured: the time and revision of this run (report.py may run again later).
+changes=$(git -C "$ROOT" diff --quiet HEAD -- src bench scripts CMakeLists.txt 2> /dev/null || echo " with uncommitted changes")
+echo "$(date -u '+%Y-%m-%d %H:%M') UTC, git $(git -C "$ROOT" rev-parse --short HEAD 2> /dev/null || echo '?')$changes" > "$RAW/run.txt"
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
