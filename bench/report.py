@@ -5,6 +5,7 @@ bench/profile_notes.md (the hand-written profile findings and changes) appended.
 import json
 import re
 import os
+import statistics
 import platform
 import subprocess
 import sys
@@ -197,7 +198,7 @@ def main():
         a, b = get(n + "_t1", "elem_steps/s"), get(n + "_t2", "elem_steps/s")
         r = sorted(alternating.get(n, []))
         if r:  # the robust measure: 1- and 2-thread runs alternating, median of the rounds
-            med = r[len(r) // 2] if len(r) % 2 else 0.5 * (r[len(r) // 2 - 1] + r[len(r) // 2])
+            med = statistics.median(r)
             block = f"; blocks of runs above: {b / a:.2f}x" if a and b else ""
             lines.append(f"| 2 threads >= 1.7x one thread ({n}, wall, {len(r)} alternating rounds) | median {med:.2f}x "
                          f"(rounds {', '.join(f'{x:.2f}' for x in r)}){block} | {'yes' if med >= 1.7 else 'no'} |")

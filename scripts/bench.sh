@@ -18,7 +18,8 @@ mkdir -p "$RAW"
 # rows (or examples) of an earlier full run as if measured now.
 rm -f "$RAW"/*.json "$RAW/examples.tsv"
 # What was measured: the time and revision of this run (report.py may run again later).
-changes=$(git -C "$ROOT" diff --quiet HEAD -- src bench scripts CMakeLists.txt 2> /dev/null || echo " with uncommitted changes")
+changes=$(git -C "$ROOT" diff --quiet HEAD -- src 'bench/*.cpp' 'bench/*.hpp' bench/CMakeLists.txt CMakeLists.txt \
+  2> /dev/null || echo " with uncommitted changes to the code")
 echo "$(date -u '+%Y-%m-%d %H:%M') UTC, git $(git -C "$ROOT" rev-parse --short HEAD 2> /dev/null || echo '?')$changes" > "$RAW/run.txt"
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
