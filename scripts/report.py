@@ -36,7 +36,8 @@ PLOT_ORDER = [
     ("load_displacement.png", "Load–displacement"),
     ("other.png", "Other histories"),
 ]
-MODEL_KEYS = ["elements", "nodes", "joints", "steps", "dt_s", "dt_controlled_by", "end_time_s"]
+MODEL_KEYS = ["elements", "nodes", "joints", "steps", "dt_s", "dt_controlled_by", "dt_adaptive", "dt_last_s",
+              "dt_last_controlled_by", "end_time_s"]
 RUN_KEYS = ["dsdem_version", "threads", "wall_time_s", "element_steps_per_s"]
 
 CSS = """

@@ -370,6 +370,12 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
     end = r.number(t, p, "end");
     sc.dt = r.number(t, p, "dt");
     sc.safety = r.number(t, p, "safety").value_or(0.3);
+    const std::optional<bool> adaptive = r.boolean(t, p, "adaptive");
+    if (adaptive && *adaptive && sc.dt)
+      r.error(t["adaptive"], p.child("adaptive").actual,
+              "adaptive: true takes the step from the stable step as joints break; it cannot be combined with a "
+              "fixed time.dt (remove one of them)");
+    sc.adaptive_dt = adaptive.value_or(true) && !sc.dt;
   }
 
   if (YAML::Node st = r.section(root, top, "stages", YAML::NodeType::Sequence); st.IsDefined()) {

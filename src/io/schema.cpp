@@ -100,6 +100,10 @@ std::vector<KeySpec> build_schema() {
                   "End time (required without stages; with stages the sum of their durations).", true));
   s.push_back(num("time.dt", "s", "", 0, kInf, "Fixed time step; when absent, safety x the stable step.", true));
   s.push_back(num("time.safety", "", "0.3", 0, 1, "Fraction of the stable time step used.", true));
+  s.push_back(of("time.adaptive", KeyType::Boolean, "true without time.dt",
+                 "Take the step again as joints break: safety x the stable step of the intact joints, triangles and "
+                 "contacts (DESIGN.md §6), so it grows as the stiffest joints go; false keeps the first step. Not "
+                 "with time.dt."));
 
   s.push_back(of("stages", KeyType::List, "", "Stages run one after another; each may override damping and boundaries."));
   s.push_back(of("stages[]", KeyType::Map, "", "One stage."));

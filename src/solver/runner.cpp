@@ -92,6 +92,8 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   double max_beta = 0.0;
   for (const auto& s : scenario.stages) max_beta = std::max(max_beta, s.damping.beta);
   run.stable = stable_time_step(run.model, max_beta);
+  run.fixed_limit = triangle_step_limit(run.model, max_beta);
+  if (StableStep c = contact_step_limit(run.model); c.dt < run.fixed_limit.dt) run.fixed_limit = std::move(c);
   run.dt = scenario.dt.value_or(scenario.safety * run.stable.dt);
   if (scenario.dt && *scenario.dt > run.stable.dt)
     throw io::ScenarioError({fmt::format("{}: time.dt: {} s exceeds the stable time step {:.4g} s set by {}",
@@ -291,9 +293,14 @@ std::string check_report(PreparedRun& run) {
   for (const auto& line : run.build_log)
     r += fmt::format("{}{}\n", line.level >= static_cast<int>(spdlog::level::warn) ? "warning: " : "model      ", line.text);
   r += fmt::format("stable dt  {:.4g} s, controlled by {}\n", run.stable.dt, run.stable.controlled_by);
-  r += fmt::format("time step  {:.4g} s ({}), {} steps for {} s in {} stage{}\n", run.dt,
-                   sc.dt ? "fixed" : fmt::format("safety {}", sc.safety), run.estimated_steps, sc.end_time(),
-                   sc.stages.size(), sc.stages.size() == 1 ? "" : "s");
+  const bool grows = sc.adaptive_dt && run.fixed_limit.dt > run.stable.dt;
+  r += fmt::format("time step  {:.4g} s ({}{}), {}{} steps for {} s in {} stage{}\n", run.dt,
+                   sc.dt ? "fixed" : fmt::format("safety {}", sc.safety),
+                   grows ? fmt::format("; adaptive: up to {:.4g} s as joints break, then set by {}",
+                                       sc.safety * run.fixed_limit.dt, run.fixed_limit.controlled_by)
+                         : "",
+                   grows ? "at most " : "", run.estimated_steps, sc.end_time(), sc.stages.size(),
+                   sc.stages.size() == 1 ? "" : "s");
   for (const auto& st : sc.stages)
     r += fmt::format("  stage    {:<12} {} s, alpha = {} 1/s, beta = {} s, {} boundary conditions\n", st.name,
                      st.duration, st.damping.alpha, st.damping.beta, st.boundaries.size());
@@ -357,6 +364,7 @@ struct RunnerState {
 void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const PreparedRun& run) {
   const Model& m = run.model;
   w.put("runner/dt", run.dt);
+  w.put_int("runner/adaptive_dt", run.scenario.adaptive_dt ? 1 : 0);
   w.put("runner/model_size", std::vector<double>{static_cast<double>(m.nodes.size()),
                                                   static_cast<double>(m.triangles.size()),
                                                   static_cast<double>(m.joints.size())});
@@ -391,6 +399,11 @@ RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun&
     throw std::runtime_error(fmt::format("it was made with dt = {} s, this scenario gives dt = {} s: the time settings "
                                          "and materials must be those of the original run",
                                          dt, run.dt));
+  // (A checkpoint from before time.adaptive has no flag: its run may go on either way.)
+  if (in.has("runner/adaptive_dt") && (in.integer("runner/adaptive_dt") != 0) != run.scenario.adaptive_dt)
+    throw std::runtime_error(fmt::format("it was made with time.adaptive = {}, this scenario gives {}: the time "
+                                         "settings must be those of the original run",
+                                         !run.scenario.adaptive_dt, run.scenario.adaptive_dt));
   RunnerState s;
   s.time = in.scalar("time");
   s.stage = static_cast<std::size_t>(in.integer("runner/stage"));
@@ -493,10 +506,20 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   for (const auto& line : prepared.build_log) log->log(static_cast<spdlog::level::level_enum>(line.level), "{}", line.text);
   log->info("scenario {}: {} nodes, {} triangles, {} joints", sc.file, model.nodes.size(), model.triangles.size(),
             model.joints.size());
-  log->info("dt = {:.4g} s ({} x stable {:.4g} s, controlled by {})", prepared.dt, sc.dt ? 1.0 : sc.safety,
-            prepared.stable.dt, prepared.stable.controlled_by);
+  log->info("dt = {:.4g} s ({} x stable {:.4g} s, controlled by {}){}", prepared.dt, sc.dt ? 1.0 : sc.safety,
+            prepared.stable.dt, prepared.stable.controlled_by,
+            sc.adaptive_dt ? fmt::format("; adaptive: taken again as joints break, up to {:.4g} s",
+                                         sc.safety * prepared.fixed_limit.dt)
+                           : "");
 
   Solver solver(model);
+  if (sc.adaptive_dt) solver.set_time_step_rule(sc.safety, prepared.fixed_limit.dt);
+  // What sets the current step (critical value, before the safety factor).
+  auto step_control = [&]() -> StableStep {
+    if (!solver.has_time_step_rule()) return prepared.stable;
+    const JointStepLimit* joint = solver.time_step_joint();
+    return joint ? describe_joint_limit(model, *joint) : prepared.fixed_limit;
+  };
   // Stress and strain are needed by the field frames and the checkpoint only: computed
   // there (write_fields; Solver::save) instead of every step, and not kept in between.
   solver.set_stress_on_demand(true);
@@ -720,17 +743,17 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
                   stage.failure ? "may break" : "elastic (no failure)");
       }
       // Stop within half a step of the stage end.
-      while (solver.time() < state.stage_end - 0.5 * prepared.dt) {
+      while (solver.time() < state.stage_end - 0.5 * solver.settings().dt) {
         if (options.stop_signal && *options.stop_signal) break;
         solver.step();
         update_gauge_stats();
         const double t = solver.time();
-        if (t >= state.next_history - 0.5 * prepared.dt) {
+        if (t >= state.next_history - 0.5 * solver.settings().dt) {
           write_history(static_cast<int>(si));
           state.next_history += sc.output.history_interval;
           state.max_balance_error = std::max(state.max_balance_error, solver.energy().balance_error());
         }
-        if (t >= state.next_field - 0.5 * prepared.dt) {
+        if (t >= state.next_field - 0.5 * solver.settings().dt) {
           write_fields();
           state.next_field += sc.output.field_interval;
         }
@@ -754,11 +777,12 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
         if (std::chrono::duration<double>(now - last_progress).count() >= sc.output.progress_interval) {
           const double rate = (solver.step_count() - steps_at_last_progress) /
                               std::chrono::duration<double>(now - last_progress).count();
-          const double eta = (end_time - t) / prepared.dt / rate;
+          const double eta = (end_time - t) / solver.settings().dt / rate;
           const std::string line = fmt::format(
-              "[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  broken joints {}  contacts {}  energy balance {:.2e}",
-              stage.name, t, end_time, rate, human_time(eta), solver.broken_joints(), solver.active_contacts(),
-              solver.energy().balance_error());
+              "[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  dt {:.4g} s  broken joints {}  contacts {}  energy "
+              "balance {:.2e}",
+              stage.name, t, end_time, rate, human_time(eta), solver.settings().dt, solver.broken_joints(),
+              solver.active_contacts(), solver.energy().balance_error());
           if (tty)
             fmt::print(stderr, "\r{:<100}", line);
           else if (!options.quiet)
@@ -800,9 +824,9 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
                                       {"position_m", io::Json::array({e.position.x(), e.position.y()})},
                                       {"step", e.step},
                                       {"time_s", e.time},
-                                      {"dt_s", prepared.dt},
-                                      {"stable_dt_s", prepared.stable.dt},
-                                      {"stable_dt_controlled_by", prepared.stable.controlled_by}});
+                                      {"dt_s", solver.settings().dt},
+                                      {"stable_dt_s", step_control().dt},
+                                      {"stable_dt_controlled_by", step_control().controlled_by}});
     io::write_json_file(out / "diagnosis.json", diag);
     try {
       write_fields();
@@ -817,10 +841,10 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   }
   if (tty) fmt::print(stderr, "\n");
   // Last state, unless just written.
-  if (fields.size() == 0 || std::abs(state.next_field - sc.output.field_interval - solver.time()) > 0.5 * prepared.dt)
+  if (fields.size() == 0 || std::abs(state.next_field - sc.output.field_interval - solver.time()) > 0.5 * solver.settings().dt)
     write_fields();
   if (history.rows_written() == 0 ||
-      std::abs(state.next_history - sc.output.history_interval - solver.time()) > 0.5 * prepared.dt)
+      std::abs(state.next_history - sc.output.history_interval - solver.time()) > 0.5 * solver.settings().dt)
     write_history(static_cast<int>(std::min(state.stage, sc.stages.size() - 1)));
   const bool completed = stopped_by == 0 && !stopped_at_step;
   if (completed) {
@@ -844,6 +868,9 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["steps"] = solver.step_count();
   summary["dt_s"] = prepared.dt;
   summary["dt_controlled_by"] = prepared.stable.controlled_by;
+  summary["dt_adaptive"] = sc.adaptive_dt;
+  summary["dt_last_s"] = solver.settings().dt;
+  summary["dt_last_controlled_by"] = step_control().controlled_by;
   summary["end_time_s"] = solver.time();
   summary["threads"] = threads;
   const long steps_run = solver.step_count() - first_step;

@@ -37,10 +37,14 @@ struct PreparedRun {
   Model model;
   std::vector<Gauge> gauges;
   StableStep stable;
-  double dt = 0.0;
+  double dt = 0.0;  // the first step, s
+  // With scenario.adaptive_dt: the triangles' and contact springs' limit (the joints'
+  // follow them as they break, Solver::set_time_step_rule), s.
+  StableStep fixed_limit;
   long estimated_steps = 0;
   std::string mesh_file;  // the .msh the model came from (meshed from the .geo when one was given)
-  // Earthquake records resampled to dt (DESIGN.md §5), when the scenario has them.
+  // Earthquake records resampled to dt (DESIGN.md §5), when the scenario has them; an
+  // adaptive step only grows from dt, and the free field interpolates them at each step.
   std::optional<seismic::Accelerogram> quake_horizontal, quake_vertical;
   // What meshing and model building logged (penalty joint stiffnesses, contact
   // stiffness, ...): it happens before run() opens dsdem.log, so run() replays these

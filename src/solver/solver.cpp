@@ -28,7 +28,7 @@ std::ptrdiff_t ssize(std::size_t n) { return static_cast<std::ptrdiff_t>(n); }
 }  // namespace
 
 
-StableStep stable_time_step(const Model& model, double beta) {
+StableStep triangle_step_limit(const Model& model, double beta) {
   StableStep best;
   best.dt = std::numeric_limits<double>::infinity();
   const auto& tri = model.triangles;
@@ -48,41 +48,105 @@ StableStep stable_time_step(const Model& model, double beta) {
                                        t, group, mat.name, best.position.x(), best.position.y(), h, cp);
     }
   }
+  return best;
+}
+
+std::vector<JointStepLimit> joint_step_limits(const Model& model, bool intact_only) {
   // Joints: 2 sqrt(m/k) of the two node masses across each end (DESIGN.md §6).
   const auto& J = model.joints;
+  std::vector<JointStepLimit> limits;
   for (std::size_t j = 0; j < J.size(); ++j) {
-    if (J.broken[j]) continue;
+    if (intact_only && J.broken[j]) continue;
     const JointProperties& p = model.joint_properties[J.property[j]];
     const double k = joint_end_stiffness(p, J.length0[j], J.stiffness_scale[j]) * model.thickness;
+    JointStepLimit l{std::numeric_limits<double>::infinity(), static_cast<Index>(j), 0};
     for (int e = 0; e < 2; ++e) {
-      const Index a = J.nodes[j][e], b = J.nodes[j][2 + e];
-      const double dt = joint_stable_dt(model.nodes.m[a], model.nodes.m[b], k);
-      if (dt < best.dt) {
-        best.dt = dt;
-        best.element = static_cast<Index>(j);
-        best.position = model.nodes.x(a);
-        best.controlled_by = fmt::format("joint {} ({}) at ({:.4g}, {:.4g}) m: k = {:.4g} N/m per end, node masses {:.4g} and {:.4g} kg",
-                                         j, p.name, best.position.x(), best.position.y(), k, model.nodes.m[a], model.nodes.m[b]);
-      }
+      const double dt = joint_stable_dt(model.nodes.m[J.nodes[j][e]], model.nodes.m[J.nodes[j][2 + e]], k);
+      if (dt < l.dt) l.dt = dt, l.end = e;
     }
+    limits.push_back(l);
   }
+  std::sort(limits.begin(), limits.end(), [](const JointStepLimit& a, const JointStepLimit& b) {
+    return a.dt < b.dt || (a.dt == b.dt && a.joint < b.joint);
+  });
+  return limits;
+}
+
+StableStep describe_joint_limit(const Model& model, const JointStepLimit& limit) {
+  const auto& J = model.joints;
+  const Index j = limit.joint;
+  const Index a = J.nodes[j][limit.end], b = J.nodes[j][2 + limit.end];
+  const JointProperties& p = model.joint_properties[J.property[j]];
+  const double k = joint_end_stiffness(p, J.length0[j], J.stiffness_scale[j]) * model.thickness;
+  StableStep s;
+  s.dt = limit.dt;
+  s.element = j;
+  s.position = model.nodes.x(a);
+  s.controlled_by = fmt::format("joint {} ({}) at ({:.4g}, {:.4g}) m: k = {:.4g} N/m per end, node masses {:.4g} and {:.4g} kg",
+                                j, p.name, s.position.x(), s.position.y(), k, model.nodes.m[a], model.nodes.m[b]);
+  return s;
+}
+
+StableStep contact_step_limit(const Model& model) {
   // Contact springs: 2 sqrt(m/k) with the reduced mass of two of the lightest nodes.
-  if (model.contact.enabled && model.contact.max_kn > 0.0) {
-    for (std::size_t t = 0; t < tri.size(); ++t) {
-      if (!model.contact.active[t]) continue;
-      double m = std::numeric_limits<double>::infinity();
-      for (Index nd : tri.conn[t]) m = std::min(m, model.nodes.m[nd]);
-      const double dt = 2.0 * std::sqrt(0.5 * m / model.contact.max_kn);
-      if (dt < best.dt) {
-        best.dt = dt;
-        best.element = static_cast<Index>(t);
-        best.position = model.nodes.x(tri.conn[t][0]);
-        best.controlled_by = fmt::format("contact at triangle {} ({:.4g}, {:.4g}) m: kn = {:.4g} Pa, node mass {:.4g} kg",
-                                         t, best.position.x(), best.position.y(), model.contact.max_kn, m);
-      }
+  StableStep best;
+  best.dt = std::numeric_limits<double>::infinity();
+  if (!model.contact.enabled || !(model.contact.max_kn > 0.0)) return best;
+  const auto& tri = model.triangles;
+  for (std::size_t t = 0; t < tri.size(); ++t) {
+    if (!model.contact.active[t]) continue;
+    double m = std::numeric_limits<double>::infinity();
+    for (Index nd : tri.conn[t]) m = std::min(m, model.nodes.m[nd]);
+    const double dt = 2.0 * std::sqrt(0.5 * m / model.contact.max_kn);
+    if (dt < best.dt) {
+      best.dt = dt;
+      best.element = static_cast<Index>(t);
+      best.position = model.nodes.x(tri.conn[t][0]);
+      best.controlled_by = fmt::format("contact at triangle {} ({:.4g}, {:.4g}) m: kn = {:.4g} Pa, node mass {:.4g} kg",
+                                       t, best.position.x(), best.position.y(), model.contact.max_kn, m);
     }
   }
   return best;
+}
+
+StableStep stable_time_step(const Model& model, double beta) {
+  StableStep best = triangle_step_limit(model, beta);
+  const std::vector<JointStepLimit> joints = joint_step_limits(model);
+  if (!joints.empty() && joints.front().dt < best.dt) best = describe_joint_limit(model, joints.front());
+  StableStep contact = contact_step_limit(model);
+  if (contact.dt < best.dt) best = std::move(contact);
+  return best;
+}
+
+void Solver::set_time_step_rule(double safety, double fixed_limit) {
+  if (!(safety > 0.0 && safety <= 1.0) || !(fixed_limit > 0.0))
+    throw std::invalid_argument(fmt::format("time-step rule: safety {} must be in (0, 1] and the fixed limit {} s > 0",
+                                            safety, fixed_limit));
+  step_rule_safety_ = safety;
+  step_rule_fixed_ = fixed_limit;
+  joint_limits_ = joint_step_limits(model_, false);  // all: a restore may mend some
+  joint_limit_first_ = 0;
+  step_rule_broken_ = -1;
+  apply_time_step_rule();
+}
+
+void Solver::apply_time_step_rule() {
+  // Joints only break: the first intact joint in ascending order never moves back.
+  const auto& broken = model_.joints.broken;
+  while (joint_limit_first_ < joint_limits_.size() && broken[joint_limits_[joint_limit_first_].joint])
+    ++joint_limit_first_;
+  const double joint = joint_limit_first_ < joint_limits_.size() ? joint_limits_[joint_limit_first_].dt
+                                                                 : std::numeric_limits<double>::infinity();
+  // The same operands as the runner's first dt (safety x stable_time_step): while no
+  // joint has broken, the same step bit for bit.
+  settings_.dt = step_rule_safety_ * std::min(step_rule_fixed_, joint);
+  step_rule_broken_ = broken_joints_;
+}
+
+const JointStepLimit* Solver::time_step_joint() const {
+  if (!has_time_step_rule() || joint_limit_first_ >= joint_limits_.size()) return nullptr;
+  const JointStepLimit& l = joint_limits_[joint_limit_first_];
+  return l.dt < step_rule_fixed_ ? &l : nullptr;
 }
 
 Solver::Solver(Model& model) : model_(model), parallel_(model.triangles.size() > kParallelThreshold) {
@@ -213,6 +277,7 @@ void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = s
 
 void Solver::set_settings(const StepSettings& s) {
   settings_ = s;
+  if (has_time_step_rule()) apply_time_step_rule();
   if (s.alpha > 0.0 || s.beta > 0.0) allocate_damping_buffers();
   // The element buffer only feeds this step's gather: it can go as soon as beta is 0.
   if (!(s.beta > 0.0)) std::vector<std::array<Vec2, 3>>().swap(shared_damping_force_);
@@ -257,6 +322,7 @@ void Solver::initialise() {
 
 void Solver::step() {
   const auto start = std::chrono::steady_clock::now();
+  if (has_time_step_rule() && broken_joints_ != step_rule_broken_) apply_time_step_rule();
   kick_and_drift();  // also clears the forces and adds gravity (one node loop, issue 7)
   add_internal_and_joint_forces();
   add_contact_forces();

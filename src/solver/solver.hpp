@@ -48,6 +48,20 @@ struct StableStep {
   Vec2 position = Vec2::Zero();
 };
 StableStep stable_time_step(const Model& model, double beta);
+// Its parts (stable_time_step is the least of them, ties to the earlier part): the
+// triangles' bulk limit, the contact springs' limit, and each intact joint's limit (the
+// lesser of its two ends) in ascending order (ties by joint index; broken joints left
+// out unless intact_only is false), for the time step that follows the joints as they
+// break (Solver::set_time_step_rule).
+StableStep triangle_step_limit(const Model& model, double beta);
+StableStep contact_step_limit(const Model& model);
+struct JointStepLimit {
+  double dt = 0.0;  // s
+  Index joint = kNoIndex;
+  int end = 0;      // the end (0 or 1) that sets it
+};
+std::vector<JointStepLimit> joint_step_limits(const Model& model, bool intact_only = true);
+StableStep describe_joint_limit(const Model& model, const JointStepLimit& limit);
 
 class Solver {
  public:
@@ -70,6 +84,17 @@ class Solver {
   // null; time zero of the records is `start_time`. Call with both null to switch it off.
   void set_earthquake(const seismic::Accelerogram* horizontal, const seismic::Accelerogram* vertical,
                       double incident_factor, double start_time);
+
+  // The time step as the joints break (DESIGN.md §6: dt = safety x the stable step of
+  // the model as it is): each step starts with dt = safety x min(fixed_limit, the limit of
+  // the stiffest intact joint), taken again whenever joints broke. fixed_limit holds the
+  // triangles' and contact springs' limits. Joints only break, so dt only grows, and a
+  // state gives one dt whatever came before: a restart and any thread count take the same
+  // steps. Also applied at once and after set_settings() / restore(), whose dt it replaces.
+  void set_time_step_rule(double safety, double fixed_limit);
+  bool has_time_step_rule() const { return step_rule_safety_ > 0.0; }
+  // The intact joint that sets dt under the rule; null when fixed_limit does, or no rule.
+  const JointStepLimit* time_step_joint() const;
 
   // Computes forces and accelerations at the current state without advancing, and sets
   // the energy reference. Call once before the first step.
@@ -179,6 +204,14 @@ class Solver {
   double time_ = 0.0;
   long step_ = 0;
   long broken_joints_ = 0;
+  // The time-step rule (set_time_step_rule): joints by ascending limit, the first that may
+  // be intact, and the broken count dt was last taken at (-1: take it at the next step).
+  double step_rule_safety_ = 0.0;  // 0: no rule, settings_.dt as set
+  double step_rule_fixed_ = 0.0;   // s
+  std::vector<JointStepLimit> joint_limits_;
+  std::size_t joint_limit_first_ = 0;
+  long step_rule_broken_ = -1;
+  void apply_time_step_rule();
   int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
   double created_prev_ = 0.0;    // energy created (not put in) at the previous step
 

@@ -240,6 +240,12 @@ void Solver::restore(const io::CheckpointReader& in) {
     }
     contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"));
   }
+  // The restored joints set the step (the rule's walk starts over: a checkpoint of an
+  // earlier state may have fewer joints broken than this solver has seen).
+  if (has_time_step_rule()) {
+    joint_limit_first_ = 0;
+    apply_time_step_rule();
+  }
 }
 
 }  // namespace dsdem::solver

@@ -224,6 +224,11 @@ TEST_F(Restart, RefusesAnotherModelOrACompleteRunWithExitCode2) {
                                 (out / "checkpoint.h5").string());
   EXPECT_EQ(faster.exit_code, 2) << faster.output;
   EXPECT_NE(faster.output.find("dt ="), std::string::npos) << faster.output;
+  // The step rule is a time setting too: a run with a fixed step cannot go on as adaptive.
+  const auto fixed = run_dsdem("run " + small_dr2() + " --set time.adaptive=false --restart " +
+                               (out / "checkpoint.h5").string());
+  EXPECT_EQ(fixed.exit_code, 2) << fixed.output;
+  EXPECT_NE(fixed.output.find("time.adaptive = true"), std::string::npos) << fixed.output;
 
   const auto done = run_dsdem("run " + small_dr2() + " --restart " + (reference_ / "checkpoint.h5").string() +
                               " -o " + out.string());

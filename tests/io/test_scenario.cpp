@@ -245,3 +245,17 @@ TEST(Schema, CommittedReferenceMatchesTheCode) {
   EXPECT_EQ(text.str(), io::schema_markdown())
       << "regenerate it: ./build/dsdem schema > docs/scenario-reference.md";
 }
+
+// The step follows the joints as they break unless asked not to, and never with a fixed
+// dt: asking for both is an error at the key, not a silent choice.
+TEST(Scenario, AdaptiveTimeStepIsTheDefaultAndExcludesAFixedStep) {
+  EXPECT_TRUE(io::parse_scenario(good(), "case.yaml").adaptive_dt);
+  EXPECT_FALSE(io::parse_scenario(replace(good(), "end: 0.01", "end: 0.01\n  adaptive: false"), "case.yaml").adaptive_dt);
+  // A fixed dt alone: no rule.
+  EXPECT_FALSE(io::parse_scenario(replace(good(), "end: 0.01", "end: 0.01\n  dt: 1.0e-6"), "case.yaml").adaptive_dt);
+  EXPECT_FALSE(io::parse_scenario(replace(good(), "end: 0.01", "end: 0.01\n  dt: 1.0e-6\n  adaptive: false"), "case.yaml")
+                   .adaptive_dt);
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "end: 0.01", "end: 0.01\n  dt: 1.0e-6\n  adaptive: true")),
+                        "case.yaml:19:13: time.adaptive: adaptive: true takes the step from the stable step"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "end: 0.01", "end: 0.01\n  adaptive: maybe")), "time.adaptive:"));
+}
