@@ -921,6 +921,9 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   else
     log->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(), human_time(wall),
             max_balance_error, out.string());
+  if (solver.has_time_step_rule() && solver.settings().dt != prepared.dt)
+    log->info("time step grew from {:.4g} s to {:.4g} s as joints broke; now set by {}", prepared.dt,
+              solver.settings().dt, step_control().controlled_by);
   // The timed thread choice (Solver::probe_parallel) fell back to one thread for a large
   // part of the run: say so, or a slow run on a busy machine is a mystery.
   if (threads > 1 && steps_run > 0 && solver.serial_steps_chosen() > steps_run / 10)
