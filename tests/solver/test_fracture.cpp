@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "common/notched_bar.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
 #include "solver/constraints.hpp"
@@ -12,61 +13,8 @@
 
 using namespace dsdem;
 
-namespace {
-
-io::Scenario discrete_bar_scenario(double E, double ft) {
-  io::Scenario sc;
-  sc.file = "(test)";
-  Material m;
-  m.name = "rock";
-  m.E = E;
-  m.nu = 0.2;
-  m.rho = 2500;
-  sc.materials["rock"] = m;
-  sc.regions.push_back(io::RegionSpec{"bar", "rock", Zone::Discrete, {}, {}});
-  sc.joints.present = true;
-  sc.joints.defaults.ft = ft;
-  sc.joints.defaults.c = 4 * ft;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 120;
-  sc.joints.defaults.GII = 1500;
-  sc.joints.defaults.penalty = 50;
-  sc.stages.push_back(io::StageSpec{});
-  return sc;
-}
-
-// A bar of nx x ny cells of triangles and joints whose mid-section (a named curve) is 1%
-// weaker, as in a notched specimen, so the crack has a place to start.
-Model notched_bar(double L, double H, int nx, int ny, double E, double ft, double penalty) {
-  RawMesh raw = mesh::rectangle_mesh(nx, ny, L, H, mesh::Diagonal::Alternate, 0, 0, "bar");
-  RawPhysicalGroup notch;
-  notch.name = "mid";
-  notch.dim = 1;
-  for (int i = 0; i < ny; ++i)
-    notch.edges.push_back({static_cast<Index>(i * (nx + 1) + nx / 2), static_cast<Index>((i + 1) * (nx + 1) + nx / 2)});
-  raw.groups.push_back(notch);
-  io::Scenario sc = discrete_bar_scenario(E, ft);
-  io::JointSpec weak;
-  weak.ft = 0.99 * ft;
-  sc.joints.curves["mid"] = weak;
-  sc.joints.defaults.penalty = penalty;
-  sc.contact.friction = 0.3;
-  return mesh::build_model(sc, raw);
-}
-
-// Left end fixed, right end pulled at 0.02 m/s after a gentle ramp.
-std::vector<io::BoundarySpec> pull(io::BoundarySpec& right) {
-  io::BoundarySpec left;
-  left.group = "left";
-  left.type = io::BoundaryType::Fixed;
-  right.group = "right";
-  right.type = io::BoundaryType::Velocity;
-  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};
-  right.y = io::TimeHistory{{0.0}, {0.0}};
-  return {left, right};
-}
-
-}  // namespace
+using test::discrete_bar_scenario;
+using test::notched_bar;
 
 // A bar of triangles and joints pulled apart breaks at sigma = ft (within 2%), along
 // one crack. The mid-section is 1% weaker (a named curve) so the crack has a place to
@@ -78,7 +26,7 @@ TEST(Fracture, DirectTensionBarBreaksAtTensileStrengthWithOneCrack) {
   ASSERT_EQ(model.nodes.size(), 3 * model.triangles.size());
   solver::Solver s(model);
   io::BoundarySpec right;
-  s.set_constraints(solver::build_constraints(model, pull(right), 0.0));
+  s.set_constraints(solver::build_constraints(model, test::pull_bar(right), 0.0));
   const double dt = 0.3 * solver::stable_time_step(model, 0.0).dt;
   // Light mass damping against the loading wave's ringing.
   s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});
@@ -154,7 +102,7 @@ TEST(Fracture, BrokenBarPushedBackTogetherCollidesWithoutOverlapExplosion) {
   ASSERT_TRUE(model.contact.enabled);
   solver::Solver s(model);
   io::BoundarySpec right;
-  auto bcs = pull(right);
+  auto bcs = test::pull_bar(right);
   s.set_constraints(solver::build_constraints(model, bcs, 0.0));
   const double dt = 0.3 * solver::stable_time_step(model, 0.0).dt;
   s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});

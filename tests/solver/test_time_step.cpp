@@ -8,8 +8,7 @@
 #include <limits>
 #include <unistd.h>
 
-#include "mesh/model_builder.hpp"
-#include "mesh/structured.hpp"
+#include "common/notched_bar.hpp"
 #include "solver/constraints.hpp"
 #include "solver/solver.hpp"
 
@@ -19,42 +18,10 @@ namespace {
 
 constexpr double kSafety = 0.3;
 
-// A bar of 20 x 2 cells of triangles and joints. The joints on its mid-section (a named
-// curve) are 8 times stiffer than the others, so they control the stable step, and 1 %
-// weaker, so they are the ones that break when the bar is pulled.
-Model bar_with_stiff_weak_section() {
-  const int nx = 20, ny = 2;
-  RawMesh raw = mesh::rectangle_mesh(nx, ny, 0.2, 0.02, mesh::Diagonal::Alternate, 0, 0, "bar");
-  RawPhysicalGroup mid;
-  mid.name = "mid";
-  mid.dim = 1;
-  for (int i = 0; i < ny; ++i)
-    mid.edges.push_back({static_cast<Index>(i * (nx + 1) + nx / 2), static_cast<Index>((i + 1) * (nx + 1) + nx / 2)});
-  raw.groups.push_back(mid);
-  io::Scenario sc;
-  sc.file = "(test)";
-  Material m;
-  m.name = "rock";
-  m.E = 21e9;
-  m.nu = 0.2;
-  m.rho = 2500;
-  sc.materials["rock"] = m;
-  sc.regions.push_back(io::RegionSpec{"bar", "rock", Zone::Discrete, {}, {}});
-  sc.joints.present = true;
-  sc.joints.defaults.ft = 2.5e6;
-  sc.joints.defaults.c = 1e7;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 120;
-  sc.joints.defaults.GII = 1500;
-  sc.joints.defaults.penalty = 10;
-  io::JointSpec section;
-  section.ft = 0.99 * 2.5e6;
-  section.penalty = 80;
-  sc.joints.curves["mid"] = section;
-  sc.contact.friction = 0.3;
-  sc.stages.push_back(io::StageSpec{});
-  return mesh::build_model(sc, raw);
-}
+// The bar of the direct-tension test (20 x 2 cells, 0.2 x 0.02 m) whose mid-section
+// joints are 8 times stiffer than the others (penalty 80 against 10), so they control the
+// stable step, and 1 % weaker, so they are the ones that break when the bar is pulled.
+Model bar_with_stiff_weak_section() { return test::notched_bar(0.2, 0.02, 20, 2, 21e9, 2.5e6, 10, 80); }
 
 // The limit of the triangles and contact springs: what the joints' limits are weighed against.
 double fixed_limit(const Model& model) {
@@ -69,16 +36,10 @@ double expected_dt(const Model& model, double fixed) {
   return kSafety * least;
 }
 
-// Left end fixed, right end pulled at 0.02 m/s after a gentle ramp; light mass damping.
+// The bar pulled (tests/common/notched_bar.hpp), light mass damping, the given dt.
 void pull(solver::Solver& s, Model& model, double dt) {
-  io::BoundarySpec left, right;
-  left.group = "left";
-  left.type = io::BoundaryType::Fixed;
-  right.group = "right";
-  right.type = io::BoundaryType::Velocity;
-  right.x = io::TimeHistory{{0.0, 2e-4}, {0.0, 0.02}};
-  right.y = io::TimeHistory{{0.0}, {0.0}};
-  s.set_constraints(solver::build_constraints(model, {left, right}, 0.0));
+  io::BoundarySpec right;
+  s.set_constraints(solver::build_constraints(model, test::pull_bar(right), 0.0));
   s.set_settings({Vec2::Zero(), 2000.0, 0.0, dt, true});
 }
 
