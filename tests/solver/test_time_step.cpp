@@ -6,6 +6,10 @@
 #include <filesystem>
 #include <unistd.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "common/notched_bar.hpp"
 #include "common/same_bits.hpp"
 #include "solver/constraints.hpp"
@@ -156,4 +160,38 @@ TEST(TimeStepRule, RejectsASafetyOutsideItsRangeOrNoFixedLimit) {
   EXPECT_THROW(s.set_time_step_rule(1.5, 1e-6), std::invalid_argument);
   EXPECT_THROW(s.set_time_step_rule(0.3, 0.0), std::invalid_argument);
   EXPECT_FALSE(s.has_time_step_rule());
+}
+
+// One and two threads break the same joints at the same steps, so take the same steps
+// and end bit for bit alike (the solver's OpenMP forced on for this small bar).
+TEST(TimeStepRule, OneAndTwoThreadsTakeTheSameSteps) {
+  struct Result {
+    Model model;
+    double time = 0.0, dt = 0.0;
+  };
+  auto run = [](int threads) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    Result r{bar_with_stiff_weak_section()};
+    const double fixed = fixed_limit(r.model);
+    solver::Solver s(r.model);
+    s.set_parallel(true);
+    pull(s, r.model, 1.0);
+    s.set_time_step_rule(kSafety, fixed);
+    s.initialise();
+    while (s.broken_joints() < 2 && s.time() < 8e-3) s.step();
+    for (int i = 0; i < 100; ++i) s.step();  // on the grown step
+    r.time = s.time();
+    r.dt = s.settings().dt;
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    return r;
+  };
+  const Result one = run(1), two = run(2);
+  EXPECT_GT(one.dt, kSafety * solver::stable_time_step(bar_with_stiff_weak_section(), 0.0).dt)
+      << "the section must break within the run";
+  EXPECT_TRUE(test::same_bits(one.dt, two.dt));
+  EXPECT_TRUE(test::same_motion(one.model, one.time, two.model, two.time));
 }
