@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #ifdef _OPENMP
@@ -110,6 +111,16 @@ struct ContactRecord {
 };
 static_assert(sizeof(ContactRecord) <= 176, "keep the contact record compact (issue 7 memory)");
 
+// Each thread's share of the pair loop (ContactForces), tuned from the threads' measured
+// times: the shares that would make every thread finish together if each kept the rate it
+// showed (share / busy seconds), moved `gain` of the way there (one step's timing is
+// noisy), each at least 0.1 / T and summing to 1. No timing (busy <= 0): unchanged. The
+// results do not depend on the shares (every node gets its forces in pair order for any
+// split), only the time does: on this VM one core often runs 10-20 % slower than the
+// other, and an equal split left the faster thread waiting ~90-120 us of each late Dr2
+// step (issue 7 profile).
+void balance_shares(std::span<double> share, std::span<const double> busy, double gain = 0.1);
+
 struct ContactStepStats {
   Index active_contacts = 0;
   Index sliding_contacts = 0;
@@ -150,6 +161,18 @@ class ContactForces {
   }
 
   void set_parallel(bool on) { settings_.parallel = on; }
+  // Fixes each thread's share of the pair loop's expected cost (one per thread, each > 0)
+  // instead of tuning it from timing (balance_shares); empty: tune again. For tests: the
+  // results are the same for any split.
+  void pin_pair_split(std::vector<double> shares) {
+    for (double s : shares)
+      if (!(s > 0.0)) throw std::invalid_argument("pair split shares must be > 0");
+    share_ = std::move(shares);
+    share_pinned_ = !share_.empty();
+  }
+  // Each thread's share of the pair loop at the last call (empty before the first
+  // parallel one).
+  std::span<const double> pair_split() const { return share_; }
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
   // Restart from a checkpoint: the stored tangential forces, the elastic-energy
@@ -283,6 +306,21 @@ class ContactForces {
   // ascending (more than one thread). Each thread reads only those in the scatter, not
   // every record: on late Dr2 each of two threads read all ~6 400 (issue 7 profile).
   std::vector<ThreadVector<Index>> touching_;
+  // More than one thread: each thread's share of the examined pairs' expected cost in the
+  // pair loop (sums to 1; balance_shares), its running sums (share_cum_[t] .. [t + 1]),
+  // and the seconds each thread spent in its pair loop and its scatter.
+  std::vector<double> share_;
+  std::vector<double> share_cum_;
+  bool share_pinned_ = false;
+  struct alignas(64) BusyTime {
+    double seconds = 0.0;
+  };
+  std::vector<BusyTime> busy_;
+  std::vector<double> busy_seconds_;
+  // share_ and share_cum_ for T threads (equal shares when T changed).
+  void prepare_split(int T);
+  // share_ from the busy times of the call just done (unless pinned).
+  void rebalance_split(int T);
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;
 };
@@ -309,6 +347,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     skip_epoch_ = skip_epoch;
   }
   const int nt = begin_pairs(np);
+  if (nt > 1) prepare_split(nt);
   Index skipped = 0;
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
   {
@@ -377,11 +416,19 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
     ContactHistory::Cursor cursor;  // keys ascend within the run
     std::size_t first = 0, count = todo_[0].size();
+    double busy_from = 0.0;
     if (T > 1) {
+#ifdef _OPENMP
+      busy_from = omp_get_wtime();
+#endif
       std::uint64_t total = 0;
       for (int u = 0; u < T; ++u) total += todo_weight_[u].empty() ? 0 : todo_weight_[u].back();
-      first = pairs_within_weight(total * t / T, T);
-      count = pairs_within_weight(total * (t + 1) / T, T) - first;
+      // Thread t's run: the running weights in (total * share_cum_[t], total * share_cum_[t + 1]].
+      auto bound = [&](int u) {
+        return u >= T ? total : std::min(total, static_cast<std::uint64_t>(static_cast<double>(total) * share_cum_[u]));
+      };
+      first = pairs_within_weight(bound(t), T);
+      count = pairs_within_weight(bound(t + 1), T) - first;
     }
     for (int u = 0; u < T && count > 0; ++u) {
       const std::vector<Index>& list = todo_[u];
@@ -408,10 +455,21 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // in step 3), in record order, so each node gets the same sum, in the same order, for
     // any thread count.
     if (T > 1) {
+      // Busy time: the pair loop and the scatter, not the wait between them.
+#ifdef _OPENMP
+      busy_from -= omp_get_wtime();
+#endif
 #pragma omp barrier
+#ifdef _OPENMP
+      busy_from += omp_get_wtime();
+#endif
       scatter_forces(in, f, t, T);
+#ifdef _OPENMP
+      busy_[t].seconds = omp_get_wtime() - busy_from;
+#endif
     }
   }
+  if (used_threads_ > 1) rebalance_split(used_threads_);
   std::size_t examined = 0;
   for (int u = 0; u < used_threads_; ++u) examined += todo_[u].size();
   // Examined pairs per triangle of the candidate pairs: the disc < 0.25, late Dr2 > 1.4.

@@ -335,6 +335,10 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
     Pile p = make_pile(22, 30);
     const ContactParamTable params = pile_params();
     ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = parallel ? 0 : SIZE_MAX});
+    // Equal shares of the pair loop, not tuned from timing: a thread given more pairs than
+    // ever before grows its record buffer (with headroom, as for a growing contact count),
+    // and the timing of this machine would make that window random.
+    if (parallel) cf.pin_pair_split({0.5, 0.5});
     std::vector<Vec2> f(p.mesh.x.size());
     const ContactInput in = p.mesh.input();  // spans over the mesh arrays
     int step = 0;
@@ -365,12 +369,13 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
 #ifdef _OPENMP
 TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   const int saved = omp_get_max_threads();
-  auto run = [](int threads, std::vector<std::vector<Vec2>>& forces,
-                std::vector<ContactStepStats>& stats) {
+  auto run = [](int threads, std::vector<std::vector<Vec2>>& forces, std::vector<ContactStepStats>& stats,
+                std::vector<double> split = {}) {
     omp_set_num_threads(threads);
     Pile p = make_pile(23, 30);
     const ContactParamTable params = pile_params();
     ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = 0});
+    if (!split.empty()) cf.pin_pair_split(split);
     std::vector<Vec2> f(p.mesh.x.size());
     for (int step = 0; step < 100; ++step) {
       p.set_time(step * p.dt);
@@ -382,20 +387,24 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   };
   // Three threads too (oversubscribed here): a middle thread, and the pair loop's split
   // by expected cost (todo_weight_) across three filter lists.
-  std::vector<std::vector<Vec2>> f1, f2, f3;
-  std::vector<ContactStepStats> s1, s2, s3;
+  // The split of the pair loop between the threads, tuned from timing (balance_shares) or
+  // pinned far off balance either way, changes no result either.
+  std::vector<std::vector<Vec2>> f1, f2, f3, f4, f5, f6;
+  std::vector<ContactStepStats> s1, s2, s3, s4, s5, s6;
   EXPECT_EQ(run(1, f1, s1), 1);
   EXPECT_EQ(run(2, f2, s2), 2);
   EXPECT_EQ(run(3, f3, s3), 3);
+  EXPECT_EQ(run(2, f4, s4, {0.1, 0.9}), 2);
+  EXPECT_EQ(run(2, f5, s5, {0.9, 0.1}), 2);
+  EXPECT_EQ(run(3, f6, s6, {0.6, 0.05, 0.35}), 3);
   omp_set_num_threads(saved);
-  ASSERT_EQ(f1.size(), f2.size());
-  ASSERT_EQ(f1.size(), f3.size());
   long active = 0;
+  for (const auto* other : {&f2, &f3, &f4, &f5, &f6}) ASSERT_EQ(f1.size(), other->size());
   for (std::size_t k = 0; k < f1.size(); ++k) {
-    for (const auto* other : {&f2, &f3}) {  // bit for bit
+    for (const auto* other : {&f2, &f3, &f4, &f5, &f6}) {  // bit for bit
       ASSERT_EQ(std::memcmp(f1[k].data(), (*other)[k].data(), f1[k].size() * sizeof(Vec2)), 0) << "step " << k;
     }
-    for (const auto* other : {&s2, &s3}) {
+    for (const auto* other : {&s2, &s3, &s4, &s5, &s6}) {
       EXPECT_EQ(s1[k].active_contacts, (*other)[k].active_contacts);
       EXPECT_EQ(s1[k].elastic_energy, (*other)[k].elastic_energy);
       EXPECT_EQ(s1[k].friction_dissipation, (*other)[k].friction_dissipation);
@@ -406,6 +415,55 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   EXPECT_GT(active, 100 * 50);
 }
 #endif
+
+TEST(BalanceShares, MovesWorkToTheFasterThreadUntilBothFinishTogether) {
+  // Equal times: nothing to move.
+  std::vector<double> share{0.5, 0.5};
+  balance_shares(share, std::vector<double>{1e-3, 1e-3});
+  EXPECT_DOUBLE_EQ(share[0], 0.5);
+  EXPECT_DOUBLE_EQ(share[1], 0.5);
+  // Thread 1 runs at 2/3 of thread 0's rate: the shares that finish together are 0.6 / 0.4.
+  // Each call moves a tenth of the way there; the shares always sum to 1.
+  const double rate[2] = {1.5, 1.0};  // work per second
+  for (int step = 0; step < 200; ++step) {
+    const std::vector<double> busy{share[0] / rate[0], share[1] / rate[1]};
+    const double before = share[0];
+    balance_shares(share, busy);
+    EXPECT_GE(share[0], before);
+    EXPECT_NEAR(share[0] + share[1], 1.0, 1e-15);
+  }
+  EXPECT_NEAR(share[0], 0.6, 1e-6);
+  // A thread stalled for a whole step (preempted) loses at most a tenth of its share per
+  // step and never falls below 0.1 / T.
+  share = {0.5, 0.5};
+  balance_shares(share, std::vector<double>{1e-3, 1.0});
+  EXPECT_NEAR(share[1], 0.45, 1e-3);
+  for (int step = 0; step < 500; ++step) balance_shares(share, std::vector<double>{1e-3, 1.0});
+  EXPECT_DOUBLE_EQ(share[1], 0.05);
+  EXPECT_NEAR(share[0], 0.95, 1e-15);
+  // No timing (0, NaN) or a mismatched size: unchanged.
+  share = {0.3, 0.7};
+  balance_shares(share, std::vector<double>{0.0, 1e-3});
+  balance_shares(share, std::vector<double>{std::nan(""), 1e-3});
+  balance_shares(share, std::vector<double>{1e-3});
+  EXPECT_EQ(share, (std::vector<double>{0.3, 0.7}));
+  // Three threads, one twice as fast: it ends with half the work.
+  share = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const double rate3[3] = {1.0, 2.0, 1.0};
+  for (int step = 0; step < 300; ++step)
+    balance_shares(share, std::vector<double>{share[0] / rate3[0], share[1] / rate3[1], share[2] / rate3[2]});
+  EXPECT_NEAR(share[0], 0.25, 1e-6);
+  EXPECT_NEAR(share[1], 0.5, 1e-6);
+  EXPECT_NEAR(share[2], 0.25, 1e-6);
+}
+
+TEST(ContactForces, PinnedPairSplitIsKeptAndRejectsANonPositiveShare) {
+  ContactForces cf;
+  EXPECT_THROW(cf.pin_pair_split({0.5, 0.0}), std::invalid_argument);
+  cf.pin_pair_split({0.25, 0.75});
+  ASSERT_EQ(cf.pair_split().size(), 2u);
+  EXPECT_EQ(cf.pair_split()[1], 0.75);
+}
 
 TEST(ContactForces, ATriangleInNoPairThatMovesIntoAnotherIsCaught) {
   // A row of 400 separate triangles 2 m apart: no candidate pairs, so every triangle is in
