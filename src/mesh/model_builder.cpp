@@ -9,6 +9,7 @@
 #include "mesh/gmsh_reader.hpp"
 #include "contact/spheropolygon.hpp"
 #include "mesh/joint_insertion.hpp"
+#include "mesh/node_order.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -343,6 +344,21 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
       copies.push_back(static_cast<Index>(i));
     }
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) model.triangles.conn[t] = mesh.triangles[t];
+  }
+  // Nodes numbered in the order the triangles use them (mesh/node_order.hpp): the same
+  // motion, node data a thread's triangles read next to each other (issue 7).
+  {
+    const std::vector<Index> new_id = node_order_by_first_use(model.triangles.conn, model.nodes.size());
+    Nodes numbered;
+    numbered.resize(model.nodes.size());
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+      numbered.X[static_cast<std::size_t>(new_id[i])] = model.nodes.X[i];
+      numbered.origin[static_cast<std::size_t>(new_id[i])] = model.nodes.origin[i];
+    }
+    model.nodes = std::move(numbered);
+    for (auto& c : model.triangles.conn) renumber(c, new_id);
+    for (auto& nd : model.joints.nodes) renumber(nd, new_id);
+    renumber(copies, new_id);
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Index g = mesh.triangle_surface_group[t];

@@ -1,0 +1,31 @@
+#pragma once
+// Node numbering for locality (issue 7, DESIGN.md §9): nodes numbered in the order the
+// triangles first use them, so that the nodes of nearby triangle indices are nearby in
+// memory and every contiguous share of the triangles (a thread's) works on a contiguous
+// share of the nodes. Gmsh numbers a mesh's corner and curve nodes first and its surface
+// nodes after, and joint insertion appends the split copies: a triangle's three nodes
+// could lie thousands of entries apart, and on 2 threads half the node data a thread read
+// had last been written by the other core (Dr2, issue 7 profile).
+//
+// Only the numbering changes: each node's force is still summed in element, joint and
+// contact-pair order (they are numbered by triangle and joint), so the motion is the same
+// bit for bit; sums over all nodes (the energies) add in another order.
+#include <array>
+#include <span>
+#include <vector>
+
+#include "model/types.hpp"
+
+namespace dsdem::mesh {
+
+// new_id[old]: nodes in order of first use by conn (triangle by triangle, corner by
+// corner), then the nodes no triangle uses, in their old order. A permutation of
+// 0 .. n_nodes - 1. Throws std::invalid_argument for a node index out of range.
+std::vector<Index> node_order_by_first_use(std::span<const std::array<Index, 3>> conn, std::size_t n_nodes);
+
+// Applies new_id to a list of node indices in place.
+inline void renumber(std::span<Index> nodes, const std::vector<Index>& new_id) {
+  for (Index& i : nodes) i = new_id[static_cast<std::size_t>(i)];
+}
+
+}  // namespace dsdem::mesh
