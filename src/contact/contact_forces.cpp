@@ -6,6 +6,7 @@
 
 #include "contact/buffer.hpp"
 #include "contact/shape_map.hpp"
+#include "contact/shapes_x2.hpp"
 
 namespace dsdem::contact {
 
@@ -129,27 +130,49 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   int left = 0;  // a flag, so any thread count gives the same answer
 #pragma omp parallel reduction(| : left) if (settings_.parallel && n + n_others > kMinParallelTriangles)
   {
+    // Two triangles at a time (slots 2q and 2q + 1, the last one twice when n is odd), so
+    // that every triangle takes the same path for any thread count.
+    const std::ptrdiff_t n_pairs = (n + 1) / 2;
 #pragma omp for schedule(static) nowait
-    for (std::ptrdiff_t s = 0; s < n; ++s) {
-      const Index slot = shape_slots_[s];
-      const Index t = tris[slot];
-      const auto& c = in.conn[t];
-      const Vec2 p0 = x[c[0]], p1 = x[c[1]], p2 = x[c[2]];
-      // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
-      for (const Vec2& p : {p0, p1, p2})
-        if (!contains(build_box[slot], p)) left = 1;
-      const Spheropolygon old = sp_[t];
-      sp_[t] = make_spheropolygon(p0, p1, p2, in.rounding_radius[t]);
-      // The largest core-vertex displacement since the last step bounds how much any gap
-      // measured between this core and another can have shrunk (triangle inequality). At
-      // a build the motions restart from these shapes (some were not updated before).
-      if (!rebuilt) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3; ++k) d2 = std::max(d2, (sp_[t].core[k] - old.core[k]).squaredNorm());
-        motion_[t] += std::sqrt(d2);
+    for (std::ptrdiff_t q = 0; q < n_pairs; ++q) {
+      const std::ptrdiff_t s_of[2] = {2 * q, std::min(2 * q + 1, n - 1)};
+      std::array<Vec2, 3> p[2];
+      Index t_of[2];
+      for (int lane = 0; lane < 2; ++lane) {
+        const Index slot = shape_slots_[s_of[lane]];
+        const Index t = tris[slot];
+        t_of[lane] = t;
+        const auto& c = in.conn[t];
+        p[lane] = {x[c[0]], x[c[1]], x[c[2]]};
+        // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
+        for (const Vec2& v : p[lane])
+          if (!contains(build_box[slot], v)) left = 1;
       }
-      box_[t] = bounding_box(sp_[t]);
-      if (scales_with_shapes_) edge_scales_[t] = core_edge_scales(sp_[t].core);
+      Spheropolygon shape[2];
+      CoreEdgeScales scales[2];
+#if defined(DSDEM_SHAPES_X2)
+      make_shapes_x2(p[0], p[1], in.rounding_radius[t_of[0]], in.rounding_radius[t_of[1]], shape[0], shape[1],
+                     scales_with_shapes_ ? &scales[0] : nullptr, &scales[1]);
+#else
+      for (int lane = 0; lane < 2; ++lane) {
+        shape[lane] = make_spheropolygon(p[lane][0], p[lane][1], p[lane][2], in.rounding_radius[t_of[lane]]);
+        if (scales_with_shapes_) scales[lane] = core_edge_scales(shape[lane].core);
+      }
+#endif
+      for (int lane = 0; lane < (s_of[1] == s_of[0] ? 1 : 2); ++lane) {
+        const Index t = t_of[lane];
+        // The largest core-vertex displacement since the last step bounds how much any gap
+        // measured between this core and another can have shrunk (triangle inequality). At
+        // a build the motions restart from these shapes (some were not updated before).
+        if (!rebuilt) {
+          double d2 = 0.0;
+          for (int k = 0; k < 3; ++k) d2 = std::max(d2, (shape[lane].core[k] - sp_[t].core[k]).squaredNorm());
+          motion_[t] += std::sqrt(d2);
+        }
+        sp_[t] = shape[lane];
+        box_[t] = bounding_box(shape[lane]);
+        if (scales_with_shapes_) edge_scales_[t] = scales[lane];
+      }
     }
     // The same test for the active triangles in no pair (no shape to update), from their
     // list: each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
