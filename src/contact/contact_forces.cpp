@@ -199,6 +199,7 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
   if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
   if (todo_weight_.size() < static_cast<std::size_t>(nt)) todo_weight_.resize(nt);
   if (touching_.size() < static_cast<std::size_t>(nt) * nt) touching_.resize(static_cast<std::size_t>(nt) * nt);
+  if (thread_counts_.size() < static_cast<std::size_t>(nt)) thread_counts_.resize(nt);
   return nt;
 }
 
@@ -378,29 +379,29 @@ void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f,
 
 ContactStepStats ContactForces::finish() {
   ContactStepStats st;
-  history_.begin_step();
-  for (int t = 0; t < used_threads_; ++t) {
-    for (const ContactRecord& r : buffers_[t]) {
-      history_.record(r.key, r.ft);
-      ++st.active_contacts;
-      st.sliding_contacts += r.sliding ? 1 : 0;
-      st.elastic_energy += r.elastic_energy;
-      st.friction_dissipation += r.friction_dissipation;
-      st.damping_dissipation += r.damping_dissipation;
+  // The blocks' sums in block order (see block_sums_), the threads' counts.
+  for (int t = 0; t < used_threads_; ++t)
+    for (const BlockSums& b : block_sums_[t]) {
+      st.elastic_energy += b.elastic_energy;
+      st.friction_dissipation += b.friction_dissipation;
+      st.damping_dissipation += b.damping_dissipation;
     }
+  for (int t = 0; t < used_threads_; ++t) {
+    st.active_contacts += thread_counts_[t].active;
+    st.sliding_contacts += thread_counts_[t].sliding;
   }
-  history_.end_step();
   // Spare room so that a slowly growing contact count does not reallocate every step.
+  history_.reserve_headroom();
+  history_.end_step();
   for (int t = 0; t < used_threads_; ++t) {
     reserve_with_headroom(buffers_[t], buffers_[t].size() + buffers_[t].size() / 8);
+    reserve_with_headroom(block_sums_[t], block_sums_[t].size() + block_sums_[t].size() / 8 + 4);
     if (used_threads_ > 1)
       for (int c = 0; c < used_threads_; ++c) {
         std::vector<Index>& list = touching_[t * used_threads_ + c];
         reserve_with_headroom(list, list.size() + buffers_[t].size() / 8);
       }
   }
-  const std::size_t n_contacts = static_cast<std::size_t>(st.active_contacts);
-  history_.reserve(n_contacts + n_contacts / 8);
   st.elastic_energy_increment = st.elastic_energy - last_elastic_energy_;
   last_elastic_energy_ = st.elastic_energy;
   return st;

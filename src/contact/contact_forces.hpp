@@ -316,6 +316,20 @@ class ContactForces {
     double seconds = 0.0;
   };
   std::vector<BusyTime> busy_;
+  // The contact sums per block of pairs (triangle i / kSumBlock), in record order, by the
+  // thread that made the records while they are in its cache; block_sums_[t]: thread t's
+  // blocks in order, added in thread order by finish(). The serial sum over every record it
+  // replaces read each other thread's records from that core (issue 7). Counts per thread
+  // (integers: any order).
+  static constexpr Index kSumBlock = 32;
+  struct BlockSums {
+    double elastic_energy = 0.0, friction_dissipation = 0.0, damping_dissipation = 0.0;
+  };
+  std::vector<ThreadVector<BlockSums>> block_sums_;
+  struct alignas(64) ThreadCounts {
+    Index active = 0, sliding = 0;
+  };
+  std::vector<ThreadCounts> thread_counts_;
   std::vector<double> busy_seconds_;
   // share_ and share_cum_ for T threads (equal shares when T changed).
   void prepare_split(int T);
@@ -348,6 +362,9 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
   }
   const int nt = begin_pairs(np);
   if (nt > 1) prepare_split(nt);
+  // Each thread writes its contacts' history to a segment of its own, and its blocks' sums.
+  history_.begin_step(nt);
+  if (block_sums_.size() < static_cast<std::size_t>(nt)) block_sums_.resize(nt);
   Index skipped = 0;
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
   {
@@ -416,6 +433,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
     ContactHistory::Cursor cursor;  // keys ascend within the run
     std::size_t first = 0, count = todo_[0].size();
+    std::vector<ContactHistory::Entry>& history_out = history_.segment(t);
     double busy_from = 0.0;
     if (T > 1) {
 #ifdef _OPENMP
@@ -427,9 +445,32 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       auto bound = [&](int u) {
         return u >= T ? total : std::min(total, static_cast<std::uint64_t>(static_cast<double>(total) * share_cum_[u]));
       };
-      first = pairs_within_weight(bound(t), T);
-      count = pairs_within_weight(bound(t + 1), T) - first;
+      // Runs start at the first pair of a sum block (pairs whose triangle i is in one run of
+      // kSumBlock indices), so no block is split between threads.
+      std::size_t examined = 0;
+      for (int u = 0; u < T; ++u) examined += todo_[u].size();
+      auto pair_at = [&](std::size_t c) -> const ContactPair& {
+        int u = 0;
+        while (c >= todo_[u].size()) c -= todo_[u++].size();
+        return pairs[todo_[u][c]];
+      };
+      auto at_block = [&](std::size_t c) {
+        while (c > 0 && c < examined && pair_at(c).i / kSumBlock == pair_at(c - 1).i / kSumBlock) ++c;
+        return c;
+      };
+      first = at_block(pairs_within_weight(bound(t), T));
+      const std::size_t end = t + 1 == T ? examined : at_block(pairs_within_weight(bound(t + 1), T));
+      count = end > first ? end - first : 0;
     }
+    // Sums of the records of each block (pairs whose triangle i / kSumBlock is the same),
+    // in record order; finish() adds the blocks in order. Only blocks with records count,
+    // so the sums depend on the records alone: the same for any split, thread count or
+    // pair list (pairs skipped while apart, a rebuilt broad phase).
+    std::vector<BlockSums>& my_blocks = block_sums_[t];
+    my_blocks.clear();
+    Index block = -1;
+    BlockSums sums;
+    Index active = 0, sliding = 0;
     for (int u = 0; u < T && count > 0; ++u) {
       const std::vector<Index>& list = todo_[u];
       if (first >= list.size()) {
@@ -443,6 +484,20 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
         const double moved = motion_[pr.i] + motion_[pr.j];
         const std::size_t before = out.size();
         const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out, f_now);
+        if (out.size() > before && pr.i / kSumBlock != block) {
+          if (block >= 0) my_blocks.push_back(sums);
+          sums = BlockSums{};
+          block = pr.i / kSumBlock;
+        }
+        for (std::size_t r = before; r < out.size(); ++r) {
+          const ContactRecord& rec = out[r];
+          history_out.push_back({rec.key, rec.ft});
+          sums.elastic_energy += rec.elastic_energy;
+          sums.friction_dissipation += rec.friction_dissipation;
+          sums.damping_dissipation += rec.damping_dissipation;
+          sliding += rec.sliding ? 1 : 0;
+        }
+        active += static_cast<Index>(out.size() - before);
         if (T > 1 && out.size() > before) note_touching(in, pr, t, T, nn, before, out.size());
         // Half the clearance: margin for the float and for the sums' rounding.
         skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : static_cast<float>(res);
@@ -450,6 +505,8 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       count -= end - first;
       first = 0;
     }
+    if (block >= 0) my_blocks.push_back(sums);
+    thread_counts_[t] = {active, sliding};
     // 4. The forces to the nodes (one thread: done in step 3): thread t adds the forces
     // of the records that touch its node range to those nodes (thread 0's own ones: done
     // in step 3), in record order, so each node gets the same sum, in the same order, for

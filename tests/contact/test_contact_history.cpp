@@ -88,9 +88,9 @@ TEST(ContactHistory, CursorLookupsMatchBinarySearch) {
     h.record({i, j, f}, Vec2(k, -k));
     if (next() % 2) h.record({i, j, static_cast<std::uint8_t>(f + 1)}, Vec2(-k, k));
   }
-  for (std::size_t k = 1; k < h.entries().size(); ++k)
-    ASSERT_LT(h.entries()[k - 1].key, h.entries()[k].key);
   h.end_step();
+  const std::vector<ContactHistory::Entry> stored = h.entries();
+  for (std::size_t k = 1; k < stored.size(); ++k) ASSERT_LT(stored[k - 1].key, stored[k].key);
   for (int run = 0; run < 20; ++run) {
     ContactHistory::Cursor cursor;
     int found = 0;
@@ -105,4 +105,45 @@ TEST(ContactHistory, CursorLookupsMatchBinarySearch) {
     }
     EXPECT_GT(found, 0);
   }
+}
+
+TEST(ContactHistory, SegmentsWrittenByThreadsReadAsOneSortedList) {
+  // One step written as one segment, the next as 3 segments of one ascending key list
+  // (one empty): lookups (cursor and binary search) and entries() see the same list.
+  std::vector<ContactKey> keys;
+  for (Index i = 0; i < 600; ++i)
+    for (std::uint8_t f = 0; f < 3; f += 1 + static_cast<std::uint8_t>(i % 2)) keys.push_back({i, i + 1 + (i % 3), f});
+  ContactHistory one, three;
+  one.begin_step();
+  for (std::size_t k = 0; k < keys.size(); ++k) one.record(keys[k], Vec2(k, 1.0));
+  one.end_step();
+  three.begin_step(3);
+  const std::size_t cut = keys.size() / 3;
+  for (std::size_t k = 0; k < keys.size(); ++k)  // segment 1 stays empty
+    three.segment(k < cut ? 0 : 2).push_back({keys[k], Vec2(k, 1.0)});
+  three.end_step();
+  const auto a = one.entries(), b = three.entries();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].key, b[k].key);
+    EXPECT_EQ(a[k].ft, b[k].ft);
+  }
+  EXPECT_EQ(three.size(), keys.size());
+  // Present and absent keys, in ascending runs that start anywhere.
+  for (std::size_t start : {std::size_t{0}, cut - 1, cut, keys.size() - 2}) {
+    ContactHistory::Cursor c1, c3;
+    for (std::size_t k = start; k < keys.size(); ++k) {
+      const ContactKey absent{keys[k].i, keys[k].j, 7};
+      EXPECT_EQ(three.previous(keys[k], c3), Vec2(k, 1.0));
+      EXPECT_EQ(one.previous(keys[k], c1), Vec2(k, 1.0));
+      EXPECT_EQ(three.previous(keys[k]), Vec2(k, 1.0));
+      if (k + 1 < keys.size() && absent < keys[k + 1]) {
+        EXPECT_EQ(three.previous(absent, c3), Vec2::Zero());
+        EXPECT_EQ(three.previous(absent), Vec2::Zero());
+      }
+    }
+  }
+  EXPECT_EQ(three.previous(ContactKey{9999, 10000, 0}), Vec2::Zero());
+  ContactHistory::Cursor past;
+  EXPECT_EQ(three.previous(ContactKey{9999, 10000, 0}, past), Vec2::Zero());
 }
