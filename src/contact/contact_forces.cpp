@@ -283,32 +283,6 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
   return -static_cast<double>(n);
 }
 
-void balance_shares(std::span<double> share, std::span<const double> busy, double gain) {
-  const std::size_t T = share.size();
-  if (T < 2 || busy.size() != T) return;
-  double rate_sum = 0.0;
-  for (std::size_t t = 0; t < T; ++t) {
-    if (!(busy[t] > 0.0) || !std::isfinite(busy[t]) || !(share[t] > 0.0)) return;
-    rate_sum += share[t] / busy[t];
-  }
-  // The shares at the floor stay there; the others are scaled to make the sum 1.
-  const double floor = 0.1 / static_cast<double>(T);
-  double at_floor = 0.0, above = 0.0;
-  for (std::size_t t = 0; t < T; ++t) {
-    const double target = share[t] / busy[t] / rate_sum;
-    share[t] += gain * (target - share[t]);
-    if (share[t] <= floor) {
-      share[t] = floor;
-      at_floor += floor;
-    } else {
-      above += share[t];
-    }
-  }
-  const double scale = (1.0 - at_floor) / above;
-  for (double& s : share)
-    if (s > floor) s *= scale;
-}
-
 void ContactForces::prepare_split(int T) {
   const std::size_t n = static_cast<std::size_t>(T);
   if (share_.size() != n) {  // a new thread count (or a pinned split for another): equal shares
@@ -317,14 +291,7 @@ void ContactForces::prepare_split(int T) {
   }
   if (busy_.size() < n) busy_.resize(n);
   busy_seconds_.resize(n);
-  share_cum_.resize(n + 1);
-  double cum = 0.0;
-  for (std::size_t t = 0; t < n; ++t) {
-    share_cum_[t] = cum;
-    cum += share_[t];
-  }
-  for (std::size_t t = 0; t < n; ++t) share_cum_[t] /= cum;  // pinned shares need not sum to 1
-  share_cum_[n] = 1.0;
+  cumulative_shares(share_, share_cum_);  // pinned shares need not sum to 1
 }
 
 void ContactForces::rebalance_split(int T) {

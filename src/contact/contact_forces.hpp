@@ -28,6 +28,7 @@
 #include "contact/narrow_phase.hpp"
 #include "contact/positions.hpp"
 #include "contact/spheropolygon.hpp"
+#include "model/work_split.hpp"
 
 namespace dsdem::contact {
 
@@ -111,15 +112,6 @@ struct ContactRecord {
 };
 static_assert(sizeof(ContactRecord) <= 176, "keep the contact record compact (issue 7 memory)");
 
-// Each thread's share of the pair loop (ContactForces), tuned from the threads' measured
-// times: the shares that would make every thread finish together if each kept the rate it
-// showed (share / busy seconds), moved `gain` of the way there (one step's timing is
-// noisy), each at least 0.1 / T and summing to 1. No timing (busy <= 0): unchanged. The
-// results do not depend on the shares (every node gets its forces in pair order for any
-// split), only the time does: on this VM one core often runs 10-20 % slower than the
-// other, and an equal split left the faster thread waiting ~90-120 us of each late Dr2
-// step (issue 7 profile).
-void balance_shares(std::span<double> share, std::span<const double> busy, double gain = 0.1);
 
 struct ContactStepStats {
   Index active_contacts = 0;

@@ -3,9 +3,13 @@
 // into fixed-size chunks (independent of the number of threads), each chunk summed in
 // order, and the chunk sums added serially (DESIGN.md §9, issue 7).
 #include <algorithm>
+#include <cmath>
+#include <span>
 #include <array>
 #include <cstddef>
 #include <vector>
+
+#include "model/types.hpp"
 
 namespace dsdem {
 
@@ -28,25 +32,25 @@ bool choose_parallel(std::array<double, N> serial, std::array<double, N> paralle
   return median(parallel) <= margin * median(serial);
 }
 
-// Boundaries b[0] = 0 <= b[1] <= ... <= b[T] = n of T contiguous index ranges, range k
-// holding the counted indices (counted(i) true) of ranks n_counted k / T up to
-// n_counted (k + 1) / T: equal shares of the costly items for T threads. A static split
-// of the index range alone gave one thread all of Dr2's 3 233 own triangles (zone A is
-// numbered first) and the other thread none (issue 7, 2-thread profile).
-template <class Counted>
-std::vector<std::size_t> equal_share_bounds(std::size_t n, int T, Counted counted) {
-  const auto parts = static_cast<std::size_t>(std::max(T, 1));
-  std::size_t total = 0;
-  for (std::size_t i = 0; i < n; ++i) total += counted(i) ? 1 : 0;
-  std::vector<std::size_t> bounds(parts + 1, n);
+// Boundaries b[0] = 0 <= b[1] <= ... <= b[T] = n of T contiguous index ranges of [0, n),
+// range k holding the counted items of ranks floor(total cum[k]) up to floor(total
+// cum[k + 1]) (cum: cumulative shares, cum[0] = 0, cum[T] = 1; prefix[i]: counted items
+// before index i, size n + 1, total = prefix[n]). Shares of the costly items wherever
+// they are numbered: a static split of the index range alone gave one thread all of
+// Dr2's 3 233 own triangles (zone A is numbered first) and the other thread none (issue
+// 7, 2-thread profile).
+inline void counted_share_bounds(std::span<const Index> prefix, std::span<const double> cum,
+                                 std::vector<std::size_t>& bounds) {
+  const std::size_t n = prefix.size() - 1, T = cum.size() - 1;
+  const double total = static_cast<double>(prefix[n]);
+  bounds.resize(T + 1);
   bounds[0] = 0;
-  std::size_t rank = 0, k = 1;
-  for (std::size_t i = 0; i < n && k < parts; ++i) {
-    if (!counted(i)) continue;
-    while (k < parts && rank == total * k / parts) bounds[k++] = i;
-    ++rank;
+  for (std::size_t k = 1; k < T; ++k) {
+    const auto rank = static_cast<Index>(std::floor(total * cum[k]));
+    bounds[k] = static_cast<std::size_t>(std::lower_bound(prefix.begin(), prefix.end(), rank) - prefix.begin());
+    bounds[k] = std::max(bounds[k], bounds[k - 1]);
   }
-  return bounds;
+  bounds[T] = n;
 }
 
 template <class Term>

@@ -16,6 +16,7 @@ static_assert(sizeof(std::array<dsdem::Vec2, 3>) == 3 * sizeof(dsdem::Vec2) &&
               "per-element / per-joint force arrays are read as flat Vec2 arrays in the gather");
 
 #include "solver/parallel.hpp"
+#include "model/work_split.hpp"
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -178,7 +179,6 @@ void Solver::build_gather() {
   // joint insertion: one joint per edge) is left shared; its slots keep the first 3.
   triangle_joints_.assign(ne, {kNoIndex, kNoIndex, kNoIndex});
   own_corners_.assign(ne, 0);
-  own_bounds_.clear();
   for (std::size_t j = 0; j < nj; ++j)
     for (Index t : {J.tri_a[j], J.tri_b[j]}) {
       auto& slots = triangle_joints_[t];
@@ -216,6 +216,8 @@ void Solver::build_gather() {
     }
     own_corners_[t] = code;
   }
+  own_prefix_.assign(ne + 1, 0);
+  for (std::size_t t = 0; t < ne; ++t) own_prefix_[t + 1] = own_prefix_[t] + (own_corners_[t] != kSharedTriangle ? 1 : 0);
   // Shared triangles, and the nodes gathered by incidence: those of shared triangles and
   // those of no triangle at all (their sums stay as the gather leaves them).
   shared_triangles_.clear();
@@ -265,12 +267,27 @@ void Solver::build_gather() {
     throw std::logic_error(fmt::format("joint nodes outside their triangles: {} of {} joint-node pairs reached", covered, 4 * nj));
 }
 
-void Solver::ensure_own_bounds(int threads) {
-  while (static_cast<int>(own_bounds_.size()) < threads) {
-    const int T = static_cast<int>(own_bounds_.size()) + 1;
-    own_bounds_.push_back(equal_share_bounds(own_corners_.size(), T,
-                                             [this](std::size_t t) { return own_corners_[t] != kSharedTriangle; }));
+void Solver::prepare_element_split(int threads) {
+  const auto T = static_cast<std::size_t>(threads);
+  for (LoopSplit* split : {&shared_split_, &own_split_}) {
+    if (split->share.size() != T) split->share.assign(T, 1.0 / threads);
+    cumulative_shares(split->share, split->cum);
   }
+  const std::size_t ns = shared_triangles_.size();
+  shared_split_.bound.resize(T + 1);
+  for (std::size_t t = 0; t <= T; ++t)
+    shared_split_.bound[t] = t == T ? ns : static_cast<std::size_t>(static_cast<double>(ns) * shared_split_.cum[t]);
+  counted_share_bounds(own_prefix_, own_split_.cum, own_split_.bound);
+  if (element_busy_.size() < T) element_busy_.resize(T);
+  busy_scratch_.resize(T);
+}
+
+void Solver::rebalance_element_split(int threads) {
+  const auto T = static_cast<std::size_t>(threads);
+  for (std::size_t t = 0; t < T; ++t) busy_scratch_[t] = element_busy_[t].shared;
+  balance_shares(shared_split_.share, busy_scratch_);
+  for (std::size_t t = 0; t < T; ++t) busy_scratch_[t] = element_busy_[t].own;
+  balance_shares(own_split_.share, busy_scratch_);
 }
 
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
@@ -471,16 +488,26 @@ void Solver::add_internal_and_joint_forces() {
 #ifdef _OPENMP
   if (parallel_) threads = omp_get_max_threads();
 #endif
-  ensure_own_bounds(threads);
+  prepare_element_split(threads);
+  bool full_team = false;
 #pragma omp parallel num_threads(threads) if (parallel_) reduction(| : inverted)
   {
     int thread = 0, team = 1;
 #ifdef _OPENMP
     thread = omp_get_thread_num();
-    team = omp_get_num_threads();  // <= threads: own_bounds_ has its split
+    team = omp_get_num_threads();  // <= threads
 #endif
-#pragma omp for schedule(static) nowait
-    for (std::ptrdiff_t s = 0; s < ns; ++s) {
+    // This thread's shared slots and own triangles (all of them when the team is smaller
+    // than asked for: then one thread).
+    const bool split = team == threads;
+    const auto th = static_cast<std::size_t>(thread);
+    const std::ptrdiff_t s_begin = split ? static_cast<std::ptrdiff_t>(shared_split_.bound[th]) : (thread == 0 ? 0 : ns);
+    const std::ptrdiff_t s_end = split ? static_cast<std::ptrdiff_t>(shared_split_.bound[th + 1]) : ns;
+    double busy_from = 0.0;
+#ifdef _OPENMP
+    busy_from = omp_get_wtime();
+#endif
+    for (std::ptrdiff_t s = s_begin; s < s_end; ++s) {
       std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
       const auto t = static_cast<std::size_t>(shared_triangles_[s]);
       const fem::TriangleResponse r = element(t, element_damping ? shared_damping_force_[s] : no_damping);
@@ -490,11 +517,18 @@ void Solver::add_internal_and_joint_forces() {
     }
     if (joints)
       evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now);
+#ifdef _OPENMP
+    element_busy_[th].shared = omp_get_wtime() - busy_from;
+#endif
 #pragma omp barrier
+#ifdef _OPENMP
+    busy_from = omp_get_wtime();
+#endif
     const std::array<Vec2, 2>* jforce = joint_buf_.force.data();
     // Own triangles: this thread's share (they write only their own nodes; no order).
-    const std::vector<std::size_t>& own_range = own_bounds_[team - 1];
-    for (std::size_t t = own_range[thread]; t < own_range[thread + 1]; ++t) {
+    const std::size_t own_begin = split ? own_split_.bound[th] : (thread == 0 ? 0 : tri.size());
+    const std::size_t own_end = split ? own_split_.bound[th + 1] : tri.size();
+    for (std::size_t t = own_begin; t < own_end; ++t) {
       const std::uint16_t code = own_corners_[t];
       if (code == kSharedTriangle) continue;
       std::array<Vec2, 3> df;
@@ -529,7 +563,7 @@ void Solver::add_internal_and_joint_forces() {
     const Vec2* sf = shared_force_.empty() ? nullptr : shared_force_[0].data();
     const Vec2* sdf = shared_damping_force_.empty() ? nullptr : shared_damping_force_[0].data();
     const Vec2* jf = joint_buf_.force.empty() ? nullptr : joint_buf_.force[0].data();
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::ptrdiff_t g = 0; g < ng; ++g) {
       const Index i = gathered_nodes_[g];
       Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
@@ -548,7 +582,12 @@ void Solver::add_internal_and_joint_forces() {
       n.a[i] += f + fd + fj;  // the force sum (Nodes::a)
       if (damped) damping_force_[i] += fd;
     }
+#ifdef _OPENMP
+    element_busy_[th].own = omp_get_wtime() - busy_from;
+#endif
+    if (thread == 0) full_team = split;
   }
+  if (threads > 1 && full_team) rebalance_element_split(threads);
   inverted_ = inverted != 0;
   if (joints) {
     energy_.joint_elastic = joint_buf_.energy();

@@ -248,10 +248,24 @@ class Solver {
   std::vector<std::array<Vec2, 3>> shared_force_;
   std::vector<std::array<Vec2, 3>> shared_damping_force_;
   std::vector<Index> gathered_nodes_;  // ascending
-  // own_bounds_[T - 1][t .. t + 1]: the triangle index range of thread t of T in the
-  // own-triangle loop, with equal shares of the own triangles (equal_share_bounds).
-  std::vector<std::vector<std::size_t>> own_bounds_;
-  void ensure_own_bounds(int threads);
+  // own_prefix_[t]: own triangles before triangle t (size + 1).
+  std::vector<Index> own_prefix_;
+  // The element loops' split between threads (model/work_split.hpp): each thread's share of
+  // the shared triangles (before the barrier, with the joints) and of the own triangles
+  // (after it, with the gathered nodes), tuned each step from the threads' busy times, and
+  // the index bounds they give. Which thread computes a triangle changes no result.
+  struct LoopSplit {
+    std::vector<double> share, cum;
+    std::vector<std::size_t> bound;
+  };
+  LoopSplit shared_split_, own_split_;
+  struct alignas(64) ElementBusy {
+    double shared = 0.0, own = 0.0;  // s
+  };
+  std::vector<ElementBusy> element_busy_;
+  std::vector<double> busy_scratch_;
+  void prepare_element_split(int threads);
+  void rebalance_element_split(int threads);
   // Per gathered node: shared slot entries 3 s + corner (ascending triangle), joint
   // entries 2 (2 j + end) + side (ascending joint; side 1 = face b, negated).
   std::vector<Index> gather_offset_, gather_entry_;

@@ -3,6 +3,8 @@
 // OpenMP threads, gives bit-identical node positions and velocities.
 #include <gtest/gtest.h>
 
+#include "model/work_split.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -137,25 +139,39 @@ TEST(ThreadChoice, MedianStepTimeDecidesNotOneOutlier) {
 
 // The own-triangle loop splits its work by count, not by index: Dr2 numbers its 3 233
 // own (zone A) triangles first and its 5 385 shared ones after, and a split of the index
-// range gave one thread all of the own triangles (issue 7, 2-thread profile).
-TEST(WorkSplit, EqualSharesOfTheCountedItemsWhereverTheyAreNumbered) {
+// range gave one thread all of the own triangles (issue 7, 2-thread profile). Shares
+// come from the threads' speeds (model/work_split.hpp).
+TEST(WorkSplit, SharesOfTheCountedItemsWhereverTheyAreNumbered) {
+  auto prefix_of = [](std::size_t n, auto counted) {
+    std::vector<Index> prefix(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + (counted(i) ? 1 : 0);
+    return prefix;
+  };
   const std::size_t n = 8618, n_own = 3233;
   auto own_first = [&](std::size_t i) { return i < n_own; };
+  const std::vector<Index> prefix = prefix_of(n, own_first);
+  std::vector<std::size_t> b;
+  std::vector<double> cum;
   for (int T : {1, 2, 3, 4}) {
-    const std::vector<std::size_t> b = equal_share_bounds(n, T, own_first);
+    dsdem::cumulative_shares(std::vector<double>(static_cast<std::size_t>(T), 1.0), cum);
+    counted_share_bounds(prefix, cum, b);
     ASSERT_EQ(b.size(), static_cast<std::size_t>(T) + 1);
     EXPECT_EQ(b.front(), 0u);
     EXPECT_EQ(b.back(), n);
     for (int k = 0; k < T; ++k) {
       std::size_t share = 0;
       for (std::size_t i = b[k]; i < b[k + 1]; ++i) share += own_first(i) ? 1 : 0;
-      EXPECT_EQ(share, n_own * (k + 1) / T - n_own * k / T) << "T = " << T << ", range " << k;
+      EXPECT_NEAR(static_cast<double>(share), static_cast<double>(n_own) / T, 1.0) << "T = " << T << ", range " << k;
     }
   }
+  // Unequal shares: 1/4 and 3/4 of the own triangles.
+  counted_share_bounds(prefix, std::vector<double>{0.0, 0.25, 1.0}, b);
+  EXPECT_EQ(b, (std::vector<std::size_t>{0, 808, n}));
   // Every third index counted, and none at all: ranges still tile [0, n).
-  const std::vector<std::size_t> every_third = equal_share_bounds(10, 2, [](std::size_t i) { return i % 3 == 0; });
-  EXPECT_EQ(every_third, (std::vector<std::size_t>{0, 6, 10}));  // counted 0, 3 | 6, 9
-  const std::vector<std::size_t> none = equal_share_bounds(5, 2, [](std::size_t) { return false; });
-  EXPECT_EQ(none, (std::vector<std::size_t>{0, 5, 5}));
-  EXPECT_EQ(equal_share_bounds(0, 2, [](std::size_t) { return true; }), (std::vector<std::size_t>{0, 0, 0}));
+  counted_share_bounds(prefix_of(10, [](std::size_t i) { return i % 3 == 0; }), std::vector<double>{0.0, 0.5, 1.0}, b);
+  EXPECT_EQ(b, (std::vector<std::size_t>{0, 4, 10}));  // counted 0, 3 | 6, 9
+  counted_share_bounds(prefix_of(5, [](std::size_t) { return false; }), std::vector<double>{0.0, 0.5, 1.0}, b);
+  EXPECT_EQ(b, (std::vector<std::size_t>{0, 0, 5}));
+  counted_share_bounds(std::vector<Index>{0}, std::vector<double>{0.0, 0.5, 1.0}, b);
+  EXPECT_EQ(b, (std::vector<std::size_t>{0, 0, 0}));
 }
