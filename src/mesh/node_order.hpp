@@ -28,4 +28,10 @@ inline void renumber(std::span<Index> nodes, const std::vector<Index>& new_id) {
   for (Index& i : nodes) i = new_id[static_cast<std::size_t>(i)];
 }
 
+// A number that changes when the same positions come in another order (or move): the
+// reference positions weighted by position in the list. A checkpoint records it, so one
+// written with another numbering (dsdem before this one numbered nodes as the mesh did)
+// is refused instead of continuing with its node arrays in the wrong order.
+double node_order_fingerprint(std::span<const Vec2> X);
+
 }  // namespace dsdem::mesh

@@ -1,5 +1,7 @@
 #include "solver/runner.hpp"
 
+#include "mesh/node_order.hpp"
+
 #include <fmt/format.h>
 #include <omp.h>
 #include <spdlog/sinks/basic_file_sink.h>
@@ -365,6 +367,7 @@ void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const Pre
   const Model& m = run.model;
   w.put("runner/dt", run.dt);
   w.put_int("runner/adaptive_dt", run.scenario.adaptive_dt ? 1 : 0);
+  w.put("runner/node_order", mesh::node_order_fingerprint(m.nodes.X));
   w.put("runner/model_size", std::vector<double>{static_cast<double>(m.nodes.size()),
                                                   static_cast<double>(m.triangles.size()),
                                                   static_cast<double>(m.joints.size())});
@@ -394,6 +397,15 @@ RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun&
         "scenario, mesh and --set options of the original run",
         size.size() > 0 ? size[0] : 0, size.size() > 1 ? size[1] : 0, size.size() > 2 ? size[2] : 0, m.nodes.size(),
         m.triangles.size(), m.joints.size()));
+  // Nodes are numbered by first use since 2026-11 (mesh/node_order.hpp): node arrays in
+  // any other order would be read into the wrong nodes.
+  if (!in.has("runner/node_order"))
+    throw std::runtime_error(
+        "it was written by an older dsdem that numbered the nodes as the mesh does; this one numbers them in the "
+        "order the elements use them, so its node arrays do not fit: run the scenario again from the start");
+  if (in.scalar("runner/node_order") != mesh::node_order_fingerprint(m.nodes.X))
+    throw std::runtime_error("it belongs to another model (its node positions or their order differ): use the "
+                             "scenario, mesh and --set options of the original run");
   const double dt = in.scalar("runner/dt");
   if (dt != run.dt)
     throw std::runtime_error(fmt::format("it was made with dt = {} s, this scenario gives dt = {} s: the time settings "

@@ -1,6 +1,7 @@
 // Checkpoints and `dsdem run --restart` through the CLI (issues 8 and 9): a run stopped
 // at any step, by a signal or killed outright, continues from its checkpoint to files
 // bit-identical to those of a run that was never interrupted.
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -234,6 +235,18 @@ TEST_F(Restart, RefusesAnotherModelOrACompleteRunWithExitCode2) {
                               " -o " + out.string());
   EXPECT_EQ(done.exit_code, 2) << done.output;
   EXPECT_NE(done.output.find("complete"), std::string::npos) << done.output;
+
+  // A checkpoint of a dsdem that numbered nodes as the mesh does (no node-order record):
+  // its node arrays would land on the wrong nodes, so it is refused, not continued.
+  const fs::path old = out / "old_numbering.h5";
+  fs::copy_file(out / "checkpoint.h5", old, fs::copy_options::overwrite_existing);
+  {
+    H5::H5File f(old.string(), H5F_ACC_RDWR);
+    f.unlink("runner/node_order");
+  }
+  const auto renumbered = run_dsdem("run " + small_dr2() + " --restart " + old.string() + " -o " + (out / "o").string());
+  EXPECT_EQ(renumbered.exit_code, 2) << renumbered.output;
+  EXPECT_NE(renumbered.output.find("numbered the nodes as the mesh does"), std::string::npos) << renumbered.output;
 
   std::ofstream(out / "bad.h5") << "not a checkpoint";
   const auto bad = run_dsdem("run " + small_dr2() + " --restart " + (out / "bad.h5").string());

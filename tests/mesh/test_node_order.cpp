@@ -38,3 +38,15 @@ TEST(NodeOrder, AlreadyOrderedIsIdentityAndOutOfRangeThrows) {
   const std::vector<std::array<Index, 3>> negative{{0, -1, 2}};
   EXPECT_THROW(node_order_by_first_use(negative, 3), std::invalid_argument);
 }
+
+TEST(NodeOrder, FingerprintChangesWithTheOrderOfTheSamePositions) {
+  const std::vector<dsdem::Vec2> X{{0.0, 0.0}, {2.0, 0.0}, {2.0, 3.0}, {0.7, 1.2}};
+  std::vector<dsdem::Vec2> swapped = X;
+  std::swap(swapped[1], swapped[3]);
+  const double a = dsdem::mesh::node_order_fingerprint(X);
+  EXPECT_EQ(a, dsdem::mesh::node_order_fingerprint(X));  // deterministic
+  EXPECT_NE(a, dsdem::mesh::node_order_fingerprint(swapped));
+  std::vector<dsdem::Vec2> moved = X;
+  moved[2].y() += 1e-3;
+  EXPECT_NE(a, dsdem::mesh::node_order_fingerprint(moved));
+}
