@@ -128,13 +128,33 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
   const std::ptrdiff_t n_others = rebuilt ? 0 : static_cast<std::ptrdiff_t>(other_slots_.size());
   int left = 0;  // a flag, so any thread count gives the same answer
-#pragma omp parallel reduction(| : left) if (settings_.parallel && n + n_others > kMinParallelTriangles)
+  const bool parallel = settings_.parallel && n + n_others > kMinParallelTriangles;
+  int asked = 1;
+#ifdef _OPENMP
+  if (parallel) asked = omp_get_max_threads();
+#endif
+  shape_split_.prepare(asked);
+  bool tuned_team = false;
+#pragma omp parallel num_threads(asked) reduction(| : left) if (parallel)
   {
+    int t = 0, T = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    T = omp_get_num_threads();
+#endif
+    const bool tuned = T == asked && T > 1;
+    double busy_from = 0.0;
+#ifdef _OPENMP
+    if (tuned) busy_from = omp_get_wtime();
+#endif
     // Two triangles at a time (slots 2q and 2q + 1, the last one twice when n is odd), so
-    // that every triangle takes the same path for any thread count.
+    // that every triangle takes the same path for any thread count. Each thread a
+    // contiguous run, tuned from the threads' busy times (shape_split_).
     const std::ptrdiff_t n_pairs = (n + 1) / 2;
-#pragma omp for schedule(static) nowait
-    for (std::ptrdiff_t q = 0; q < n_pairs; ++q) {
+    const auto np2 = static_cast<std::size_t>(n_pairs);
+    const auto q_begin = static_cast<std::ptrdiff_t>(tuned ? shape_split_.begin(np2, t) : np2 * t / T);
+    const auto q_end = static_cast<std::ptrdiff_t>(tuned ? shape_split_.begin(np2, t + 1) : np2 * (t + 1) / T);
+    for (std::ptrdiff_t q = q_begin; q < q_end; ++q) {
       const std::ptrdiff_t s_of[2] = {2 * q, std::min(2 * q + 1, n - 1)};
       std::array<Vec2, 3> p[2];
       Index t_of[2];
@@ -178,7 +198,7 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
     // list: each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
     // all in pairs, first: a split of all the active slots gave one thread 90 % of the
     // tests, issue 7 profile.)
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::ptrdiff_t s = 0; s < n_others; ++s) {
       if (left) continue;
       const Index slot = other_slots_[s];
@@ -186,7 +206,12 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
       for (int k = 0; k < 3; ++k)
         if (!contains(build_box[slot], x[c[k]])) left = 1;
     }
+#ifdef _OPENMP
+    if (tuned) shape_split_.set_busy(t, omp_get_wtime() - busy_from);
+#endif
+    if (t == 0) tuned_team = tuned;
   }
+  if (tuned_team) shape_split_.rebalance();
   return left != 0;
 }
 
@@ -281,23 +306,6 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     }
   }
   return -static_cast<double>(n);
-}
-
-void ContactForces::prepare_split(int T) {
-  const std::size_t n = static_cast<std::size_t>(T);
-  if (share_.size() != n) {  // a new thread count (or a pinned split for another): equal shares
-    share_.assign(n, 1.0 / T);
-    share_pinned_ = false;
-  }
-  if (busy_.size() < n) busy_.resize(n);
-  busy_seconds_.resize(n);
-  cumulative_shares(share_, share_cum_);  // pinned shares need not sum to 1
-}
-
-void ContactForces::rebalance_split(int T) {
-  if (share_pinned_ || share_.size() != static_cast<std::size_t>(T)) return;
-  for (int t = 0; t < T; ++t) busy_seconds_[t] = busy_[t].seconds;
-  balance_shares(share_, std::span<const double>(busy_seconds_.data(), static_cast<std::size_t>(T)));
 }
 
 std::size_t ContactForces::pairs_within_weight(std::uint64_t w, int T) const {

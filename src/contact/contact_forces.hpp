@@ -159,12 +159,11 @@ class ContactForces {
   void pin_pair_split(std::vector<double> shares) {
     for (double s : shares)
       if (!(s > 0.0)) throw std::invalid_argument("pair split shares must be > 0");
-    share_ = std::move(shares);
-    share_pinned_ = !share_.empty();
+    pair_split_.pin(std::move(shares));
   }
   // Each thread's share of the pair loop at the last call (empty before the first
   // parallel one).
-  std::span<const double> pair_split() const { return share_; }
+  std::span<const double> pair_split() const { return pair_split_.share(); }
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
   // Restart from a checkpoint: the stored tangential forces, the elastic-energy
@@ -298,16 +297,10 @@ class ContactForces {
   // ascending (more than one thread). Each thread reads only those in the scatter, not
   // every record: on late Dr2 each of two threads read all ~6 400 (issue 7 profile).
   std::vector<ThreadVector<Index>> touching_;
-  // More than one thread: each thread's share of the examined pairs' expected cost in the
-  // pair loop (sums to 1; balance_shares), its running sums (share_cum_[t] .. [t + 1]),
-  // and the seconds each thread spent in its pair loop and its scatter.
-  std::vector<double> share_;
-  std::vector<double> share_cum_;
-  bool share_pinned_ = false;
-  struct alignas(64) BusyTime {
-    double seconds = 0.0;
-  };
-  std::vector<BusyTime> busy_;
+  // More than one thread: each thread's share (model/work_split.hpp, tuned from its busy
+  // time) of the examined pairs' expected cost in the pair loop (busy: its pair loop and
+  // scatter), of the candidate pairs in the filter, and of the shapes to update.
+  TunedSplit pair_split_, filter_split_, shape_split_;
   // The contact sums per block of pairs (triangle i / kSumBlock), in record order, by the
   // thread that made the records while they are in its cache; block_sums_[t]: thread t's
   // blocks in order, added in thread order by finish(). The serial sum over every record it
@@ -322,11 +315,6 @@ class ContactForces {
     Index active = 0, sliding = 0;
   };
   std::vector<ThreadCounts> thread_counts_;
-  std::vector<double> busy_seconds_;
-  // share_ and share_cum_ for T threads (equal shares when T changed).
-  void prepare_split(int T);
-  // share_ from the busy times of the call just done (unless pinned).
-  void rebalance_split(int T);
   int used_threads_ = 0;
   double last_elastic_energy_ = 0.0;
 };
@@ -353,7 +341,10 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     skip_epoch_ = skip_epoch;
   }
   const int nt = begin_pairs(np);
-  if (nt > 1) prepare_split(nt);
+  if (nt > 1) {
+    pair_split_.prepare(nt);
+    filter_split_.prepare(nt);
+  }
   // Each thread writes its contacts' history to a segment of its own, and its blocks' sums.
   history_.begin_step(nt);
   if (block_sums_.size() < static_cast<std::size_t>(nt)) block_sums_.resize(nt);
@@ -372,7 +363,13 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     todo.clear();
     upto.clear();
     std::uint32_t weight = 0;
-    const std::size_t b = np * t / T, e = np * (t + 1) / T;
+    const bool tuned = T == nt && T > 1;
+    const std::size_t b = tuned ? filter_split_.begin(np, t) : np * t / T;
+    const std::size_t e = tuned ? filter_split_.begin(np, t + 1) : np * (t + 1) / T;
+    double busy_from = 0.0;
+#ifdef _OPENMP
+    if (tuned) busy_from = omp_get_wtime();
+#endif
     for (std::size_t p = b; p < e; ++p) {
       const ContactPair pr = pairs[p];
       const float sb = skip_below_[p];
@@ -397,6 +394,9 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     }
     // 2. Edge data of the triangles in those pairs only (once each), unless
     // update_shapes() did it for all.
+#ifdef _OPENMP
+    if (tuned) filter_split_.set_busy(t, omp_get_wtime() - busy_from);
+#endif
     if (t == 0) used_threads_ = T;
 #pragma omp barrier
     if (!scales_with_shapes_) {
@@ -426,16 +426,17 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     ContactHistory::Cursor cursor;  // keys ascend within the run
     std::size_t first = 0, count = todo_[0].size();
     std::vector<ContactHistory::Entry>& history_out = history_.segment(t);
-    double busy_from = 0.0;
     if (T > 1) {
 #ifdef _OPENMP
       busy_from = omp_get_wtime();
 #endif
       std::uint64_t total = 0;
       for (int u = 0; u < T; ++u) total += todo_weight_[u].empty() ? 0 : todo_weight_[u].back();
-      // Thread t's run: the running weights in (total * share_cum_[t], total * share_cum_[t + 1]].
+      // Thread t's run: the running weights in (total cum[t], total cum[t + 1]].
       auto bound = [&](int u) {
-        return u >= T ? total : std::min(total, static_cast<std::uint64_t>(static_cast<double>(total) * share_cum_[u]));
+        if (u >= T) return total;
+        if (!tuned) return total * static_cast<std::uint64_t>(u) / static_cast<std::uint64_t>(T);
+        return std::min(total, static_cast<std::uint64_t>(static_cast<double>(total) * pair_split_.cum()[u]));
       };
       // Runs start at the first pair of a sum block (pairs whose triangle i is in one run of
       // kSumBlock indices), so no block is split between threads.
@@ -514,11 +515,14 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
 #endif
       scatter_forces(in, f, t, T);
 #ifdef _OPENMP
-      busy_[t].seconds = omp_get_wtime() - busy_from;
+      if (tuned) pair_split_.set_busy(t, omp_get_wtime() - busy_from);
 #endif
     }
   }
-  if (used_threads_ > 1) rebalance_split(used_threads_);
+  if (used_threads_ > 1 && used_threads_ == nt) {
+    pair_split_.rebalance();
+    filter_split_.rebalance();
+  }
   std::size_t examined = 0;
   for (int u = 0; u < used_threads_; ++u) examined += todo_[u].size();
   // Examined pairs per triangle of the candidate pairs: the disc < 0.25, late Dr2 > 1.4.

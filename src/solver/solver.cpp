@@ -267,29 +267,6 @@ void Solver::build_gather() {
     throw std::logic_error(fmt::format("joint nodes outside their triangles: {} of {} joint-node pairs reached", covered, 4 * nj));
 }
 
-void Solver::prepare_element_split(int threads) {
-  const auto T = static_cast<std::size_t>(threads);
-  for (LoopSplit* split : {&shared_split_, &own_split_}) {
-    if (split->share.size() != T) split->share.assign(T, 1.0 / threads);
-    cumulative_shares(split->share, split->cum);
-  }
-  const std::size_t ns = shared_triangles_.size();
-  shared_split_.bound.resize(T + 1);
-  for (std::size_t t = 0; t <= T; ++t)
-    shared_split_.bound[t] = t == T ? ns : static_cast<std::size_t>(static_cast<double>(ns) * shared_split_.cum[t]);
-  counted_share_bounds(own_prefix_, own_split_.cum, own_split_.bound);
-  if (element_busy_.size() < T) element_busy_.resize(T);
-  busy_scratch_.resize(T);
-}
-
-void Solver::rebalance_element_split(int threads) {
-  const auto T = static_cast<std::size_t>(threads);
-  for (std::size_t t = 0; t < T; ++t) busy_scratch_[t] = element_busy_[t].shared;
-  balance_shares(shared_split_.share, busy_scratch_);
-  for (std::size_t t = 0; t < T; ++t) busy_scratch_[t] = element_busy_[t].own;
-  balance_shares(own_split_.share, busy_scratch_);
-}
-
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
 void Solver::set_settings(const StepSettings& s) {
@@ -488,7 +465,9 @@ void Solver::add_internal_and_joint_forces() {
 #ifdef _OPENMP
   if (parallel_) threads = omp_get_max_threads();
 #endif
-  prepare_element_split(threads);
+  shared_split_.prepare(threads);
+  own_split_.prepare(threads);
+  counted_share_bounds(own_prefix_, own_split_.cum(), own_bound_);
   bool full_team = false;
 #pragma omp parallel num_threads(threads) if (parallel_) reduction(| : inverted)
   {
@@ -501,8 +480,9 @@ void Solver::add_internal_and_joint_forces() {
     // than asked for: then one thread).
     const bool split = team == threads;
     const auto th = static_cast<std::size_t>(thread);
-    const std::ptrdiff_t s_begin = split ? static_cast<std::ptrdiff_t>(shared_split_.bound[th]) : (thread == 0 ? 0 : ns);
-    const std::ptrdiff_t s_end = split ? static_cast<std::ptrdiff_t>(shared_split_.bound[th + 1]) : ns;
+    const auto n_shared = static_cast<std::size_t>(ns);
+    const std::ptrdiff_t s_begin = split ? static_cast<std::ptrdiff_t>(shared_split_.begin(n_shared, thread)) : (thread == 0 ? 0 : ns);
+    const std::ptrdiff_t s_end = split ? static_cast<std::ptrdiff_t>(shared_split_.begin(n_shared, thread + 1)) : ns;
     double busy_from = 0.0;
 #ifdef _OPENMP
     busy_from = omp_get_wtime();
@@ -518,7 +498,7 @@ void Solver::add_internal_and_joint_forces() {
     if (joints)
       evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now);
 #ifdef _OPENMP
-    element_busy_[th].shared = omp_get_wtime() - busy_from;
+    shared_split_.set_busy(thread, omp_get_wtime() - busy_from);
 #endif
 #pragma omp barrier
 #ifdef _OPENMP
@@ -526,8 +506,8 @@ void Solver::add_internal_and_joint_forces() {
 #endif
     const std::array<Vec2, 2>* jforce = joint_buf_.force.data();
     // Own triangles: this thread's share (they write only their own nodes; no order).
-    const std::size_t own_begin = split ? own_split_.bound[th] : (thread == 0 ? 0 : tri.size());
-    const std::size_t own_end = split ? own_split_.bound[th + 1] : tri.size();
+    const std::size_t own_begin = split ? own_bound_[th] : (thread == 0 ? 0 : tri.size());
+    const std::size_t own_end = split ? own_bound_[th + 1] : tri.size();
     for (std::size_t t = own_begin; t < own_end; ++t) {
       const std::uint16_t code = own_corners_[t];
       if (code == kSharedTriangle) continue;
@@ -583,11 +563,14 @@ void Solver::add_internal_and_joint_forces() {
       if (damped) damping_force_[i] += fd;
     }
 #ifdef _OPENMP
-    element_busy_[th].own = omp_get_wtime() - busy_from;
+    own_split_.set_busy(thread, omp_get_wtime() - busy_from);
 #endif
     if (thread == 0) full_team = split;
   }
-  if (threads > 1 && full_team) rebalance_element_split(threads);
+  if (threads > 1 && full_team) {
+    shared_split_.rebalance();
+    own_split_.rebalance();
+  }
   inverted_ = inverted != 0;
   if (joints) {
     energy_.joint_elastic = joint_buf_.energy();

@@ -13,6 +13,7 @@
 #include "io/checkpoint.hpp"
 #include "joint/joint_phase.hpp"
 #include "model/model.hpp"
+#include "model/work_split.hpp"
 #include "solver/constraints.hpp"
 #include "solver/energy.hpp"
 
@@ -254,18 +255,8 @@ class Solver {
   // the shared triangles (before the barrier, with the joints) and of the own triangles
   // (after it, with the gathered nodes), tuned each step from the threads' busy times, and
   // the index bounds they give. Which thread computes a triangle changes no result.
-  struct LoopSplit {
-    std::vector<double> share, cum;
-    std::vector<std::size_t> bound;
-  };
-  LoopSplit shared_split_, own_split_;
-  struct alignas(64) ElementBusy {
-    double shared = 0.0, own = 0.0;  // s
-  };
-  std::vector<ElementBusy> element_busy_;
-  std::vector<double> busy_scratch_;
-  void prepare_element_split(int threads);
-  void rebalance_element_split(int threads);
+  TunedSplit shared_split_, own_split_;
+  std::vector<std::size_t> own_bound_;  // triangle index bounds of the own-triangle runs
   // Per gathered node: shared slot entries 3 s + corner (ascending triangle), joint
   // entries 2 (2 j + end) + side (ascending joint; side 1 = face b, negated).
   std::vector<Index> gather_offset_, gather_entry_;

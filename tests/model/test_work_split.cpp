@@ -59,3 +59,29 @@ TEST(CumulativeShares, RunFromZeroToOneWhateverTheSum) {
   EXPECT_NEAR(cum[2], 0.5, 1e-15);
   EXPECT_EQ(cum[3], 1.0);
 }
+
+TEST(TunedSplit, RunsTileTheItemsAndFollowTheMeasuredTimes) {
+  dsdem::TunedSplit split;
+  split.prepare(2);
+  EXPECT_EQ(split.begin(1000, 0), 0u);
+  EXPECT_EQ(split.begin(1000, 1), 500u);
+  EXPECT_EQ(split.begin(1000, 2), 1000u);
+  // Thread 1 took twice as long for the same share: it gets less next time (thread 0's run
+  // ends later).
+  split.set_busy(0, 1e-3);
+  split.set_busy(1, 2e-3);
+  split.rebalance();
+  split.prepare(2);
+  EXPECT_GT(split.begin(1000, 1), 500u);
+  EXPECT_LT(split.begin(1000, 1), 1000u);
+  EXPECT_EQ(split.begin(1000, 2), 1000u);
+  // Pinned: kept through rebalance(); another thread count starts over from equal shares.
+  split.pin({1.0, 3.0});
+  split.prepare(2);
+  split.rebalance();
+  split.prepare(2);
+  EXPECT_EQ(split.begin(1000, 1), 250u);
+  split.prepare(3);
+  EXPECT_EQ(split.begin(900, 1), 300u);
+  EXPECT_EQ(split.begin(900, 3), 900u);
+}
