@@ -365,17 +365,28 @@ ContactStepStats ContactForces::finish() {
     st.active_contacts += thread_counts_[t].active;
     st.sliding_contacts += thread_counts_[t].sliding;
   }
-  // Spare room so that a slowly growing contact count does not reallocate every step.
-  history_.reserve_headroom();
+  // Spare room so that a slowly growing contact count does not reallocate every step. Each
+  // thread's lists get room for the whole step's count, not only for its own: the split
+  // between the threads follows their measured speed (TunedSplit) and may give any thread
+  // more than it ever had, which must not allocate in the time loop (a slow core under a
+  // sanitizer did). On one thread it is the same room as before.
+  std::size_t records = 0, examined = 0, blocks = 0;
+  for (int t = 0; t < used_threads_; ++t) {
+    records += buffers_[t].size();
+    examined += todo_[t].size();
+    blocks += block_sums_[t].size();
+  }
+  const auto room = [](std::size_t n) { return n + n / 8; };
+  history_.reserve_headroom(room(records));
   history_.end_step();
   for (int t = 0; t < used_threads_; ++t) {
-    reserve_with_headroom(buffers_[t], buffers_[t].size() + buffers_[t].size() / 8);
-    reserve_with_headroom(block_sums_[t], block_sums_[t].size() + block_sums_[t].size() / 8 + 4);
-    if (used_threads_ > 1)
-      for (int c = 0; c < used_threads_; ++c) {
-        std::vector<Index>& list = touching_[t * used_threads_ + c];
-        reserve_with_headroom(list, list.size() + buffers_[t].size() / 8);
-      }
+    reserve_with_headroom(buffers_[t], room(records));
+    reserve_with_headroom(block_sums_[t], room(blocks) + 4);
+    if (used_threads_ > 1) {
+      reserve_with_headroom(todo_[t], room(examined));
+      reserve_with_headroom(todo_weight_[t], room(examined));
+      for (int c = 0; c < used_threads_; ++c) reserve_with_headroom(touching_[t * used_threads_ + c], room(records));
+    }
   }
   st.elastic_energy_increment = st.elastic_energy - last_elastic_energy_;
   last_elastic_energy_ = st.elastic_energy;

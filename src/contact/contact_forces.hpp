@@ -392,11 +392,11 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       todo.push_back(static_cast<Index>(p));
       if (T > 1) upto.push_back(weight += pair_weight(sb));
     }
-    // 2. Edge data of the triangles in those pairs only (once each), unless
-    // update_shapes() did it for all.
 #ifdef _OPENMP
     if (tuned) filter_split_.set_busy(t, omp_get_wtime() - busy_from);
 #endif
+    // 2. Edge data of the triangles in those pairs only (once each), unless
+    // update_shapes() did it for all.
     if (t == 0) used_threads_ = T;
 #pragma omp barrier
     if (!scales_with_shapes_) {

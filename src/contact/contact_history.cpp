@@ -22,11 +22,10 @@ void ContactHistory::end_step() {
   n_current_ = 0;
 }
 
-void ContactHistory::reserve_headroom() {
+void ContactHistory::reserve_headroom(std::size_t n) {
   for (int t = 0; t < n_current_; ++t) {
-    const std::size_t n = current_[static_cast<std::size_t>(t)].size();
-    reserve_with_headroom(current_[static_cast<std::size_t>(t)], n + n / 8);
-    reserve_with_headroom(previous_[static_cast<std::size_t>(t)], n + n / 8);
+    reserve_with_headroom(current_[static_cast<std::size_t>(t)], n);
+    reserve_with_headroom(previous_[static_cast<std::size_t>(t)], n);
   }
 }
 

@@ -58,8 +58,9 @@ class ContactHistory {
     assert(last.empty() || last.back().key < key);
     last.push_back({key, ft});
   }
-  // Room in each segment for 1/8 more than it holds now, in both sets (grows only).
-  void reserve_headroom();
+  // Room for n entries in each segment of this step, in both sets (grows only): any
+  // segment may hold up to a whole step's contacts.
+  void reserve_headroom(std::size_t n);
   // This step's contacts become `previous`; the rest are forgotten.
   void end_step();
 
