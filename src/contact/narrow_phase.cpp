@@ -4,6 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define DSDEM_QUERIES_X4 1
+#endif
+
 namespace dsdem::contact {
 
 CoreEdgeScales core_edge_scales(const std::array<Vec2, 3>& core) {
@@ -94,8 +99,6 @@ CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& core, cons
   return closest_from(p, core, ce, edge_distances(p, core, ce));
 }
 
-namespace {
-
 // Vertices farther than `reach` from the core's box, or beyond an edge line by more than
 // `reach` plus a margin far above rounding (so the computed distance would exceed reach
 // too), cannot touch it: skip the query. (A vertex skipped this way is not needed by the
@@ -114,7 +117,154 @@ CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const
   return closest_from(p, core, ce, sd);
 }
 
+#if defined(DSDEM_QUERIES_X4)
+namespace {
+
+// closest_within() in the four lanes of AVX registers: every branch of the scalar code
+// becomes a compare and a blend, and each lane does the scalar code's IEEE operations in
+// the same order (no fused multiply-add), so each lane's result is the scalar one bit for
+// bit (test VertexQueries.*).
+#define DSDEM_AVX2 __attribute__((target("avx2"), always_inline)) inline
+DSDEM_AVX2 __m256d bc(double v) { return _mm256_set1_pd(v); }
+DSDEM_AVX2 __m256d add(__m256d a, __m256d b) { return _mm256_add_pd(a, b); }
+DSDEM_AVX2 __m256d sub(__m256d a, __m256d b) { return _mm256_sub_pd(a, b); }
+DSDEM_AVX2 __m256d mul(__m256d a, __m256d b) { return _mm256_mul_pd(a, b); }
+// Where m: a, else b.
+DSDEM_AVX2 __m256d sel(__m256d m, __m256d a, __m256d b) { return _mm256_blendv_pd(b, a, m); }
+DSDEM_AVX2 __m256d lt(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+DSDEM_AVX2 __m256d le(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_LE_OQ); }
+DSDEM_AVX2 __m256d bit_or(__m256d a, __m256d b) { return _mm256_or_pd(a, b); }
+DSDEM_AVX2 __m256d bit_and(__m256d a, __m256d b) { return _mm256_and_pd(a, b); }
+// (ax - cx) bx + (ay - cy) by, as Vec2 (a - c).dot(b).
+DSDEM_AVX2 __m256d dot_from(__m256d ax, __m256d ay, double cx, double cy, __m256d bx, __m256d by) {
+  return add(mul(sub(ax, bc(cx)), bx), mul(sub(ay, bc(cy)), by));
+}
+// Lane-wise v[k] where k = 2 in m2, else 1 in m1, else 0.
+DSDEM_AVX2 __m256d pick(__m256d m1, __m256d m2, double v0, double v1, double v2) {
+  return sel(m2, bc(v2), sel(m1, bc(v1), bc(v0)));
+}
+#undef DSDEM_AVX2
+
+__attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core,
+                                                          const CoreEdges& ce, double reach,
+                                                          std::array<CoreClosest, 3>& out) {
+  // Lane v = vertex v; lane 3 repeats vertex 2 (not read).
+  const __m256d px = _mm256_set_pd(p[2].x(), p[2].x(), p[1].x(), p[0].x());
+  const __m256d py = _mm256_set_pd(p[2].y(), p[2].y(), p[1].y(), p[0].y());
+  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0), sign = bc(-0.0);
+  // The box test and the edge distances (closest_within).
+  __m256d far = bit_or(bit_or(lt(px, bc(ce.lo.x() - reach)), lt(bc(ce.hi.x() + reach), px)),
+                       bit_or(lt(py, bc(ce.lo.y() - reach)), lt(bc(ce.hi.y() + reach), py)));
+  __m256d sd[3];
+  for (int k = 0; k < 3; ++k) sd[k] = dot_from(px, py, core[k].x(), core[k].y(), bc(ce.n_out[k].x()), bc(ce.n_out[k].y()));
+  const __m256d beyond =
+      add(bc(reach * (1.0 + 1e-6)), mul(bc(1e-12), add(_mm256_andnot_pd(sign, px), _mm256_andnot_pd(sign, py))));
+  far = bit_or(far, bit_or(lt(beyond, sd[0]), bit_or(lt(beyond, sd[1]), lt(beyond, sd[2]))));
+  // Inside a proper core (closest_from's first branch): the least deep edge k.
+  __m256d inside = bit_and(bit_and(le(sd[0], zero), le(sd[1], zero)), le(sd[2], zero));
+  if (!ce.proper) inside = zero;
+  const __m256d m1 = lt(sd[0], sd[1]);
+  const __m256d sd01 = sel(m1, sd[1], sd[0]);
+  const __m256d m2 = lt(sd01, sd[2]);
+  const __m256d sdk = sel(m2, sd[2], sd01);
+  const __m256d k_in = sel(m2, bc(2.0), sel(m1, one, zero));
+  const __m256d nkx = pick(m1, m2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x());
+  const __m256d nky = pick(m1, m2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y());
+  __m256d t_in = mul(add(mul(sub(px, pick(m1, m2, core[0].x(), core[1].x(), core[2].x())),
+                             pick(m1, m2, ce.e[0].x(), ce.e[1].x(), ce.e[2].x())),
+                         mul(sub(py, pick(m1, m2, core[0].y(), core[1].y(), core[2].y())),
+                             pick(m1, m2, ce.e[0].y(), ce.e[1].y(), ce.e[2].y()))),
+                     pick(m1, m2, ce.inv_len2[0], ce.inv_len2[1], ce.inv_len2[2]));
+  t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
+  // Outside: the nearest point of the three segments, the first edge winning a tie.
+  __m256d best = bc(std::numeric_limits<double>::infinity()), edge = zero, t = zero, qx = zero, qy = zero;
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& a = core[k];
+    const Vec2& b = core[(k + 1) % 3];
+    const __m256d ex = bc(ce.e[k].x()), ey = bc(ce.e[k].y());
+    __m256d tk = mul(dot_from(px, py, a.x(), a.y(), ex, ey), bc(ce.inv_len2[k]));
+    const __m256d at_a = le(tk, zero), at_b = le(one, tk);
+    const __m256d cx = sel(at_a, bc(a.x()), sel(at_b, bc(b.x()), add(bc(a.x()), mul(tk, ex))));
+    const __m256d cy = sel(at_a, bc(a.y()), sel(at_b, bc(b.y()), add(bc(a.y()), mul(tk, ey))));
+    tk = sel(at_a, zero, sel(at_b, one, tk));
+    const __m256d dx = sub(px, cx), dy = sub(py, cy);
+    const __m256d d2 = add(mul(dx, dx), mul(dy, dy));
+    const __m256d better = lt(d2, best);
+    best = sel(better, d2, best);
+    edge = sel(better, bc(k), edge);
+    t = sel(better, tk, t);
+    qx = sel(better, cx, qx);
+    qy = sel(better, cy, qy);
+  }
+  const __m256d dist = _mm256_sqrt_pd(best);
+  // The normal: from the point toward p, or the edge's own normal (p on the boundary), or x.
+  const __m256d e1 = _mm256_cmp_pd(edge, one, _CMP_EQ_OQ), e2 = _mm256_cmp_pd(edge, bc(2.0), _CMP_EQ_OQ);
+  const __m256d has_edge = lt(zero, pick(e1, e2, ce.inv_len2[0], ce.inv_len2[1], ce.inv_len2[2]));
+  const __m256d apart = lt(zero, dist);
+  const __m256d nx = sel(apart, _mm256_div_pd(sub(px, qx), dist),
+                         sel(has_edge, pick(e1, e2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x()), one));
+  const __m256d ny = sel(apart, _mm256_div_pd(sub(py, qy), dist),
+                         sel(has_edge, pick(e1, e2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y()), zero));
+  // Inside lanes take the inside values; far lanes CoreClosest{} with an infinite distance.
+  alignas(32) double r_dist[4], r_px[4], r_py[4], r_nx[4], r_ny[4], r_edge[4], r_t[4];
+  const __m256d keep = _mm256_andnot_pd(far, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+  _mm256_store_pd(r_dist, sel(far, bc(std::numeric_limits<double>::infinity()), sel(inside, sdk, dist)));
+  _mm256_store_pd(r_px, bit_and(keep, sel(inside, sub(px, mul(sdk, nkx)), qx)));
+  _mm256_store_pd(r_py, bit_and(keep, sel(inside, sub(py, mul(sdk, nky)), qy)));
+  _mm256_store_pd(r_nx, bit_and(keep, sel(inside, nkx, nx)));
+  _mm256_store_pd(r_ny, bit_and(keep, sel(inside, nky, ny)));
+  _mm256_store_pd(r_edge, bit_and(keep, sel(inside, k_in, edge)));
+  _mm256_store_pd(r_t, bit_and(keep, sel(inside, t_in, t)));
+  const int far_bits = _mm256_movemask_pd(far), inside_bits = _mm256_movemask_pd(inside);
+  for (int v = 0; v < 3; ++v) {
+    CoreClosest& c = out[v];
+    c.distance = r_dist[v];
+    c.point = Vec2(r_px[v], r_py[v]);
+    c.normal = Vec2(r_nx[v], r_ny[v]);
+    c.edge = static_cast<int>(r_edge[v]);
+    c.t = r_t[v];
+    const bool outside = !((far_bits | inside_bits) >> v & 1);
+    c.at_vertex = outside && (c.t <= 0.0 || c.t >= 1.0);
+    c.vertex = outside && c.t >= 1.0 ? (c.edge + 1) % 3 : c.edge;
+  }
+}
+
+bool detect_avx2() {
+  __builtin_cpu_init();  // may run before the constructors that would call it
+  return __builtin_cpu_supports("avx2");
+}
+const bool kHaveAvx2 = detect_avx2();
+
 }  // namespace
+#endif
+
+namespace {
+bool use_x4 =
+#if defined(DSDEM_QUERIES_X4)
+    kHaveAvx2;
+#else
+    false;
+#endif
+}  // namespace
+
+bool closest_within_x3_vectorised() { return use_x4; }
+
+bool set_closest_within_x3_vectorised(bool on) {
+#if defined(DSDEM_QUERIES_X4)
+  use_x4 = on && kHaveAvx2;
+#else
+  (void)on;
+#endif
+  return use_x4;
+}
+
+void closest_within_x3(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                       double reach, std::array<CoreClosest, 3>& out) {
+#if defined(DSDEM_QUERIES_X4)
+  if (use_x4) return closest_within_avx2(p, core, ce, reach, out);
+#endif
+  for (int v = 0; v < 3; ++v) out[v] = closest_within(p[v], core, ce, reach);
+}
 
 namespace {
 
@@ -196,15 +346,10 @@ double clearance_after(const Spheropolygon& a, const CoreEdges& ea, const Sphero
 int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
                 std::array<ContactGeometry, kMaxContactsPerPair>& out, double* clearance = nullptr) {
   const double rsum = a.r + b.r;
-  // Vertex of a on the core of b, vertex of b on the core of a (built in place: no
-  // default fill first). The same calls as one loop over v, in another order: each
-  // query is independent.
-  const std::array<CoreClosest, 3> ca{closest_within(a.core[0], b.core, eb, rsum),
-                                      closest_within(a.core[1], b.core, eb, rsum),
-                                      closest_within(a.core[2], b.core, eb, rsum)};
-  const std::array<CoreClosest, 3> cb{closest_within(b.core[0], a.core, ea, rsum),
-                                      closest_within(b.core[1], a.core, ea, rsum),
-                                      closest_within(b.core[2], a.core, ea, rsum)};
+  // Vertices of a on the core of b, vertices of b on the core of a.
+  std::array<CoreClosest, 3> ca, cb;
+  closest_within_x3(a.core, b.core, eb, rsum, ca);
+  closest_within_x3(b.core, a.core, ea, rsum, cb);
   auto mutual_vv_a = [&](int v) {  // a's vertex v and b's vertex ca[v].vertex see each other
     const CoreClosest& o = cb[ca[v].vertex];
     return ca[v].at_vertex && o.at_vertex && o.vertex == v;

@@ -92,6 +92,23 @@ inline CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& cor
   return closest_on_core(p, core, core_edges(core));
 }
 
+// closest_on_core() for a vertex of another body that may touch this core: p farther
+// than `reach` from the core's box, or beyond an edge line by more than `reach` plus a
+// margin far above rounding, gives distance = +inf and the other fields as
+// CoreClosest{} (the computed distance would exceed reach too).
+CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce, double reach);
+// out[v] = closest_within(p[v], core, ce, reach) for v = 0, 1, 2, bit for bit. On an
+// x86-64 CPU with AVX2 the three queries run in the lanes of 256-bit registers, without
+// branches (issue 7: the scalar queries' data-dependent branches were a fifth of a late
+// Dr2 step); elsewhere three scalar calls.
+void closest_within_x3(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                       double reach, std::array<CoreClosest, 3>& out);
+// True when closest_within_x3() uses the vector lanes on this CPU.
+bool closest_within_x3_vectorised();
+// Turns the vector lanes off (or on again where the CPU has them), for tests comparing
+// the two; returns closest_within_x3_vectorised(). Not thread-safe: call between runs.
+bool set_closest_within_x3_vectorised(bool on);
+
 constexpr int kMaxContactsPerPair = 6;
 
 // True when an edge normal of either core separates the two cores by more than

@@ -375,3 +375,98 @@ TEST(NarrowPhase, ClearanceWithoutContactBoundsTheCoreDistanceAndCheckApartChang
   EXPECT_GT(from_sat, 300);
   EXPECT_GT(from_query, 100);  // corner-to-corner neighbours no edge normal separates
 }
+
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Every field of two query results equal, bit for bit.
+::testing::AssertionResult same_closest(const CoreClosest& got, const CoreClosest& want) {
+  if (same_bits(got.distance, want.distance) && same_bits(got.point.x(), want.point.x()) &&
+      same_bits(got.point.y(), want.point.y()) && same_bits(got.normal.x(), want.normal.x()) &&
+      same_bits(got.normal.y(), want.normal.y()) && got.edge == want.edge && same_bits(got.t, want.t) &&
+      got.at_vertex == want.at_vertex && got.vertex == want.vertex)
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "got d " << got.distance << " edge " << got.edge << " t " << got.t
+                                       << " vertex " << got.vertex << " at " << got.at_vertex << ", want d "
+                                       << want.distance << " edge " << want.edge << " t " << want.t << " vertex "
+                                       << want.vertex << " at " << want.at_vertex;
+}
+
+// A random core near the origin: proper of either orientation, or degenerate.
+std::array<Vec2, 3> random_core(std::mt19937& rng, int kind) {
+  std::uniform_real_distribution<double> d(-2.0, 2.0);
+  std::array<Vec2, 3> c{Vec2(d(rng), d(rng)), Vec2(d(rng), d(rng)), Vec2(d(rng), d(rng))};
+  if (kind == 1) c[2] = c[1];                        // a zero-length edge
+  if (kind == 2) c[1] = c[2] = c[0];                 // collapsed to a point
+  if (kind == 3) c[2] = c[0] + 0.25 * (c[1] - c[0]);  // three points on a line
+  return c;
+}
+
+}  // namespace
+
+TEST(VertexQueries, ThreeAtOnceEqualTheScalarQueryBitForBit) {
+  // closest_within_x3 (vector lanes where the CPU has AVX2) against closest_within, for
+  // points far off, beyond an edge line, near, inside, on an edge and on a vertex.
+  RecordProperty("vectorised", closest_within_x3_vectorised() ? "yes" : "no");
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> d(-3.0, 3.0), unit(0.0, 1.0);
+  int inside = 0, at_vertex = 0, far = 0, on_edge = 0;
+  for (int trial = 0; trial < 30000; ++trial) {
+    const std::array<Vec2, 3> core = random_core(rng, trial % 9 < 6 ? 0 : trial % 9 - 5);
+    const CoreEdges ce = core_edges(core);
+    std::array<Vec2, 3> p;
+    for (int v = 0; v < 3; ++v) {
+      const int k = (trial + v) % 3;
+      switch ((trial / 3 + v) % 5) {
+        case 0: p[v] = Vec2(d(rng), d(rng)); break;                                      // anywhere
+        case 1: p[v] = core[k] + unit(rng) * (core[(k + 1) % 3] - core[k]); break;       // on an edge
+        case 2: p[v] = core[k]; break;                                                   // on a vertex
+        case 3: p[v] = (core[0] + core[1] + core[2]) / 3.0 + 0.1 * Vec2(d(rng), d(rng)); break;  // inside
+        default: p[v] = core[k] + 0.05 * Vec2(d(rng), d(rng)); break;                    // near a vertex
+      }
+    }
+    const double reach = trial % 4 == 0 ? 0.0 : 0.5 * unit(rng);
+    std::array<CoreClosest, 3> got;
+    closest_within_x3(p, core, ce, reach, got);
+    for (int v = 0; v < 3; ++v) {
+      const CoreClosest want = closest_within(p[v], core, ce, reach);
+      ASSERT_TRUE(same_closest(got[v], want)) << "trial " << trial << " vertex " << v;
+      far += std::isinf(want.distance) ? 1 : 0;
+      inside += want.distance < 0.0 ? 1 : 0;
+      at_vertex += want.at_vertex ? 1 : 0;
+      on_edge += std::isfinite(want.distance) && !want.at_vertex && want.distance >= 0.0 ? 1 : 0;
+    }
+  }
+  // Every branch of the scalar query was taken many times.
+  EXPECT_GT(far, 1000);
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(at_vertex, 1000);
+  EXPECT_GT(on_edge, 1000);
+}
+
+TEST(VertexQueries, NarrowPhaseGivesTheSameContactsWithAndWithoutTheVectorLanes) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> d(-1.0, 1.0), unit(0.0, 1.0);
+  const bool vectorised = closest_within_x3_vectorised();
+  int contacts = 0;
+  for (int trial = 0; trial < 5000; ++trial) {
+    const std::array<Vec2, 3> ca = random_core(rng, trial % 11 == 0 ? 3 : 0);
+    std::array<Vec2, 3> cb = random_core(rng, trial % 13 == 0 ? 1 : 0);
+    for (Vec2& v : cb) v = 0.5 * v + Vec2(d(rng), d(rng));
+    const Spheropolygon a{ca, 0.2 * unit(rng)}, b{cb, 0.2 * unit(rng)};
+    const CoreEdgeScales sa = core_edge_scales(a.core), sb = core_edge_scales(b.core);
+    Out x4, x1;
+    double clear_x4 = 0.0, clear_x1 = 0.0;
+    set_closest_within_x3_vectorised(true);
+    const int n4 = narrow_phase(a, sa, b, sb, x4, &clear_x4, trial % 2 == 0);
+    set_closest_within_x3_vectorised(false);
+    const int n1 = narrow_phase(a, sa, b, sb, x1, &clear_x1, trial % 2 == 0);
+    set_closest_within_x3_vectorised(vectorised);
+    ASSERT_EQ(n4, n1) << "trial " << trial;
+    EXPECT_TRUE(same_bits(clear_x4, clear_x1)) << "trial " << trial;
+    for (int k = 0; k < n1; ++k) EXPECT_TRUE(same_geometry(x4[k], x1[k])) << "trial " << trial << " contact " << k;
+    contacts += n1;
+  }
+  EXPECT_GT(contacts, 2000);
+}
