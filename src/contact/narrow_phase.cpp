@@ -151,44 +151,43 @@ __attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 
   // Lane v = vertex v; lane 3 repeats vertex 2 (not read).
   const __m256d px = _mm256_set_pd(p[2].x(), p[2].x(), p[1].x(), p[0].x());
   const __m256d py = _mm256_set_pd(p[2].y(), p[2].y(), p[1].y(), p[0].y());
-  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0), sign = bc(-0.0);
-  // The box test and the edge distances (closest_within).
+  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0), inf = bc(std::numeric_limits<double>::infinity());
+  // The box test and the edge distances (closest_within). p - core[k] serves both the edge
+  // distance and the edge parameter below, as in the scalar code (the same values).
   __m256d far = bit_or(bit_or(lt(px, bc(ce.lo.x() - reach)), lt(bc(ce.hi.x() + reach), px)),
                        bit_or(lt(py, bc(ce.lo.y() - reach)), lt(bc(ce.hi.y() + reach), py)));
-  __m256d sd[3];
-  for (int k = 0; k < 3; ++k) sd[k] = dot_from(px, py, core[k].x(), core[k].y(), bc(ce.n_out[k].x()), bc(ce.n_out[k].y()));
+  __m256d dx[3], dy[3], sd[3];
+  for (int k = 0; k < 3; ++k) {
+    dx[k] = sub(px, bc(core[k].x()));
+    dy[k] = sub(py, bc(core[k].y()));
+    sd[k] = add(mul(dx[k], bc(ce.n_out[k].x())), mul(dy[k], bc(ce.n_out[k].y())));
+  }
+  const __m256d sign = bc(-0.0);
   const __m256d beyond =
       add(bc(reach * (1.0 + 1e-6)), mul(bc(1e-12), add(_mm256_andnot_pd(sign, px), _mm256_andnot_pd(sign, py))));
   far = bit_or(far, bit_or(lt(beyond, sd[0]), bit_or(lt(beyond, sd[1]), lt(beyond, sd[2]))));
-  // Inside a proper core (closest_from's first branch): the least deep edge k.
-  __m256d inside = bit_and(bit_and(le(sd[0], zero), le(sd[1], zero)), le(sd[2], zero));
-  if (!ce.proper) inside = zero;
-  const __m256d m1 = lt(sd[0], sd[1]);
-  const __m256d sd01 = sel(m1, sd[1], sd[0]);
-  const __m256d m2 = lt(sd01, sd[2]);
-  const __m256d sdk = sel(m2, sd[2], sd01);
-  const __m256d k_in = sel(m2, bc(2.0), sel(m1, one, zero));
-  const __m256d nkx = pick(m1, m2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x());
-  const __m256d nky = pick(m1, m2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y());
-  __m256d t_in = mul(add(mul(sub(px, pick(m1, m2, core[0].x(), core[1].x(), core[2].x())),
-                             pick(m1, m2, ce.e[0].x(), ce.e[1].x(), ce.e[2].x())),
-                         mul(sub(py, pick(m1, m2, core[0].y(), core[1].y(), core[2].y())),
-                             pick(m1, m2, ce.e[0].y(), ce.e[1].y(), ce.e[2].y()))),
-                     pick(m1, m2, ce.inv_len2[0], ce.inv_len2[1], ce.inv_len2[2]));
-  t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
+  const int far_bits = _mm256_movemask_pd(far) & 7;
+  if (far_bits == 7) {  // two thirds of Dr2's queries are far: no more work for them
+    for (CoreClosest& c : out) {
+      c = CoreClosest{};
+      c.distance = std::numeric_limits<double>::infinity();
+    }
+    return;
+  }
   // Outside: the nearest point of the three segments, the first edge winning a tie.
-  __m256d best = bc(std::numeric_limits<double>::infinity()), edge = zero, t = zero, qx = zero, qy = zero;
+  __m256d t_raw[3];
+  __m256d best = inf, edge = zero, t = zero, qx = zero, qy = zero;
   for (int k = 0; k < 3; ++k) {
     const Vec2& a = core[k];
     const Vec2& b = core[(k + 1) % 3];
     const __m256d ex = bc(ce.e[k].x()), ey = bc(ce.e[k].y());
-    __m256d tk = mul(dot_from(px, py, a.x(), a.y(), ex, ey), bc(ce.inv_len2[k]));
-    const __m256d at_a = le(tk, zero), at_b = le(one, tk);
-    const __m256d cx = sel(at_a, bc(a.x()), sel(at_b, bc(b.x()), add(bc(a.x()), mul(tk, ex))));
-    const __m256d cy = sel(at_a, bc(a.y()), sel(at_b, bc(b.y()), add(bc(a.y()), mul(tk, ey))));
-    tk = sel(at_a, zero, sel(at_b, one, tk));
-    const __m256d dx = sub(px, cx), dy = sub(py, cy);
-    const __m256d d2 = add(mul(dx, dx), mul(dy, dy));
+    t_raw[k] = mul(add(mul(dx[k], ex), mul(dy[k], ey)), bc(ce.inv_len2[k]));
+    const __m256d at_a = le(t_raw[k], zero), at_b = le(one, t_raw[k]);
+    const __m256d cx = sel(at_a, bc(a.x()), sel(at_b, bc(b.x()), add(bc(a.x()), mul(t_raw[k], ex))));
+    const __m256d cy = sel(at_a, bc(a.y()), sel(at_b, bc(b.y()), add(bc(a.y()), mul(t_raw[k], ey))));
+    const __m256d tk = sel(at_a, zero, sel(at_b, one, t_raw[k]));
+    const __m256d ux = sub(px, cx), uy = sub(py, cy);
+    const __m256d d2 = add(mul(ux, ux), mul(uy, uy));
     const __m256d better = lt(d2, best);
     best = sel(better, d2, best);
     edge = sel(better, bc(k), edge);
@@ -197,25 +196,55 @@ __attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 
     qy = sel(better, cy, qy);
   }
   const __m256d dist = _mm256_sqrt_pd(best);
-  // The normal: from the point toward p, or the edge's own normal (p on the boundary), or x.
-  const __m256d e1 = _mm256_cmp_pd(edge, one, _CMP_EQ_OQ), e2 = _mm256_cmp_pd(edge, bc(2.0), _CMP_EQ_OQ);
-  const __m256d has_edge = lt(zero, pick(e1, e2, ce.inv_len2[0], ce.inv_len2[1], ce.inv_len2[2]));
   const __m256d apart = lt(zero, dist);
-  const __m256d nx = sel(apart, _mm256_div_pd(sub(px, qx), dist),
-                         sel(has_edge, pick(e1, e2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x()), one));
-  const __m256d ny = sel(apart, _mm256_div_pd(sub(py, qy), dist),
-                         sel(has_edge, pick(e1, e2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y()), zero));
-  // Inside lanes take the inside values; far lanes CoreClosest{} with an infinite distance.
-  alignas(32) double r_dist[4], r_px[4], r_py[4], r_nx[4], r_ny[4], r_edge[4], r_t[4];
+  __m256d nx = _mm256_div_pd(sub(px, qx), dist), ny = _mm256_div_pd(sub(py, qy), dist);
+  if (((_mm256_movemask_pd(apart) | far_bits) & 7) != 7) {
+    // p on the boundary (rare): the edge's own normal, or x on a core collapsed to a point.
+    const __m256d e1 = _mm256_cmp_pd(edge, one, _CMP_EQ_OQ), e2 = _mm256_cmp_pd(edge, bc(2.0), _CMP_EQ_OQ);
+    const __m256d has_edge = lt(zero, pick(e1, e2, ce.inv_len2[0], ce.inv_len2[1], ce.inv_len2[2]));
+    nx = sel(apart, nx, sel(has_edge, pick(e1, e2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x()), one));
+    ny = sel(apart, ny, sel(has_edge, pick(e1, e2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y()), zero));
+  }
+  // Outside lanes: an edge end is a vertex (closest_from's at_vertex and vertex).
+  const __m256d at_end = bit_or(le(t, zero), le(one, t));
+  __m256d vertex = sel(le(one, t), sel(_mm256_cmp_pd(edge, bc(2.0), _CMP_EQ_OQ), zero, add(edge, one)), edge);
+  __m256d dist_out = dist;
+  // Inside a proper core (closest_from's first branch): the least deep edge k.
+  __m256d inside = bit_and(bit_and(le(sd[0], zero), le(sd[1], zero)), le(sd[2], zero));
+  if (!ce.proper) inside = zero;
+  if (_mm256_movemask_pd(inside) & ~far_bits & 7) {  // rare: a vertex inside the other core
+    const __m256d m1 = lt(sd[0], sd[1]);
+    const __m256d sd01 = sel(m1, sd[1], sd[0]);
+    const __m256d m2 = lt(sd01, sd[2]);
+    const __m256d sdk = sel(m2, sd[2], sd01);
+    const __m256d k_in = sel(m2, bc(2.0), sel(m1, one, zero));
+    const __m256d nkx = pick(m1, m2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x());
+    const __m256d nky = pick(m1, m2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y());
+    __m256d t_in = sel(m2, t_raw[2], sel(m1, t_raw[1], t_raw[0]));
+    t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
+    dist_out = sel(inside, sdk, dist_out);
+    qx = sel(inside, sub(px, mul(sdk, nkx)), qx);
+    qy = sel(inside, sub(py, mul(sdk, nky)), qy);
+    nx = sel(inside, nkx, nx);
+    ny = sel(inside, nky, ny);
+    edge = sel(inside, k_in, edge);
+    vertex = sel(inside, k_in, vertex);
+    t = sel(inside, t_in, t);
+  } else {
+    inside = zero;
+  }
+  // Far lanes: CoreClosest{} with an infinite distance.
   const __m256d keep = _mm256_andnot_pd(far, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
-  _mm256_store_pd(r_dist, sel(far, bc(std::numeric_limits<double>::infinity()), sel(inside, sdk, dist)));
-  _mm256_store_pd(r_px, bit_and(keep, sel(inside, sub(px, mul(sdk, nkx)), qx)));
-  _mm256_store_pd(r_py, bit_and(keep, sel(inside, sub(py, mul(sdk, nky)), qy)));
-  _mm256_store_pd(r_nx, bit_and(keep, sel(inside, nkx, nx)));
-  _mm256_store_pd(r_ny, bit_and(keep, sel(inside, nky, ny)));
-  _mm256_store_pd(r_edge, bit_and(keep, sel(inside, k_in, edge)));
-  _mm256_store_pd(r_t, bit_and(keep, sel(inside, t_in, t)));
-  const int far_bits = _mm256_movemask_pd(far), inside_bits = _mm256_movemask_pd(inside);
+  alignas(32) double r_dist[4], r_px[4], r_py[4], r_nx[4], r_ny[4], r_edge[4], r_t[4], r_vertex[4];
+  _mm256_store_pd(r_dist, sel(far, inf, dist_out));
+  _mm256_store_pd(r_px, bit_and(keep, qx));
+  _mm256_store_pd(r_py, bit_and(keep, qy));
+  _mm256_store_pd(r_nx, bit_and(keep, nx));
+  _mm256_store_pd(r_ny, bit_and(keep, ny));
+  _mm256_store_pd(r_edge, bit_and(keep, edge));
+  _mm256_store_pd(r_t, bit_and(keep, t));
+  _mm256_store_pd(r_vertex, bit_and(keep, vertex));
+  const int at_vertex_bits = _mm256_movemask_pd(_mm256_andnot_pd(bit_or(far, inside), at_end));
   for (int v = 0; v < 3; ++v) {
     CoreClosest& c = out[v];
     c.distance = r_dist[v];
@@ -223,9 +252,8 @@ __attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 
     c.normal = Vec2(r_nx[v], r_ny[v]);
     c.edge = static_cast<int>(r_edge[v]);
     c.t = r_t[v];
-    const bool outside = !((far_bits | inside_bits) >> v & 1);
-    c.at_vertex = outside && (c.t <= 0.0 || c.t >= 1.0);
-    c.vertex = outside && c.t >= 1.0 ? (c.edge + 1) % 3 : c.edge;
+    c.at_vertex = (at_vertex_bits >> v) & 1;
+    c.vertex = static_cast<int>(r_vertex[v]);
   }
 }
 
