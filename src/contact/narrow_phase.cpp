@@ -120,10 +120,11 @@ CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const
 #if defined(DSDEM_QUERIES_X4)
 namespace {
 
-// closest_within() in the four lanes of AVX registers: every branch of the scalar code
-// becomes a compare and a blend, and each lane does the scalar code's IEEE operations in
-// the same order (no fused multiply-add), so each lane's result is the scalar one bit for
-// bit (test VertexQueries.*).
+// closest_within() in the four lanes of AVX registers: the scalar code's data-dependent
+// branches become compares and blends (branches remain only where all three lanes agree
+// or for rare cases), and each lane does the scalar code's IEEE operations in the same
+// order (no fused multiply-add), so each lane's result is the scalar one bit for bit
+// (test VertexQueries.*).
 #define DSDEM_AVX2 __attribute__((target("avx2"), always_inline)) inline
 DSDEM_AVX2 __m256d bc(double v) { return _mm256_set1_pd(v); }
 DSDEM_AVX2 __m256d add(__m256d a, __m256d b) { return _mm256_add_pd(a, b); }
