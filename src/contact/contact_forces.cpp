@@ -222,7 +222,6 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
 #endif
   if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
   if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
-  if (open_.size() < static_cast<std::size_t>(nt)) open_.resize(nt);
   if (todo_weight_.size() < static_cast<std::size_t>(nt)) todo_weight_.resize(nt);
   if (touching_.size() < static_cast<std::size_t>(nt) * nt) touching_.resize(static_cast<std::size_t>(nt) * nt);
   if (thread_counts_.size() < static_cast<std::size_t>(nt)) thread_counts_.resize(nt);

@@ -267,9 +267,6 @@ class ContactForces {
   // A pair is examined when its rounded boxes overlap and it is not skipped; todo_[t]:
   // the indices of such pairs that thread t found in its chunk of the pair list this call.
   std::vector<ThreadVector<Index>> todo_;
-  // open_[t]: the pairs of thread t's filter run not known to be apart, first (sized for
-  // every pair: a run may cover them all).
-  std::vector<ThreadVector<Index>> open_;
   // More than one thread: running sums of the examined pairs' expected costs
   // (pair_weight), per list of todo_. The pair loop splits the pairs by these sums, not by
   // count: late in Dr2 one of two equal-count halves had 8 % more contacts (issue 7).
@@ -344,11 +341,6 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     skip_epoch_ = skip_epoch;
   }
   const int nt = begin_pairs(np);
-  // Any thread's filter run may cover every pair (TunedSplit).
-  for (int t = 0; t < nt; ++t) {
-    reserve_with_headroom(open_[t], np);
-    if (open_[t].size() < np) open_[t].resize(np);
-  }
   if (nt > 1) {
     pair_split_.prepare(nt);
     filter_split_.prepare(nt);
@@ -378,39 +370,44 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
 #ifdef _OPENMP
     if (tuned) busy_from = omp_get_wtime();
 #endif
-    // 1a. Without branches, the pairs neither known to be apart (no need to load their
-    // boxes) nor skipped by skip() in this epoch. Late Dr2 has 18 600 candidate pairs and
-    // examines 5 300, in no predictable pattern: as branches, this test was mispredicted
-    // ~6 300 times per step (callgrind, issue 7).
-    Index* const open = open_[t].data();
-    std::size_t n_open = 0;
-    for (std::size_t p = b; p < e; ++p) {
-      const ContactPair pr = pairs[p];
-      const float sb = skip_below_[p];
-      const double moved = motion_[pr.i] + motion_[pr.j];
-      const bool asked = sb == kSkipped, apart = moved < sb;
-      open[n_open] = static_cast<Index>(p);
-      n_open += static_cast<std::size_t>(!(asked | apart));
-      skipped += static_cast<Index>(apart & !asked);
-    }
-    // 1b. Their boxes and the caller's skip(), in pair order.
-    for (std::size_t o = 0; o < n_open; ++o) {
-      const std::size_t p = static_cast<std::size_t>(open[o]);
-      const ContactPair pr = pairs[p];
-      const float sb = skip_below_[p];
-      const double moved = motion_[pr.i] + motion_[pr.j];
-      const Aabb& bi = box_[pr.i];
-      const Aabb& bj = box_[pr.j];
-      if (!overlaps(bi, bj)) {  // the skin's extras: apart while they move less than the gap
-        skip_below_[p] = below(moved + 0.5 * box_gap(bi, bj));
-        continue;
+    // In chunks of the run: 1a. without branches, the pairs neither known to be apart (no
+    // need to load their boxes) nor skipped by skip() in this epoch. Late Dr2 has 18 600
+    // candidate pairs and examines 5 300, in no predictable pattern: as branches, this test
+    // was mispredicted ~6 300 times per step (callgrind, issue 7). A chunk on the stack, not
+    // a list of every pair: that list added 34 B per element to the 10^5 box's memory.
+    constexpr std::size_t kChunk = 256;
+    Index open[kChunk];
+    for (std::size_t c = b; c < e; c += kChunk) {
+      const std::size_t c_end = std::min(e, c + kChunk);
+      std::size_t n_open = 0;
+      for (std::size_t p = c; p < c_end; ++p) {
+        const ContactPair pr = pairs[p];
+        const float sb = skip_below_[p];
+        const double moved = motion_[pr.i] + motion_[pr.j];
+        const bool asked = sb == kSkipped, apart = moved < sb;
+        open[n_open] = static_cast<Index>(p);
+        n_open += static_cast<std::size_t>(!(asked | apart));
+        skipped += static_cast<Index>(apart & !asked);
       }
-      if (skip(pr.i, pr.j)) {
-        if (cache_skip) skip_below_[p] = kSkipped;
-        continue;
+      // 1b. Their boxes and the caller's skip(), in pair order.
+      for (std::size_t o = 0; o < n_open; ++o) {
+        const std::size_t p = static_cast<std::size_t>(open[o]);
+        const ContactPair pr = pairs[p];
+        const float sb = skip_below_[p];
+        const double moved = motion_[pr.i] + motion_[pr.j];
+        const Aabb& bi = box_[pr.i];
+        const Aabb& bj = box_[pr.j];
+        if (!overlaps(bi, bj)) {  // the skin's extras: apart while they move less than the gap
+          skip_below_[p] = below(moved + 0.5 * box_gap(bi, bj));
+          continue;
+        }
+        if (skip(pr.i, pr.j)) {
+          if (cache_skip) skip_below_[p] = kSkipped;
+          continue;
+        }
+        todo.push_back(static_cast<Index>(p));
+        if (T > 1) upto.push_back(weight += pair_weight(sb));
       }
-      todo.push_back(static_cast<Index>(p));
-      if (T > 1) upto.push_back(weight += pair_weight(sb));
     }
 #ifdef _OPENMP
     if (tuned) filter_split_.set_busy(t, omp_get_wtime() - busy_from);
