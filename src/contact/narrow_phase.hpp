@@ -98,9 +98,9 @@ inline CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& cor
 // CoreClosest{} (the computed distance would exceed reach too).
 CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce, double reach);
 // out[v] = closest_within(p[v], core, ce, reach) for v = 0, 1, 2, bit for bit. On an
-// x86-64 CPU with AVX2 the three queries run in the lanes of 256-bit registers, without
-// branches (issue 7: the scalar queries' data-dependent branches were a fifth of a late
-// Dr2 step); elsewhere three scalar calls.
+// x86-64 CPU with AVX2 the three queries run in the lanes of 256-bit registers, with
+// compares and blends for the scalar code's data-dependent branches (issue 7: those were
+// mispredicted ~42 000 times per late Dr2 step, callgrind); elsewhere three scalar calls.
 void closest_within_x3(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
                        double reach, std::array<CoreClosest, 3>& out);
 // True when closest_within_x3() uses the vector lanes on this CPU.

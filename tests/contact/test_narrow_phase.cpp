@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "contact/narrow_phase.hpp"
+#include "common/same_bits.hpp"
 
 using namespace dsdem;
 using namespace dsdem::contact;
@@ -378,7 +379,7 @@ TEST(NarrowPhase, ClearanceWithoutContactBoundsTheCoreDistanceAndCheckApartChang
 
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using dsdem::test::same_bits;
 
 // Every field of two query results equal, bit for bit.
 ::testing::AssertionResult same_closest(const CoreClosest& got, const CoreClosest& want) {
