@@ -298,8 +298,9 @@ class ContactForces {
   // every record: on late Dr2 each of two threads read all ~6 400 (issue 7 profile).
   std::vector<ThreadVector<Index>> touching_;
   // More than one thread: each thread's share (model/work_split.hpp, tuned from its busy
-  // time) of the examined pairs' expected cost in the pair loop (busy: its pair loop and
-  // scatter), of the candidate pairs in the filter, and of the shapes to update.
+  // time) of the examined pairs' expected cost in the pair loop (busy: its pair loop
+  // alone, see compute()), of the candidate pairs in the filter, and of the shapes to
+  // update.
   TunedSplit pair_split_, filter_split_, shape_split_;
   // The contact sums per block of pairs (triangle i / kSumBlock), in record order, by the
   // thread that made the records while they are in its cache; block_sums_[t]: thread t's
@@ -522,18 +523,17 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // in step 3), in record order, so each node gets the same sum, in the same order, for
     // any thread count.
     if (T > 1) {
-      // Busy time: the pair loop and the scatter, not the wait between them.
-#ifdef _OPENMP
-      busy_from -= omp_get_wtime();
-#endif
-#pragma omp barrier
-#ifdef _OPENMP
-      busy_from += omp_get_wtime();
-#endif
-      scatter_forces(in, f, t, T);
+      // Busy time: the pair loop alone. Every scatter starts after the barrier, so the
+      // step's contact phase ends at the slowest pair loop plus the longest scatter; the
+      // last thread's scatter is the longest by construction (it adds every record on its
+      // nodes, the first thread only the others' records). Balancing pair loop + scatter
+      // kept the first thread's pair loop longer by that difference: late Dr2, 2 threads,
+      // 644 / 608 us pair loops and 14 / 54 us scatters (issue 7 profile).
 #ifdef _OPENMP
       if (tuned) pair_split_.set_busy(t, omp_get_wtime() - busy_from);
 #endif
+#pragma omp barrier
+      scatter_forces(in, f, t, T);
     }
   }
   if (used_threads_ > 1 && used_threads_ == nt) {
