@@ -72,12 +72,16 @@ double deterministic_sum(std::size_t n, Term term, std::vector<double>& scratch)
 
 // K sums over the same index range in one pass (one parallel region instead of K);
 // term(i) returns std::array<double, K>. Same fixed chunking, so each sum is
-// bit-identical for any thread count. scratch holds K doubles per chunk.
+// bit-identical for any thread count. scratch holds K doubles per chunk. Parallel from
+// two chunks on: a serial pass reads the other threads' nodes into the first thread's
+// cache, and in the next kick each thread must take those lines back, one cross-core
+// transfer each (disc h5, about 8 000 nodes in 4 chunks, 2 threads: the second thread's kick
+// loop 35 us against the first's 9 us while the sums were serial, issue 7 profile).
 template <std::size_t K, class Term>
 std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<double>& scratch, bool parallel = true) {
   const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
   if (scratch.size() < K * chunks) scratch.resize(K * chunks);
-#pragma omp parallel for schedule(static) if (parallel && chunks > 4)
+#pragma omp parallel for schedule(static) if (parallel && chunks > 1)
   for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(chunks); ++c) {
     const std::size_t begin = static_cast<std::size_t>(c) * kReductionChunk;
     const std::size_t end = begin + kReductionChunk < n ? begin + kReductionChunk : n;

@@ -175,3 +175,40 @@ TEST(WorkSplit, SharesOfTheCountedItemsWhereverTheyAreNumbered) {
   counted_share_bounds(std::vector<Index>{0}, std::vector<double>{0.0, 0.5, 1.0}, b);
   EXPECT_EQ(b, (std::vector<std::size_t>{0, 0, 0}));
 }
+
+// The energy sums (deterministic_sums) run on the threads from two chunks on (issue 7:
+// a serial pass pulled the other thread's nodes into the first one's cache). Every chunk
+// count from 1 to 5, on one and two threads, gives the bits of the serial sum of chunk
+// sums, each chunk summed in index order.
+TEST(DeterministicSums, BitIdenticalForAnyThreadCountAndChunkCount) {
+  std::vector<double> scratch;
+  for (const std::size_t n : {std::size_t{1}, kReductionChunk, kReductionChunk + 1, 2 * kReductionChunk + 17,
+                              4 * kReductionChunk, 4 * kReductionChunk + 5}) {
+    // Terms of mixed magnitude and sign, so that any other order of addition changes bits.
+    auto term = [](std::size_t i) {
+      const double x = static_cast<double>(i);
+      return std::array<double, 2>{1.0 / (1.0 + x) * (i % 3 == 0 ? -1e8 : 1.0), 1e-3 * x * x + (i % 7 == 0 ? 1e12 : 0.0)};
+    };
+    std::array<double, 2> expected{};
+    for (std::size_t c = 0; c * kReductionChunk < n; ++c) {
+      std::array<double, 2> s{};
+      for (std::size_t i = c * kReductionChunk; i < std::min(n, (c + 1) * kReductionChunk); ++i)
+        for (int k = 0; k < 2; ++k) s[k] += term(i)[k];
+      for (int k = 0; k < 2; ++k) expected[k] += s[k];
+    }
+    for (const int threads : {1, 2}) {
+#ifdef _OPENMP
+      omp_set_num_threads(threads);
+#endif
+      for (const bool parallel : {false, true}) {
+        const std::array<double, 2> got = deterministic_sums<2>(n, term, scratch, parallel);
+        for (int k = 0; k < 2; ++k)
+          EXPECT_EQ(std::memcmp(&got[k], &expected[k], sizeof(double)), 0)
+              << "n = " << n << ", threads = " << threads << ", parallel = " << parallel << ", sum " << k;
+      }
+    }
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+  }
+}
