@@ -53,23 +53,6 @@ inline void counted_share_bounds(std::span<const Index> prefix, std::span<const 
   bounds[T] = n;
 }
 
-template <class Term>
-double deterministic_sum(std::size_t n, Term term, std::vector<double>& scratch) {
-  const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
-  if (scratch.size() < chunks) scratch.resize(chunks);
-#pragma omp parallel for schedule(static) if (chunks > 4)
-  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(chunks); ++c) {
-    const std::size_t begin = static_cast<std::size_t>(c) * kReductionChunk;
-    const std::size_t end = begin + kReductionChunk < n ? begin + kReductionChunk : n;
-    double s = 0.0;
-    for (std::size_t i = begin; i < end; ++i) s += term(i);
-    scratch[static_cast<std::size_t>(c)] = s;
-  }
-  double total = 0.0;
-  for (std::size_t c = 0; c < chunks; ++c) total += scratch[c];
-  return total;
-}
-
 // K sums over the same index range in one pass (one parallel region instead of K);
 // term(i) returns std::array<double, K>. Same fixed chunking, so each sum is
 // bit-identical for any thread count. scratch holds K doubles per chunk. Parallel from
