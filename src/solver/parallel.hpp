@@ -11,9 +11,15 @@
 
 #include "model/types.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace dsdem {
 
-constexpr std::size_t kReductionChunk = 2048;
+// Small, so that a thread's chunks end at most 63 indices past its share of the node loops
+// (see deterministic_sums); the partial sums cost K doubles per 64 indices.
+constexpr std::size_t kReductionChunk = 64;
 
 // The automatic choice between one thread and OpenMP (Solver::probe_parallel): keep the
 // threads unless their median step time is above the serial median by more than
@@ -54,30 +60,44 @@ inline void counted_share_bounds(std::span<const Index> prefix, std::span<const 
 }
 
 // K sums over the same index range in one pass (one parallel region instead of K);
-// term(i) returns std::array<double, K>. Same fixed chunking, so each sum is
-// bit-identical for any thread count. scratch holds K doubles per chunk. Parallel from
-// two chunks on: a serial pass reads the other threads' nodes into the first thread's
-// cache, and in the next kick each thread must take those lines back, one cross-core
-// transfer each (disc h5, about 8 000 nodes in 4 chunks, 2 threads: the second thread's kick
-// loop 35 us against the first's 9 us while the sums were serial, issue 7 profile).
+// term(i) returns std::array<double, K>. Fixed chunks of kReductionChunk indices, each
+// summed in index order, then the chunk sums in chunk order: the same bits for any
+// thread count. scratch holds K doubles per chunk.
+// Thread t of T sums the chunks that start in [n t / T, n (t + 1) / T), the share of the
+// node loops (kick, velocities: static schedules) in which it wrote these nodes: a sum
+// that reads another thread's nodes pulls their lines into its cache, and that thread's
+// next kick must take each back across the cores. Issue 7 profile, 2 threads, box of
+// 1 056 elements (3 168 nodes): the second thread's kick loop 14.4 us (serial sums) and
+// 9.6 us (chunks of 2048 nodes) against the first thread's 4.5 us.
 template <std::size_t K, class Term>
 std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<double>& scratch, bool parallel = true) {
-  const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
+  constexpr std::size_t C = kReductionChunk;
+  const std::size_t chunks = (n + C - 1) / C;
   if (scratch.size() < K * chunks) scratch.resize(K * chunks);
-#pragma omp parallel for schedule(static) if (parallel && chunks > 1)
-  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(chunks); ++c) {
-    const std::size_t begin = static_cast<std::size_t>(c) * kReductionChunk;
-    const std::size_t end = begin + kReductionChunk < n ? begin + kReductionChunk : n;
-    std::array<double, K> s{};
-    for (std::size_t i = begin; i < end; ++i) {
-      const std::array<double, K> t = term(i);
-      for (std::size_t k = 0; k < K; ++k) s[k] += t[k];
+  double* partial = scratch.data();
+#pragma omp parallel if (parallel && chunks > 1)
+  {
+    std::size_t t = 0, T = 1;
+#ifdef _OPENMP
+    t = static_cast<std::size_t>(omp_get_thread_num());
+    T = static_cast<std::size_t>(omp_get_num_threads());
+#endif
+    // The first chunk that starts at or after index n k / T.
+    auto first_chunk = [n, T](std::size_t k) { return (n * k / T + C - 1) / C; };
+    const std::size_t c_end = first_chunk(t + 1);
+    for (std::size_t c = first_chunk(t); c < c_end; ++c) {
+      const std::size_t end = std::min(n, (c + 1) * C);
+      std::array<double, K> s{};
+      for (std::size_t i = c * C; i < end; ++i) {
+        const std::array<double, K> v = term(i);
+        for (std::size_t k = 0; k < K; ++k) s[k] += v[k];
+      }
+      for (std::size_t k = 0; k < K; ++k) partial[K * c + k] = s[k];
     }
-    for (std::size_t k = 0; k < K; ++k) scratch[K * static_cast<std::size_t>(c) + k] = s[k];
   }
   std::array<double, K> total{};
   for (std::size_t c = 0; c < chunks; ++c)
-    for (std::size_t k = 0; k < K; ++k) total[k] += scratch[K * c + k];
+    for (std::size_t k = 0; k < K; ++k) total[k] += partial[K * c + k];
   return total;
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -176,14 +177,15 @@ TEST(WorkSplit, SharesOfTheCountedItemsWhereverTheyAreNumbered) {
   EXPECT_EQ(b, (std::vector<std::size_t>{0, 0, 0}));
 }
 
-// The energy sums (deterministic_sums) run on the threads from two chunks on (issue 7:
-// a serial pass pulled the other thread's nodes into the first one's cache). Every chunk
-// count from 1 to 5, on one and two threads, gives the bits of the serial sum of chunk
-// sums, each chunk summed in index order.
+// The energy sums (deterministic_sums) run on the threads from two chunks on, each thread
+// on the chunks that start in its share of the indices (issue 7: reading the other
+// thread's nodes sent their lines across the cores). Chunk counts from 1 to 5 and 16,
+// shares that end inside a chunk, on 1, 2 and 3 threads: the bits of the serial sum of
+// chunk sums, each chunk summed in index order.
 TEST(DeterministicSums, BitIdenticalForAnyThreadCountAndChunkCount) {
   std::vector<double> scratch;
   for (const std::size_t n : {std::size_t{1}, kReductionChunk, kReductionChunk + 1, 2 * kReductionChunk + 17,
-                              4 * kReductionChunk, 4 * kReductionChunk + 5}) {
+                              4 * kReductionChunk, 4 * kReductionChunk + 5, 16 * kReductionChunk - 3}) {
     // Terms of mixed magnitude and sign, so that any other order of addition changes bits.
     auto term = [](std::size_t i) {
       const double x = static_cast<double>(i);
@@ -196,11 +198,12 @@ TEST(DeterministicSums, BitIdenticalForAnyThreadCountAndChunkCount) {
         for (int k = 0; k < 2; ++k) s[k] += term(i)[k];
       for (int k = 0; k < 2; ++k) expected[k] += s[k];
     }
-    for (const int threads : {1, 2}) {
+    for (const int threads : {1, 2, 3}) {
 #ifdef _OPENMP
       omp_set_num_threads(threads);
 #endif
       for (const bool parallel : {false, true}) {
+        std::fill(scratch.begin(), scratch.end(), std::nan(""));  // a chunk no thread summed shows
         const std::array<double, 2> got = deterministic_sums<2>(n, term, scratch, parallel);
         for (int k = 0; k < 2; ++k)
           EXPECT_EQ(std::memcmp(&got[k], &expected[k], sizeof(double)), 0)
