@@ -68,7 +68,7 @@ JointPhaseTotals add_joint_forces(const Nodes& nodes, std::vector<Vec2>& force, 
 void JointPhaseBuffers::prepare(Joints& joints, const std::vector<JointProperties>& properties) {
   const std::size_t n = joints.size();
   if (force.size() != n) force.assign(n, {Vec2::Zero(), Vec2::Zero()});
-  const std::size_t blocks = (n + kJointBlock - 1) / kJointBlock;
+  const std::size_t blocks = joint_blocks(n);
   block_energy.assign(blocks, 0.0);
   block_dissipation.assign(blocks, 0.0);
   // Address space for every joint's record; pages become resident only as joints break.
@@ -90,13 +90,11 @@ double JointPhaseBuffers::dissipation() const {
 }
 
 void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
-                     Index& broken_now) {
+                     Index& broken_now, std::size_t block_begin, std::size_t block_end) {
   const std::size_t nj = joints.size();
-  const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((nj + kJointBlock - 1) / kJointBlock);
   Index broke = 0;
-#pragma omp for schedule(static) nowait
-  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-    const std::size_t begin = static_cast<std::size_t>(b) * kJointBlock;
+  for (std::size_t b = block_begin; b < std::min(block_end, joint_blocks(nj)); ++b) {
+    const std::size_t begin = b * kJointBlock;
     const std::size_t end = std::min(begin + kJointBlock, nj);
     // Broken joints add nothing (their per-joint terms were +0, which left the sums' bits alone).
     double energy = 0.0, dissipation = 0.0;
@@ -107,8 +105,8 @@ void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, do
       energy += e;
       dissipation += d;
     }
-    buf.block_energy[static_cast<std::size_t>(b)] = energy;
-    buf.block_dissipation[static_cast<std::size_t>(b)] = dissipation;
+    buf.block_energy[b] = energy;
+    buf.block_dissipation[b] = dissipation;
   }
   if (broke) {
 #pragma omp atomic

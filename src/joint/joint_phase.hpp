@@ -54,9 +54,14 @@ struct JointPhaseBuffers {
   double dissipation() const;
 };
 
-// The joint loop of add_joint_forces without the scatter: every joint independent, so
-// the loop over blocks is an orphaned `omp for` (static schedule) — call it from inside
-// a parallel region to share the joints among the threads, or from serial code.
+// Blocks of kJointBlock joints that cover n joints.
+inline std::size_t joint_blocks(std::size_t n) { return (n + kJointBlock - 1) / kJointBlock; }
+
+// The joint loop of add_joint_forces without the scatter, on blocks [block_begin,
+// block_end) (all: 0, joint_blocks(joints.size())): every joint independent, so threads
+// may take disjoint block ranges at once (the solver's are tuned from their measured
+// times: a crack's softening joints, several times dearer than elastic ones, gather in
+// a few blocks).
 // Histories are updated as in add_joint_forces; a joint that breaks is marked
 // broken[j] = Joints::kBreakPending: call record_new_breaks() after the loop (serial)
 // when broken_now grew. The caller adds buf.force to the nodes (in a fixed order) and
@@ -64,7 +69,7 @@ struct JointPhaseBuffers {
 // (added to with an atomic, exact for any thread count). The law constants come from
 // buf.law (buf.prepare() first).
 void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, double thickness, JointPhaseBuffers& buf,
-                     Index& broken_now);
+                     Index& broken_now, std::size_t block_begin, std::size_t block_end);
 
 // Records the joints marked kBreakPending (in joint order) as broken at `time`, at their
 // current mid-point (positions X + u), and marks them broken (1).

@@ -466,6 +466,7 @@ void Solver::add_internal_and_joint_forces() {
   if (parallel_) threads = omp_get_max_threads();
 #endif
   shared_split_.prepare(threads);
+  joint_split_.prepare(threads);
   own_split_.prepare(threads);
   counted_share_bounds(own_prefix_, own_split_.cum(), own_bound_);
   bool full_team = false;
@@ -495,10 +496,18 @@ void Solver::add_internal_and_joint_forces() {
       // check_stability() finds the element when this flag is set.
       if (!(r.detF > 0.0)) inverted = 1;
     }
-    if (joints)
-      evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now);
 #ifdef _OPENMP
     shared_split_.set_busy(thread, omp_get_wtime() - busy_from);
+    busy_from = omp_get_wtime();
+#endif
+    if (joints) {
+      const std::size_t nb = joint_blocks(J.size());
+      const std::size_t b_begin = split ? joint_split_.begin(nb, thread) : (thread == 0 ? 0 : nb);
+      const std::size_t b_end = split ? joint_split_.begin(nb, thread + 1) : nb;
+      evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now, b_begin, b_end);
+    }
+#ifdef _OPENMP
+    joint_split_.set_busy(thread, omp_get_wtime() - busy_from);
 #endif
 #pragma omp barrier
 #ifdef _OPENMP
@@ -569,6 +578,7 @@ void Solver::add_internal_and_joint_forces() {
   }
   if (threads > 1 && full_team) {
     shared_split_.rebalance();
+    joint_split_.rebalance();
     own_split_.rebalance();
   }
   inverted_ = inverted != 0;

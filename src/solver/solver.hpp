@@ -252,10 +252,11 @@ class Solver {
   // own_prefix_[t]: own triangles before triangle t (size + 1).
   std::vector<Index> own_prefix_;
   // The element loops' split between threads (model/work_split.hpp): each thread's share of
-  // the shared triangles (before the barrier, with the joints) and of the own triangles
-  // (after it, with the gathered nodes), tuned each step from the threads' busy times, and
-  // the index bounds they give. Which thread computes a triangle changes no result.
-  TunedSplit shared_split_, own_split_;
+  // the shared triangles and of the joint blocks (before the barrier; each tuned on its own
+  // loop's time) and of the own triangles (after it, with the gathered nodes), tuned each
+  // step from the threads' busy times, and the index bounds they give. Which thread
+  // computes a triangle or a joint changes no result.
+  TunedSplit shared_split_, joint_split_, own_split_;
   std::vector<std::size_t> own_bound_;  // triangle index bounds of the own-triangle runs
   // Per gathered node: shared slot entries 3 s + corner (ascending triangle), joint
   // entries 2 (2 j + end) + side (ascending joint; side 1 = face b, negated).

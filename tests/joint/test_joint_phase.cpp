@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "joint/joint_phase.hpp"
 #include "joint/joint_test_props.hpp"
@@ -188,4 +189,89 @@ TEST(JointPhase, StiffnessScaleMultipliesPenaltyStiffnessButNotStrength) {
   m.f.assign(m.nodes.size(), Vec2::Zero());
   add_joint_forces(m.nodes, m.f, m.joints, props, 0.0);
   EXPECT_NEAR(last_tractions(m.joints.state[0][0], scaled(law_constants(p), 2.5)).sn, p.ft, 1e-9 * p.ft);
+}
+
+// evaluate_joints on block ranges (the solver hands each thread a tuned range of blocks):
+// the ranges done in any order and split anywhere give the forces, block sums, histories
+// and breaks of one call on all blocks, bit for bit.
+TEST(JointPhase, BlockRangesInAnyOrderEqualOneCallOnAllBlocks) {
+  // A strip of 40 x 3 unit squares, two breakable triangles each: about 400 joints, 7 blocks.
+  RawMesh mesh;
+  const int nx = 40, ny = 3;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) mesh.nodes.push_back(Vec2(i, j));
+  auto id = [&](int i, int j) { return static_cast<Index>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  mesh.triangle_surface_group.assign(mesh.triangles.size(), 0);
+  RawPhysicalGroup g;
+  g.name = "slide";
+  for (Index t = 0; t < static_cast<Index>(mesh.triangles.size()); ++t) g.triangles.push_back(t);
+  mesh.groups = {g};
+  JointInsertionOptions opt;
+  opt.breakable = {true};
+  const JointInsertionResult r = insert_joints(mesh, opt);
+  const std::vector<JointProperties> props{test::disc_rock()};
+  const JointProperties& p = props[0];
+  const std::size_t nb = joint_blocks(r.joints.size());
+  ASSERT_GE(nb, 5u);
+
+  struct Run {
+    Nodes nodes;
+    Joints joints;
+    JointPhaseBuffers buf;
+    Index broken = 0;
+  };
+  auto make = [&] {
+    Run run;
+    run.nodes.resize(r.nodes.size());
+    run.nodes.X = r.nodes;
+    run.nodes.origin = r.origin;
+    run.joints = r.joints;
+    run.buf.prepare(run.joints, props);
+    return run;
+  };
+  // Node motions that leave some joints elastic, soften others and break a few.
+  const double wt = p.ft / p.kn, wn = 2 * p.GI / p.ft;
+  auto displace = [&](Run& run, int step) {
+    for (std::size_t i = 0; i < run.nodes.size(); ++i) {
+      const double s = std::sin(0.37 * static_cast<double>(i) + 0.9 * step);
+      const double scale = i % 11 == 0 ? 3.0 * (wt + wn) : (i % 7 == 0 ? wt + 0.3 * wn : 0.4 * wt);
+      run.nodes.u[i] = scale * step / 4.0 * Vec2(s, std::cos(1.3 * static_cast<double>(i)));
+    }
+  };
+  Run whole = make();
+  std::vector<Run> split;
+  const std::vector<std::size_t> cuts{0, 1, nb / 2, nb - 1, nb};
+  for (std::size_t k = 0; k < cuts.size(); ++k) split.push_back(make());
+  for (int step = 1; step <= 4; ++step) {
+    displace(whole, step);
+    evaluate_joints(whole.nodes, whole.joints, true, 1.0, whole.buf, whole.broken, 0, nb);
+    for (std::size_t k = 0; k < cuts.size(); ++k) {
+      Run& run = split[k];
+      displace(run, step);
+      // The second range first, and a range past the end (clipped).
+      evaluate_joints(run.nodes, run.joints, true, 1.0, run.buf, run.broken, cuts[k], nb + 3);
+      evaluate_joints(run.nodes, run.joints, true, 1.0, run.buf, run.broken, 0, cuts[k]);
+      ASSERT_EQ(run.broken, whole.broken) << "cut " << cuts[k] << ", step " << step;
+      ASSERT_EQ(std::memcmp(run.buf.force.data(), whole.buf.force.data(), whole.buf.force.size() * sizeof(whole.buf.force[0])), 0);
+      ASSERT_EQ(std::memcmp(run.buf.block_energy.data(), whole.buf.block_energy.data(), nb * sizeof(double)), 0);
+      ASSERT_EQ(std::memcmp(run.buf.block_dissipation.data(), whole.buf.block_dissipation.data(), nb * sizeof(double)), 0);
+      ASSERT_EQ(std::memcmp(run.joints.state.data(), whole.joints.state.data(), whole.joints.state.size() * sizeof(whole.joints.state[0])), 0);
+      ASSERT_EQ(run.joints.broken, whole.joints.broken);
+    }
+  }
+  // The motions did what they were meant to: elastic, softening and broken joints.
+  std::size_t elastic = 0, softening = 0;
+  for (std::size_t j = 0; j < whole.joints.size(); ++j) {
+    const double d = whole.joints.damage(j);
+    elastic += d == 0.0;
+    softening += d > 0.0 && d < 1.0;
+  }
+  EXPECT_GT(elastic, 10u);
+  EXPECT_GT(softening, 3u);
+  EXPECT_GT(whole.broken, 0);
 }
