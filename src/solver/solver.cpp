@@ -742,33 +742,34 @@ void Solver::finish_velocities() {
 void Solver::update_energy() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
-  // The node sums in one pass (one parallel region), fixed chunks: deterministic. Each
-  // sum is accumulated on its own, so leaving the damping work out changes no other sum;
-  // undamped, its terms would all be +0 and the sum +0.
+  // The node sums and the strain energy in one parallel region, fixed chunks:
+  // deterministic. Each sum is accumulated on its own, so leaving the damping work out
+  // changes no other sum; undamped, its terms would all be +0 and the sum +0.
+  auto strain = [&](std::size_t t) { return std::array<double, 1>{element_strain_energy_[t]}; };
+  const std::size_t nt = element_strain_energy_.size();
   if (damped()) {
-    const auto node_sums = deterministic_sums<3>(
+    const auto [node_sums, strain_sum] = deterministic_sums<3, 1>(
         n.size(),
         [&](std::size_t i) {
           return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
                                        0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
         },
-        reduction_scratch_, parallel_);
+        nt, strain, reduction_scratch_, parallel_);
     energy_.kinetic = node_sums[0];
     energy_.gravity_potential = node_sums[1];
     energy_.damping_dissipated -= node_sums[2];
+    energy_.strain = strain_sum[0];
   } else {
-    const auto node_sums = deterministic_sums<2>(
+    const auto [node_sums, strain_sum] = deterministic_sums<2, 1>(
         n.size(),
         [&](std::size_t i) {
           return std::array<double, 2>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i])};
         },
-        reduction_scratch_, parallel_);
+        nt, strain, reduction_scratch_, parallel_);
     energy_.kinetic = node_sums[0];
     energy_.gravity_potential = node_sums[1];
+    energy_.strain = strain_sum[0];
   }
-  energy_.strain = deterministic_sums<1>(
-      element_strain_energy_.size(), [&](std::size_t t) { return std::array<double, 1>{element_strain_energy_[t]}; },
-      reduction_scratch_, parallel_)[0];
   std::swap(damping_force_prev_, damping_force_);
   release_damping_buffers_if_unused();
 }

@@ -215,3 +215,40 @@ TEST(DeterministicSums, BitIdenticalForAnyThreadCountAndChunkCount) {
 #endif
   }
 }
+
+// The energies' node and triangle sums in one region (deterministic_sums over two ranges)
+// give each range's bits of the one-range sums, on 1 to 3 threads, whichever range is
+// longer, one of them empty or of a single chunk.
+TEST(DeterministicSums, TwoRangesInOneRegionGiveTheBitsOfEachRangeAlone) {
+  auto term1 = [](std::size_t i) {
+    const double x = static_cast<double>(i);
+    return std::array<double, 2>{1.0 / (1.0 + x) * (i % 3 == 0 ? -1e8 : 1.0), 1e-3 * x * x + (i % 7 == 0 ? 1e12 : 0.0)};
+  };
+  auto term2 = [](std::size_t i) {
+    return std::array<double, 1>{std::sin(static_cast<double>(i)) * (i % 5 == 0 ? 1e9 : 1e-2)};
+  };
+  const std::size_t C = kReductionChunk;
+  const std::vector<std::pair<std::size_t, std::size_t>> sizes{{0, 5 * C + 3}, {7 * C + 1, 0}, {C, 3 * C + 9},
+                                                               {11 * C - 5, 2 * C}, {3, 4}};
+  std::vector<double> scratch, scratch_alone;
+  for (const auto& [n1, n2] : sizes) {
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    const std::array<double, 2> expected1 = deterministic_sums<2>(n1, term1, scratch_alone, false);
+    const std::array<double, 1> expected2 = deterministic_sums<1>(n2, term2, scratch_alone, false);
+    for (const int threads : {1, 2, 3}) {
+#ifdef _OPENMP
+      omp_set_num_threads(threads);
+#endif
+      std::fill(scratch.begin(), scratch.end(), std::nan(""));
+      const auto [got1, got2] = deterministic_sums<2, 1>(n1, term1, n2, term2, scratch, true);
+      for (int k = 0; k < 2; ++k)
+        EXPECT_EQ(std::memcmp(&got1[k], &expected1[k], sizeof(double)), 0) << n1 << " " << n2 << " threads " << threads;
+      EXPECT_EQ(std::memcmp(&got2[0], &expected2[0], sizeof(double)), 0) << n1 << " " << n2 << " threads " << threads;
+    }
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(1);
+#endif
+}
