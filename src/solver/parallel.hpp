@@ -87,6 +87,14 @@ std::array<double, K> add_partials(const double* partial, std::size_t chunks) {
   return total;
 }
 inline std::size_t reduction_chunks(std::size_t n) { return (n + kReductionChunk - 1) / kReductionChunk; }
+// This thread's number and its team's size ({0, 1} outside a parallel region).
+inline std::pair<std::size_t, std::size_t> thread_in_team() {
+#ifdef _OPENMP
+  return {static_cast<std::size_t>(omp_get_thread_num()), static_cast<std::size_t>(omp_get_num_threads())};
+#else
+  return {0, 1};
+#endif
+}
 }  // namespace detail
 
 // K sums over the same index range in one pass (one parallel region instead of K);
@@ -106,11 +114,7 @@ std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<d
   double* partial = scratch.data();
 #pragma omp parallel if (parallel && chunks > 1)
   {
-    std::size_t t = 0, T = 1;
-#ifdef _OPENMP
-    t = static_cast<std::size_t>(omp_get_thread_num());
-    T = static_cast<std::size_t>(omp_get_num_threads());
-#endif
+    const auto [t, T] = detail::thread_in_team();
     detail::sum_own_chunks<K>(n, term, partial, t, T);
   }
   return detail::add_partials<K>(partial, chunks);
@@ -129,11 +133,7 @@ std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std
   double* partial2 = partial1 + K1 * chunks1;
 #pragma omp parallel if (parallel && (chunks1 > 1 || chunks2 > 1))
   {
-    std::size_t t = 0, T = 1;
-#ifdef _OPENMP
-    t = static_cast<std::size_t>(omp_get_thread_num());
-    T = static_cast<std::size_t>(omp_get_num_threads());
-#endif
+    const auto [t, T] = detail::thread_in_team();
     detail::sum_own_chunks<K1>(n1, term1, partial1, t, T);
     detail::sum_own_chunks<K2>(n2, term2, partial2, t, T);
   }
