@@ -93,7 +93,8 @@ void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, do
                      Index& broken_now, std::size_t block_begin, std::size_t block_end) {
   const std::size_t nj = joints.size();
   Index broke = 0;
-  for (std::size_t b = block_begin; b < std::min(block_end, joint_blocks(nj)); ++b) {
+  const std::size_t b_end = std::min(block_end, joint_blocks(nj));
+  for (std::size_t b = block_begin; b < b_end; ++b) {
     const std::size_t begin = b * kJointBlock;
     const std::size_t end = std::min(begin + kJointBlock, nj);
     // Broken joints add nothing (their per-joint terms were +0, which left the sums' bits alone).
