@@ -103,6 +103,13 @@ def main():
     lines.append(f"- Load average at the start of the kernel runs: {ctx.get('load_avg', '?')} "
                  "(the machine is shared: timings are noisy, medians of repetitions are given where repeated)")
     lines.append(f"- Build: {ctx.get('library_build_type', '?')} Google Benchmark; dsdem {release_flags(raw)}, no -ffast-math")
+    trips = os.path.join(raw, "round_trip.txt")  # written by scripts/bench.sh (bench/core_round_trip.cpp)
+    if os.path.exists(trips):
+        with open(trips) as f:
+            seen = dict(line.split(" ", 1) for line in f.read().splitlines() if " " in line)
+        lines.append(f"- Cache-line round trip between CPUs 0 and 1: {seen.get('start', '?')} ns before the runs, "
+                     f"{seen.get('end', '?')} ns after (on the lead's VM 105-170 ns in calm spells, 400-550 ns in "
+                     "far ones, when every 2-thread speed-up is lower: bench/profile_notes.md, Round 12)")
     lines.append("")
 
     lines.append("## Kernels (single thread, medians of 5)")

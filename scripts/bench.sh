@@ -16,7 +16,7 @@ export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 mkdir -p "$RAW"
 # Only this run's numbers go into results.md: a QUICK run must not report the 10^6-element
 # rows (or examples) of an earlier full run as if measured now.
-rm -f "$RAW"/*.json "$RAW/examples.tsv"
+rm -f "$RAW"/*.json "$RAW/examples.tsv" "$RAW/round_trip.txt"
 # What was measured: the time and revision of this run (report.py may run again later).
 changes=$(git -C "$ROOT" diff --quiet HEAD -- src 'bench/*.cpp' 'bench/*.hpp' bench/CMakeLists.txt CMakeLists.txt \
   2> /dev/null || echo " with uncommitted changes to the code")
@@ -26,7 +26,7 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
 fi
 cmake -S "$ROOT" -B "$BUILD" > /dev/null   # picks up bench/ if it appeared since
-cmake --build "$BUILD" -j "$(nproc)" --target dsdem_bench dsdem
+cmake --build "$BUILD" -j "$(nproc)" --target dsdem_bench dsdem dsdem_core_round_trip
 BENCH="$BUILD/bench/dsdem_bench"
 if [ ! -x "$BENCH" ]; then
   echo "bench.sh: $BENCH not built (is Google Benchmark installed? libbenchmark-dev)" >&2
@@ -40,6 +40,11 @@ run() {  # name filter [repetitions]
     --benchmark_report_aggregates_only="$([ "$reps" -gt 1 ] && echo true || echo false)" \
     --benchmark_format=json --benchmark_out="$RAW/$name.json" --benchmark_out_format=json > /dev/null
 }
+
+# The cache-line round trip between the first two CPUs, before and after the runs: on a
+# virtual machine it changes from minute to minute, and the 2-thread numbers with it.
+round_trip() { echo "$1 $("$BUILD/bench/dsdem_core_round_trip" | cut -d' ' -f2-)" >> "$RAW/round_trip.txt"; }
+round_trip start
 
 # Kernels: 5 repetitions, medians reported.
 run kernels 'BM_(TriangleInternalForce|JointLaw|NarrowPhase|BroadPhase)' 5
@@ -113,5 +118,6 @@ for ex in brazilian_disc dr2; do
   done
 done
 
+round_trip end
 python3 "$ROOT/bench/report.py" "$RAW" "$OUT"
 echo "wrote $OUT" >&2
