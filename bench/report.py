@@ -107,7 +107,7 @@ def main():
     if os.path.exists(trips):
         with open(trips) as f:
             seen = dict(line.split(" ", 1) for line in f.read().splitlines() if " " in line)
-        lines.append(f"- Cache-line round trip between CPUs 0 and 1: {seen.get('start', '?')} ns before the runs, "
+        lines.append(f"- Cache-line round trip between the first two CPUs: {seen.get('start', '?')} ns before the runs, "
                      f"{seen.get('end', '?')} ns after (on the lead's VM 105-170 ns in calm spells, 400-550 ns in "
                      "far ones, when every 2-thread speed-up is lower: bench/profile_notes.md, Round 12)")
     lines.append("")
