@@ -63,12 +63,16 @@ inline void counted_share_bounds(std::span<const Index> prefix, std::span<const 
 namespace detail {
 // Thread t of T: the partial sums (K per chunk, into partial) of the chunks of [0, n) that
 // start in [n t / T, n (t + 1) / T), each chunk summed in index order.
+inline std::pair<std::size_t, std::size_t> own_chunks(std::size_t n, std::size_t t, std::size_t T) {
+  constexpr std::size_t C = kReductionChunk;
+  auto first_chunk = [n, T](std::size_t k) { return (n * k / T + C - 1) / C; };  // at or after n k / T
+  return {first_chunk(t), first_chunk(t + 1)};
+}
 template <std::size_t K, class Term>
 void sum_own_chunks(std::size_t n, const Term& term, double* partial, std::size_t t, std::size_t T) {
   constexpr std::size_t C = kReductionChunk;
-  auto first_chunk = [n, T](std::size_t k) { return (n * k / T + C - 1) / C; };  // at or after n k / T
-  const std::size_t c_end = first_chunk(t + 1);
-  for (std::size_t c = first_chunk(t); c < c_end; ++c) {
+  const auto [c_begin, c_end] = own_chunks(n, t, T);
+  for (std::size_t c = c_begin; c < c_end; ++c) {
     const std::size_t end = std::min(n, (c + 1) * C);
     std::array<double, K> s{};
     for (std::size_t i = c * C; i < end; ++i) {
@@ -123,8 +127,13 @@ std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<d
 // Sums over two index ranges (the nodes and the triangles) in one parallel region: each
 // result the bits of deterministic_sums on its range, one fork and join instead of two
 // (an empty region costs ~3 us on this VM, issue 7 profile).
-template <std::size_t K1, std::size_t K2, class Term1, class Term2>
-std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std::size_t n1, Term1 term1, std::size_t n2,
+// prepare1(begin, end) runs first, on the indices of range 1 whose chunks this thread
+// sums: whole chunks, each index on exactly one thread. So a node loop whose results the
+// sums read (the velocity update) runs in the same region with no barrier, as long as
+// term1(i) reads only index i of what prepare1 writes.
+template <std::size_t K1, std::size_t K2, class Prepare1, class Term1, class Term2>
+std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std::size_t n1, Prepare1 prepare1,
+                                                                             Term1 term1, std::size_t n2,
                                                                              Term2 term2, std::vector<double>& scratch,
                                                                              bool parallel = true) {
   const std::size_t chunks1 = detail::reduction_chunks(n1), chunks2 = detail::reduction_chunks(n2);
@@ -134,10 +143,18 @@ std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std
 #pragma omp parallel if (parallel && (chunks1 > 1 || chunks2 > 1))
   {
     const auto [t, T] = detail::thread_in_team();
+    const auto [c_begin, c_end] = detail::own_chunks(n1, t, T);
+    prepare1(std::min(n1, c_begin * kReductionChunk), std::min(n1, c_end * kReductionChunk));
     detail::sum_own_chunks<K1>(n1, term1, partial1, t, T);
     detail::sum_own_chunks<K2>(n2, term2, partial2, t, T);
   }
   return {detail::add_partials<K1>(partial1, chunks1), detail::add_partials<K2>(partial2, chunks2)};
+}
+template <std::size_t K1, std::size_t K2, class Term1, class Term2>
+std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std::size_t n1, Term1 term1, std::size_t n2,
+                                                                             Term2 term2, std::vector<double>& scratch,
+                                                                             bool parallel = true) {
+  return deterministic_sums<K1, K2>(n1, [](std::size_t, std::size_t) {}, term1, n2, term2, scratch, parallel);
 }
 
 }  // namespace dsdem

@@ -306,7 +306,7 @@ void Solver::initialise() {
   add_damping_forces();
   apply_constraints();
   auto& n = model_.nodes;
-  // The forces summed in n.a become the accelerations f/m, in place (as finish_velocities).
+  // The forces summed in n.a become the accelerations f/m, in place (as finish_velocities()).
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());
   if (damped()) damping_force_prev_ = damping_force_;
@@ -323,8 +323,7 @@ void Solver::step() {
   add_boundary_forces();
   add_damping_forces();
   apply_constraints();
-  finish_velocities();
-  update_energy();
+  update_energy(FinishVelocities::yes);  // v(n+1) and the energies in one node loop (issue 7)
   check_stability();
   ++step_;
   if (!setup_memory_released_) release_setup_memory();
@@ -728,28 +727,36 @@ void Solver::apply_constraints() {
   }
 }
 
-void Solver::finish_velocities() {
+void Solver::finish_velocities(std::size_t begin, std::size_t end) {
   auto& n = model_.nodes;
   const double dt = settings_.dt;
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());  // force sum -> f/m, in place
     n.v[i] += 0.5 * dt * n.a[i];
   }
-  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, time_);
+  // The prescribed velocities of these nodes, in list order (a later dof on the same node
+  // and direction wins, as in one pass over the list).
+  for (const auto& d : constraints_)
+    if (static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end)
+      n.v[d.node][d.dir] = prescribed_velocity(d, time_);
 }
 
-void Solver::update_energy() {
+void Solver::update_energy(FinishVelocities finish) {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
   // The node sums and the strain energy in one parallel region, fixed chunks:
   // deterministic. Each sum is accumulated on its own, so leaving the damping work out
-  // changes no other sum; undamped, its terms would all be +0 and the sum +0.
+  // changes no other sum; undamped, its terms would all be +0 and the sum +0. With
+  // FinishVelocities::yes each thread first finishes the velocities of the nodes it sums
+  // (node-local, so no barrier): one fork and join per step fewer than a loop of its own.
+  auto prepare = [&](std::size_t begin, std::size_t end) {
+    if (finish == FinishVelocities::yes) finish_velocities(begin, end);
+  };
   auto strain = [&](std::size_t t) { return std::array<double, 1>{element_strain_energy_[t]}; };
   const std::size_t nt = element_strain_energy_.size();
   if (damped()) {
     const auto [node_sums, strain_sum] = deterministic_sums<3, 1>(
-        n.size(),
+        n.size(), prepare,
         [&](std::size_t i) {
           return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
                                        0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
@@ -761,7 +768,7 @@ void Solver::update_energy() {
     energy_.strain = strain_sum[0];
   } else {
     const auto [node_sums, strain_sum] = deterministic_sums<2, 1>(
-        n.size(),
+        n.size(), prepare,
         [&](std::size_t i) {
           return std::array<double, 2>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i])};
         },

@@ -167,8 +167,11 @@ class Solver {
   void add_boundary_forces();     // viscous-spring boundary and free-field seismic input (DESIGN.md §5)
   void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
   void apply_constraints();       // reactions at prescribed dofs
-  void finish_velocities();       // a(n+1) = f/m, v(n+1)
-  void update_energy();
+  // a(n+1) = f/m, v(n+1) and the prescribed velocities, of the nodes in [begin, end).
+  void finish_velocities(std::size_t begin, std::size_t end);
+  enum class FinishVelocities : bool { no, yes };
+  // The energies; with FinishVelocities::yes, finish_velocities() first, in the same loop.
+  void update_energy(FinishVelocities finish = FinishVelocities::no);
   void check_stability();
 
   // Damping buffers held: set_settings allocates them for a damped stage; update_energy

@@ -219,6 +219,48 @@ TEST(DeterministicSums, BitIdenticalForAnyThreadCountAndChunkCount) {
 // The energies' node and triangle sums in one region (deterministic_sums over two ranges)
 // give each range's bits of the one-range sums, on 1 to 3 threads, whichever range is
 // longer, one of them empty or of a single chunk.
+// The prepare step fused into the sums (the velocity update, issue 7): every index of
+// range 1 prepared exactly once, by the thread that then sums it, before its term is read.
+TEST(DeterministicSums, PrepareRunsOnceOnEachIndexBeforeTheThreadSumsIt) {
+  const std::size_t C = kReductionChunk;
+  std::vector<double> scratch, scratch_alone;
+  for (const std::size_t n1 : {std::size_t{0}, std::size_t{3}, C, 5 * C + 3, 11 * C - 5}) {
+    const std::size_t n2 = 2 * C + 1;
+    auto term2 = [](std::size_t i) { return std::array<double, 1>{1.0 / (1.0 + static_cast<double>(i))}; };
+    // Each prepared value is i + 0.5, and i % 3 == 0 made large: a term read before its
+    // index was prepared (0) or an index prepared twice (2 i + 1) changes the sum's bits.
+    auto value = [](std::size_t i) { return (static_cast<double>(i) + 0.5) * (i % 3 == 0 ? 1e9 : 1e-3); };
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    const std::array<double, 1> expected1 =
+        deterministic_sums<1>(n1, [&](std::size_t i) { return std::array<double, 1>{value(i)}; }, scratch_alone, false);
+    for (const int threads : {1, 2, 3}) {
+#ifdef _OPENMP
+      omp_set_num_threads(threads);
+#endif
+      std::vector<double> prepared(n1, 0.0);
+      std::vector<int> times(n1, 0);
+      const auto [got1, got2] = deterministic_sums<1, 1>(
+          n1,
+          [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+              prepared[i] += value(i);
+              ++times[i];
+            }
+          },
+          [&](std::size_t i) { return std::array<double, 1>{prepared[i]}; }, n2, term2, scratch, true);
+      for (std::size_t i = 0; i < n1; ++i) ASSERT_EQ(times[i], 1) << "index " << i << " of " << n1 << ", threads " << threads;
+      EXPECT_EQ(std::memcmp(&got1[0], &expected1[0], sizeof(double)), 0) << n1 << " threads " << threads;
+      const std::array<double, 1> expected2 = deterministic_sums<1>(n2, term2, scratch_alone, false);
+      EXPECT_EQ(std::memcmp(&got2[0], &expected2[0], sizeof(double)), 0) << n1 << " threads " << threads;
+    }
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(1);
+#endif
+}
+
 TEST(DeterministicSums, TwoRangesInOneRegionGiveTheBitsOfEachRangeAlone) {
   auto term1 = [](std::size_t i) {
     const double x = static_cast<double>(i);
