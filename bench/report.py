@@ -99,7 +99,13 @@ def main():
     mem = sh("free -g | awk 'NR==2{print $2}'")
     comp = sh("c++ --version | head -1")
     lines.append(f"- Memory: {mem} GiB; OS {platform.platform()}; compiler {comp}")
-    lines.append(f"- OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; QUICK={os.environ.get('QUICK', '0')}")
+    settings = os.path.join(raw, "settings.txt")  # written by scripts/bench.sh: this run's settings
+    if os.path.exists(settings):
+        with open(settings) as f:
+            run_env = dict(line.split("=", 1) for line in f.read().splitlines() if "=" in line)
+        lines.append(f"- OMP_WAIT_POLICY={run_env.get('OMP_WAIT_POLICY', '?')}; QUICK={run_env.get('QUICK', '?')}")
+    else:
+        lines.append("- OMP_WAIT_POLICY, QUICK: not recorded by this run (scripts/bench.sh before settings.txt)")
     lines.append(f"- Load average at the start of the kernel runs: {ctx.get('load_avg', '?')} "
                  "(the machine is shared: timings are noisy, medians of repetitions are given where repeated)")
     lines.append(f"- Build: {ctx.get('library_build_type', '?')} Google Benchmark; dsdem {release_flags(raw)}, no -ffast-math")

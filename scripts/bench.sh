@@ -16,11 +16,14 @@ export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 mkdir -p "$RAW"
 # Only this run's numbers go into results.md: a QUICK run must not report the 10^6-element
 # rows (or examples) of an earlier full run as if measured now.
-rm -f "$RAW"/*.json "$RAW/examples.tsv" "$RAW/round_trip.txt"
+rm -f "$RAW"/*.json "$RAW/examples.tsv" "$RAW/round_trip.txt" "$RAW/settings.txt"
 # What was measured: the time and revision of this run (report.py may run again later).
 changes=$(git -C "$ROOT" diff --quiet HEAD -- src 'bench/*.cpp' 'bench/*.hpp' bench/CMakeLists.txt CMakeLists.txt \
   2> /dev/null || echo " with uncommitted changes to the code")
 echo "$(date -u '+%Y-%m-%d %H:%M') UTC, git $(git -C "$ROOT" rev-parse --short HEAD 2> /dev/null || echo '?')$changes" > "$RAW/run.txt"
+# And how: report.py may run later in another environment (then its own OMP_WAIT_POLICY
+# and QUICK said nothing about this run's).
+printf 'OMP_WAIT_POLICY=%s\nQUICK=%s\n' "$OMP_WAIT_POLICY" "${QUICK:-0}" > "$RAW/settings.txt"
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
