@@ -224,10 +224,13 @@ def main():
     base = get("box_1e3_t1", "cpu_eps")
     if base:
         sizes = [n for n in ("box_1e3", "box_1e4", "box_1e5", "box_1e6") if get(n + "_t1", "cpu_eps")]
-        worst = max((base / get(n + "_t1", "cpu_eps"), n) for n in sizes)
-        per = ", ".join(f"{n}: {1e9 / get(n + '_t1', 'cpu_eps'):.0f} ns" for n in sizes)
-        lines.append(f"| time per element-step flat within 1.3x, 10^3 to 10^6 (1 thread, CPU time) | {per}; worst/10^3 = {worst[0]:.2f}x "
-                     f"| {'yes' if worst[0] <= 1.3 else 'no'} |")
+        # Flat: the slowest size's time per element-step over the fastest's (a size faster
+        # than 10^3 counts too: the spread is what the target bounds).
+        ns = {n: 1e9 / get(n + "_t1", "cpu_eps") for n in sizes}
+        spread = max(ns.values()) / min(ns.values())
+        per = ", ".join(f"{n}: {t:.0f} ns" for n, t in ns.items())
+        lines.append(f"| time per element-step flat within 1.3x, 10^3 to 10^6 (1 thread, CPU time) | {per}; slowest/fastest = "
+                     f"{spread:.2f}x | {'yes' if spread <= 1.3 else 'no'} |")
     big = max((n for n in ("box_1e6_t1", "box_1e5_t1") if n in whole), default=None)
     if big:
         pe = get(big, "peak_MB") * 1e6 / get(big, "elements")

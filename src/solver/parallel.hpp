@@ -61,13 +61,14 @@ inline void counted_share_bounds(std::span<const Index> prefix, std::span<const 
 }
 
 namespace detail {
-// Thread t of T: the partial sums (K per chunk, into partial) of the chunks of [0, n) that
-// start in [n t / T, n (t + 1) / T), each chunk summed in index order.
+// Thread t of T: the chunks [first, end) of [0, n) that start in [n t / T, n (t + 1) / T).
 inline std::pair<std::size_t, std::size_t> own_chunks(std::size_t n, std::size_t t, std::size_t T) {
   constexpr std::size_t C = kReductionChunk;
   auto first_chunk = [n, T](std::size_t k) { return (n * k / T + C - 1) / C; };  // at or after n k / T
   return {first_chunk(t), first_chunk(t + 1)};
 }
+// Thread t of T: the partial sums (K per chunk, into partial) of its own_chunks(), each
+// chunk summed in index order.
 template <std::size_t K, class Term>
 void sum_own_chunks(std::size_t n, const Term& term, double* partial, std::size_t t, std::size_t T) {
   constexpr std::size_t C = kReductionChunk;
