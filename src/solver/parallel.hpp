@@ -67,6 +67,11 @@ inline std::pair<std::size_t, std::size_t> own_chunks(std::size_t n, std::size_t
   auto first_chunk = [n, T](std::size_t k) { return (n * k / T + C - 1) / C; };  // at or after n k / T
   return {first_chunk(t), first_chunk(t + 1)};
 }
+// The indices of those chunks, [begin, end).
+inline std::pair<std::size_t, std::size_t> own_chunk_indices(std::size_t n, std::size_t t, std::size_t T) {
+  const auto [c_begin, c_end] = own_chunks(n, t, T);
+  return {std::min(n, c_begin * kReductionChunk), std::min(n, c_end * kReductionChunk)};
+}
 // Thread t of T: the partial sums (K per chunk, into partial) of its own_chunks(), each
 // chunk summed in index order.
 template <std::size_t K, class Term>
@@ -144,8 +149,8 @@ std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std
 #pragma omp parallel if (parallel && (chunks1 > 1 || chunks2 > 1))
   {
     const auto [t, T] = detail::thread_in_team();
-    const auto [c_begin, c_end] = detail::own_chunks(n1, t, T);
-    prepare1(std::min(n1, c_begin * kReductionChunk), std::min(n1, c_end * kReductionChunk));
+    const auto [begin1, end1] = detail::own_chunk_indices(n1, t, T);
+    prepare1(begin1, end1);
     detail::sum_own_chunks<K1>(n1, term1, partial1, t, T);
     detail::sum_own_chunks<K2>(n2, term2, partial2, t, T);
   }

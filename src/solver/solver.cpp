@@ -317,8 +317,8 @@ void Solver::initialise() {
 void Solver::step() {
   const auto start = std::chrono::steady_clock::now();
   if (has_time_step_rule() && broken_joints_ != step_rule_broken_) apply_time_step_rule();
-  kick_and_drift();  // also clears the forces and adds gravity (one node loop, issue 7)
-  add_internal_and_joint_forces();
+  begin_kick();
+  add_internal_and_joint_forces(Kick::first);  // the kick and drift first, in the same region (issue 7)
   add_contact_forces();
   add_boundary_forces();
   add_damping_forces();
@@ -375,21 +375,24 @@ void Solver::probe_parallel(double step_seconds) {
   }
 }
 
-void Solver::kick_and_drift() {
-  auto& n = model_.nodes;
-  const double dt = settings_.dt;
-  const Vec2 g = settings_.gravity;
-  const bool damped = this->damped();
+void Solver::begin_kick() {
+  const auto& n = model_.nodes;
   // The displacements before the drift that the work of the supports and of the
   // viscous boundary needs (a few nodes; the damping work needs all, then in u_prev_).
   for (auto& d : constraints_) d.u_prev = n.u[d.node][d.dir];
   for (auto& bn : boundary_) bn.u_prev = n.u[bn.node];
-  // One node loop (one parallel region) for the kick, the drift, clearing the forces
-  // and gravity: each parallel region is a fork and a join, and on a loaded machine
-  // every join waits for the slowest thread (issue 7). Once the kick has read the
-  // acceleration, n.a starts this step's force sum with gravity (Nodes::a).
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) {
+  kick_from_ = time_;
+  time_ += settings_.dt;
+}
+
+void Solver::kick_and_drift(std::size_t begin, std::size_t end) {
+  auto& n = model_.nodes;
+  const double dt = settings_.dt;
+  const Vec2 g = settings_.gravity;
+  const bool damped = this->damped();
+  // One node loop for the kick, the drift, clearing the forces and gravity. Once the kick
+  // has read the acceleration, n.a starts this step's force sum with gravity (Nodes::a).
+  for (std::size_t i = begin; i < end; ++i) {
     n.v[i] += 0.5 * dt * n.a[i];
     if (damped) {
       u_prev_[i] = n.u[i];
@@ -398,14 +401,19 @@ void Solver::kick_and_drift() {
     n.u[i] += dt * n.v[i];
     n.a[i] = n.m[i] * g;
   }
-  // Prescribed velocities, and the drift of those nodes redone with them (the same
-  // expression u_prev + dt v as above, so bit-identical to prescribing before the drift).
-  const double t_half = time_ + 0.5 * dt;
-  for (const auto& d : constraints_) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
-  for (const auto& d : constraints_) n.u[d.node][d.dir] = d.u_prev + dt * n.v[d.node][d.dir];
-  time_ += dt;
+  // Prescribed velocities of these nodes, and their drift redone with them (the same
+  // expression u_prev + dt v as above, so bit-identical to prescribing before the drift);
+  // then prescribed displacements. Three passes in list order, as over the whole list.
+  auto here = [begin, end](const PrescribedDof& d) {
+    return static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end;
+  };
+  const double t_half = kick_from_ + 0.5 * dt, t_end = time_;  // begin_kick() advanced time_
   for (const auto& d : constraints_)
-    if (d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(time_ - d.t_start);
+    if (here(d)) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+  for (const auto& d : constraints_)
+    if (here(d)) n.u[d.node][d.dir] = d.u_prev + dt * n.v[d.node][d.dir];
+  for (const auto& d : constraints_)
+    if (here(d) && d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(t_end - d.t_start);
 }
 
 void Solver::clear_forces() {
@@ -425,7 +433,7 @@ void Solver::add_gravity() {
   for (std::ptrdiff_t i = 0; i < ssize(n.size()); ++i) n.a[i] += n.m[i] * g;
 }
 
-void Solver::add_internal_and_joint_forces() {
+void Solver::add_internal_and_joint_forces(Kick kick) {
   auto& n = model_.nodes;
   auto& tri = model_.triangles;
   auto& J = model_.joints;
@@ -454,7 +462,8 @@ void Solver::add_internal_and_joint_forces() {
     element_strain_energy_[t] = r.strain_energy;
     return r;
   };
-  // One region per step (issue 7). Phase 1: the shared triangles into their buffers and
+  // One region per step (issue 7). Phase 0 (Kick::first), then a barrier: the kick and
+  // drift of each thread's nodes. Phase 1: the shared triangles into their buffers and
   // the joints into theirs, sharing the threads without a barrier between them. Phase 2,
   // after the barrier: the own triangles (element force and their joints' forces straight
   // into their nodes' sums) and the gathered nodes. Every node's sum is formed as
@@ -480,6 +489,14 @@ void Solver::add_internal_and_joint_forces() {
     // than asked for: then one thread).
     const bool split = team == threads;
     const auto th = static_cast<std::size_t>(thread);
+    if (kick == Kick::first) {
+      // The kick on this thread's node chunks (those it also finishes and sums at the
+      // step's end: each node's lines stay on one core), then a barrier: the triangles
+      // read any thread's nodes. A barrier instead of a fork and join of its own.
+      const auto [begin, end] = detail::own_chunk_indices(n.size(), th, static_cast<std::size_t>(team));
+      kick_and_drift(begin, end);
+#pragma omp barrier
+    }
     const auto n_shared = static_cast<std::size_t>(ns);
     const std::ptrdiff_t s_begin = split ? static_cast<std::ptrdiff_t>(shared_split_.begin(n_shared, thread)) : (thread == 0 ? 0 : ns);
     const std::ptrdiff_t s_end = split ? static_cast<std::ptrdiff_t>(shared_split_.begin(n_shared, thread + 1)) : ns;

@@ -156,13 +156,20 @@ class Solver {
 
  private:
   // Phases of one step, in order.
-  void kick_and_drift();          // v(n+1/2), x(n+1), prescribed motions
+  // The step's kick and drift: begin_kick() (serial: the supports' and boundary's
+  // displacements before the drift, time_ to the step's end), then kick_and_drift() on
+  // node ranges that cover every node once: v(n+1/2), x(n+1), forces cleared to gravity,
+  // prescribed motions.
+  void begin_kick();
+  void kick_and_drift(std::size_t begin, std::size_t end);
   void clear_forces();
   void add_gravity();
   // Triangles, objective CST (DESIGN.md §2), and cohesive joints, breaking for good
   // (DESIGN.md §3): one parallel region, per-element and per-joint force buffers
   // gathered per node in a fixed order (bit-identical for any thread count).
-  void add_internal_and_joint_forces();
+  enum class Kick : bool { no, first };
+  // With Kick::first, kick_and_drift() on each thread's node chunks first, in the same region.
+  void add_internal_and_joint_forces(Kick kick = Kick::no);
   void add_contact_forces();      // spheropolygons of zones A and C (DESIGN.md §4)
   void add_boundary_forces();     // viscous-spring boundary and free-field seismic input (DESIGN.md §5)
   void add_damping_forces();      // Rayleigh mass part (stiffness part is in the element loop)
@@ -206,6 +213,7 @@ class Solver {
   std::vector<PrescribedDof> constraints_;
   EnergyLedger energy_;
   double time_ = 0.0;
+  double kick_from_ = 0.0;  // time_ at the step's start, while the kick runs (begin_kick)
   long step_ = 0;
   long broken_joints_ = 0;
   // The time-step rule (set_time_step_rule): joints by ascending limit, the first that may

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <tuple>
 #include <vector>
 
 #ifdef _OPENMP
@@ -89,6 +90,51 @@ TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
   EXPECT_TRUE(bitwise_equal(one.u, two.u)) << "node displacements differ between 1 and 2 threads";
   EXPECT_TRUE(bitwise_equal(one.v, two.v)) << "node velocities differ between 1 and 2 threads";
   EXPECT_EQ(std::memcmp(&one.kinetic, &two.kinetic, sizeof(double)), 0);
+}
+
+// Prescribed velocities and displacements are applied by each thread to the nodes of its
+// own range, in the kick and in the velocity update (issue 7): supports spread over the
+// node numbering (the block's curves, numbered first, and the ground's, numbered last)
+// must end with their prescribed values and the same bits on 1 and 2 threads.
+TEST(Determinism, PrescribedMotionsOnEveryThreadsNodes) {
+  auto run_prescribed = [](int threads) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    Model model = impact_model(24, 12);
+    solver::Solver s(model);
+    s.set_parallel(true);
+    io::BoundarySpec fixed, left, top;
+    fixed.group = "ground_bottom";
+    fixed.type = io::BoundaryType::Fixed;
+    left.group = "left";  // the block's left side: x velocity ramping from 0 to 2 m/s
+    left.type = io::BoundaryType::Velocity;
+    left.x = io::TimeHistory{{0.0, 1e-3}, {0.0, 2.0}};
+    top.group = "top";  // the block's top: y displacement -0.1 mm per 0.1 ms
+    top.type = io::BoundaryType::Displacement;
+    top.y = io::TimeHistory{{0.0, 1e-3}, {0.0, -1e-3}};
+    s.set_constraints(solver::build_constraints(model, {fixed, left, top}, 0.0));
+    s.set_settings({Vec2(0.0, -9.81), 50.0, 1e-7, 0.3 * solver::stable_time_step(model, 1e-7).dt, true});
+    s.initialise();
+    for (int k = 0; k < 200; ++k) s.step();
+    const double t = s.time();
+    std::vector<Vec2> u = model.nodes.u, v = model.nodes.v;
+    double worst_v = 0.0, worst_u = 0.0;
+    for (Index i : model.groups[model.find_group("left")].nodes) worst_v = std::max(worst_v, std::abs(v[i].x() - left.x->at(t)));
+    for (Index i : model.groups[model.find_group("top")].nodes) worst_u = std::max(worst_u, std::abs(u[i].y() - top.y->at(t)));
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    return std::make_tuple(u, v, worst_v, worst_u, model.nodes.size());
+  };
+  const auto [u1, v1, dv1, du1, n] = run_prescribed(1);
+  const auto [u2, v2, dv2, du2, n2] = run_prescribed(2);
+  EXPECT_LT(dv1, 1e-12);
+  EXPECT_LT(du1, 1e-15);
+  EXPECT_LT(dv2, 1e-12);
+  EXPECT_LT(du2, 1e-15);
+  EXPECT_TRUE(bitwise_equal(u1, u2)) << "node displacements differ between 1 and 2 threads";
+  EXPECT_TRUE(bitwise_equal(v1, v2)) << "node velocities differ between 1 and 2 threads";
 }
 
 TEST(Determinism, RepeatedRunsAreBitIdentical) {
