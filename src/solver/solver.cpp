@@ -26,6 +26,10 @@ namespace dsdem::solver {
 
 namespace {
 std::ptrdiff_t ssize(std::size_t n) { return static_cast<std::ptrdiff_t>(n); }
+// A prescribed dof on a node of the range [begin, end) (one thread's nodes).
+bool on_nodes(const PrescribedDof& d, std::size_t begin, std::size_t end) {
+  return static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end;
+}
 }  // namespace
 
 
@@ -404,16 +408,13 @@ void Solver::kick_and_drift(std::size_t begin, std::size_t end) {
   // Prescribed velocities of these nodes, and their drift redone with them (the same
   // expression u_prev + dt v as above, so bit-identical to prescribing before the drift);
   // then prescribed displacements. Three passes in list order, as over the whole list.
-  auto here = [begin, end](const PrescribedDof& d) {
-    return static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end;
-  };
   const double t_half = kick_from_ + 0.5 * dt, t_end = time_;  // begin_kick() advanced time_
   for (const auto& d : constraints_)
-    if (here(d)) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
+    if (on_nodes(d, begin, end)) n.v[d.node][d.dir] = prescribed_velocity(d, t_half);
   for (const auto& d : constraints_)
-    if (here(d)) n.u[d.node][d.dir] = d.u_prev + dt * n.v[d.node][d.dir];
+    if (on_nodes(d, begin, end)) n.u[d.node][d.dir] = d.u_prev + dt * n.v[d.node][d.dir];
   for (const auto& d : constraints_)
-    if (here(d) && d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(t_end - d.t_start);
+    if (on_nodes(d, begin, end) && d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(t_end - d.t_start);
 }
 
 void Solver::clear_forces() {
@@ -754,8 +755,7 @@ void Solver::finish_velocities(std::size_t begin, std::size_t end) {
   // The prescribed velocities of these nodes, in list order (a later dof on the same node
   // and direction wins, as in one pass over the list).
   for (const auto& d : constraints_)
-    if (static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end)
-      n.v[d.node][d.dir] = prescribed_velocity(d, time_);
+    if (on_nodes(d, begin, end)) n.v[d.node][d.dir] = prescribed_velocity(d, time_);
 }
 
 void Solver::update_energy(FinishVelocities finish) {
