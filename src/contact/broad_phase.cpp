@@ -88,4 +88,22 @@ void BroadPhase::bin(const NodePositions& x, std::span<const std::array<Index, 3
   }
 }
 
+std::size_t BroadPhase::pair_bound() const {
+  // Every pair is reported in one cell that holds both its slots.
+  const std::size_t ncells = static_cast<std::size_t>(nx_) * ny_;
+  std::size_t bound = 0;
+  for (std::size_t c = 0; c < ncells && c + 1 < cell_start_.size(); ++c) {
+    const auto k = static_cast<std::size_t>(cell_start_[c + 1] - cell_start_[c]);
+    if (k > 1) bound += k * (k - 1) / 2;
+  }
+  return bound;
+}
+
+void BroadPhase::reserve_first_pairs() {
+  // Only the touched pages of a large block become resident, so the overestimate (~2.4x
+  // on the box) costs address space, not memory; capped for degenerate grids.
+  const std::size_t room = std::min(pair_bound(), kFirstPairsPerTriangleCap * tris_.size());
+  if (pairs_.capacity() < room) pairs_.reserve(room);
+}
+
 }  // namespace dsdem::contact
