@@ -234,8 +234,11 @@ def main():
     big = max((n for n in ("box_1e6_t1", "box_1e5_t1") if n in whole), default=None)
     if big:
         pe = get(big, "peak_MB") * 1e6 / get(big, "elements")
-        lines.append(f"| memory <= 1 KB per element ({big}) | peak {pe:.0f} B/elem (whole process, incl. model building); "
-                     f"steady RSS {get(big, 'B/elem'):.0f} B/elem | {'yes' if get(big, 'B/elem') <= 1024 else 'no'} (steady) |")
+        # 1 KB read as 1000 B (the stricter reading); the peak is the whole process's.
+        steady = get(big, "B/elem")
+        verdict = "yes (peak and steady)" if pe <= 1000 else ("yes (steady only)" if steady <= 1000 else "no")
+        lines.append(f"| memory <= 1 KB (1000 B) per element ({big}) | peak {pe:.0f} B/elem (whole process, incl. model "
+                     f"building); steady RSS {steady:.0f} B/elem | {verdict} |")
     # Dr2 shear sliding: full length from the short run's rate and the logged dt.
     for r in ex_rows:
         if not r[0].startswith("dr2") or r[1] != "2" or len(r) < 7:
