@@ -120,6 +120,7 @@ struct ContactStepStats {
   // Candidates known to be apart (not examined): their cores or boxes were apart by more
   // than they have moved since.
   Index skipped_pairs = 0;
+  Index examined_pairs = 0;  // candidates sent to the narrow phase
   bool rebuilt = false;                  // the broad phase was rebuilt this call
   double elastic_energy = 0.0;           // stored in all contacts now, J/m
   double elastic_energy_increment = 0.0; // change since the previous call, J/m
@@ -550,6 +551,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
   st.rebuilt = rebuilt;
   st.candidate_pairs = static_cast<Index>(np);
   st.skipped_pairs = skipped;
+  st.examined_pairs = static_cast<Index>(examined);
   return st;
 }
 

@@ -118,6 +118,7 @@ class Solver {
   Vec2 reaction_on(const std::vector<Index>& nodes) const;
   long broken_joints() const { return broken_joints_; }
   long active_contacts() const { return contact_stats_.active_contacts; }
+  const contact::ContactStepStats& contact_stats() const { return contact_stats_; }
   const contact::ContactForces* contact() const { return contact_.get(); }
   // True when triangles i and j are still glued by an intact joint (no contact between them).
   bool bonded(Index i, Index j) const;

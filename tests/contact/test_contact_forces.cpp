@@ -491,7 +491,7 @@ TEST(ContactForces, PairsSkippedWhileApartGiveTheSameForcesAsCheckingEveryPair) 
   const ContactParamTable params = pile_params();
   ContactForces kept, fresh;
   std::vector<Vec2> f1(p.mesh.x.size()), f2(p.mesh.x.size());
-  long skipped = 0, contacts = 0;
+  long skipped = 0, contacts = 0, examined_kept = 0, examined_fresh = 0;
   for (int step = 0; step < 300; ++step) {
     p.set_time(step * p.dt);
     std::fill(f1.begin(), f1.end(), Vec2::Zero());
@@ -503,11 +503,18 @@ TEST(ContactForces, PairsSkippedWhileApartGiveTheSameForcesAsCheckingEveryPair) 
     ASSERT_EQ(a.active_contacts, b.active_contacts);
     ASSERT_EQ(std::memcmp(&a.elastic_energy, &b.elastic_energy, sizeof(double)), 0);
     EXPECT_EQ(b.skipped_pairs, 0);
+    // Examined: the candidates neither skipped nor with boxes apart, a subset of those the
+    // rebuilt list examines (every pair whose boxes overlap).
+    EXPECT_LE(a.examined_pairs + a.skipped_pairs, a.candidate_pairs);
+    EXPECT_GE(b.examined_pairs, a.examined_pairs);
+    examined_kept += a.examined_pairs;
+    examined_fresh += b.examined_pairs;
     skipped += a.skipped_pairs;
     contacts += a.active_contacts;
   }
   EXPECT_GT(contacts, 1000);
   EXPECT_GT(skipped, 500);
+  EXPECT_LT(examined_kept, examined_fresh);  // the skipping examines fewer pairs
 }
 
 TEST(ContactForces, EdgeDataWithTheShapesOrPerExaminedPairGiveTheSameForces) {
