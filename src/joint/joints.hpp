@@ -93,6 +93,19 @@ struct Joints {
   std::vector<double> stiffness_scale;
 
   std::size_t size() const { return nodes.size(); }
+  // Room for n joints in every array (joint insertion adds them one at a time).
+  void reserve(std::size_t n) {
+    nodes.reserve(n);
+    tri_a.reserve(n);
+    tri_b.reserve(n);
+    property.reserve(n);
+    curve_group.reserve(n);
+    length0.reserve(n);
+    state.reserve(n);
+    end_mode.reserve(n);
+    broken.reserve(n);
+    stiffness_scale.reserve(n);
+  }
   void resize(std::size_t n) {
     nodes.resize(n, {kNoIndex, kNoIndex, kNoIndex, kNoIndex});
     tri_a.resize(n, kNoIndex);

@@ -140,6 +140,9 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
   };
 
   Joints& J = out.joints;
+  // At most one joint per two edge sides: reserved, the ten arrays do not grow by doubling
+  // (1.49 M joints of the 10^6-element box: 21 reallocations each, issue 7 memory).
+  J.reserve(edges.size() / 2);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t e = i + 1;
     while (e < edges.size() && edges[e].lo == edges[i].lo && edges[e].hi == edges[i].hi) ++e;

@@ -184,6 +184,28 @@ TEST(JointInsertion, AllBreakableAndAllContinuous) {
   EXPECT_EQ(r.triangles, m.triangles);  // untouched: one copy per mesh node, same order
 }
 
+TEST(JointInsertion, JointArraysReservedNotGrownByDoubling) {
+  // Reserved for one joint per two edge sides (issue 7 memory): every array's capacity
+  // stays within 3 n_triangles / 2, where growing one joint at a time would have doubled
+  // it to 2048 for these 1 160 joints (and kept 40 % more on the 10^6-element box).
+  RawMesh m = grid(20, 20);
+  std::vector<Index> all(m.triangles.size());
+  for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<Index>(t);
+  add_surface(m, "all", all);
+  JointInsertionOptions o;
+  o.breakable = {true};
+  const JointInsertionResult r = insert_joints(m, o);
+  check_invariants(m, r);
+  const Joints& J = r.joints;
+  ASSERT_EQ(J.size(), 1160u);  // (3 x 800 edge sides - 80 on the boundary) / 2
+  const std::size_t bound = 3 * m.triangles.size() / 2;
+  for (const std::size_t capacity :
+       {J.nodes.capacity(), J.tri_a.capacity(), J.tri_b.capacity(), J.property.capacity(), J.curve_group.capacity(),
+        J.length0.capacity(), J.state.capacity(), J.end_mode.capacity(), J.broken.capacity(),
+        J.stiffness_scale.capacity()})
+    EXPECT_LE(capacity, bound);
+}
+
 TEST(JointInsertion, CountsMatchBruteForceOnAPatchworkOfGroups) {
   // 6 x 5 squares, four surface groups in a patchwork (two breakable), one curve
   // crossing everything: counts against an independent O(T^2) enumeration.
