@@ -59,6 +59,11 @@ struct ContactSettings {
   double skin = 0.0;
   // Below this many candidate pairs the pair loop runs on one thread.
   std::size_t min_pairs_per_parallel_run = 128;
+  // Below this many pairs examined in a step (after the parallel filter), the first thread
+  // alone computes their edge data, contacts and forces: a split costs three barriers
+  // (~1.5 us each when this VM's cores are far apart) and saves ~0.1 us per pair (issue 7:
+  // the 968-element box examines ~41 pairs per step, the 2 680-element disc ~70-170).
+  std::size_t min_examined_pairs_to_split = 64;
   // false: every loop on one thread (the solver turns OpenMP off for small models; a
   // parallel region there costs more than it saves, and far more on a loaded machine).
   bool parallel = true;
@@ -318,6 +323,7 @@ class ContactForces {
   };
   std::vector<ThreadCounts> thread_counts_;
   int used_threads_ = 0;
+  bool pairs_split_ = false;  // this step's pair loop ran on several threads (tune pair_split_)
   double last_elastic_energy_ = 0.0;
 };
 
@@ -418,15 +424,28 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // update_shapes() did it for all.
     if (t == 0) used_threads_ = T;
 #pragma omp barrier
+    std::size_t examined = 0;
+    for (int u = 0; u < T; ++u) examined += todo_[u].size();
+    // Few pairs: the first thread alone from here (the same on every thread: worksharing
+    // constructs below are met by all threads or by none).
+    const bool split = T > 1 && examined >= settings_.min_examined_pairs_to_split;
+    if (t == 0) pairs_split_ = split;
     if (!scales_with_shapes_) {
-#pragma omp single
-      collect_scale_triangles(T);
-      const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t s = 0; s < ns; ++s) {
+      auto scales_of = [this](std::ptrdiff_t s) {
         const Index tri = scale_tris_[s];
         edge_scales_[tri] = core_edge_scales(sp_[tri].core);
         in_pair_[tri] &= ~kScales;
+      };
+      if (split) {
+#pragma omp single
+        collect_scale_triangles(T);
+        const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
+#pragma omp for schedule(static)
+        for (std::ptrdiff_t s = 0; s < ns; ++s) scales_of(s);
+      } else if (t == 0) {
+        collect_scale_triangles(T);
+        const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
+        for (std::ptrdiff_t s = 0; s < ns; ++s) scales_of(s);
       }
     }
     // 3. Narrow phase and law. The pairs to examine, in pair order (todo_[0], todo_[1],
@@ -438,14 +457,15 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // Forces added at once, while the records are in cache: by one thread, to every node;
     // by the first of several, to the nodes of its range (no earlier pair touches them).
     const std::size_t nn = f.size();
-    const std::span<Vec2> f_now = t == 0 ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(nn, 1, T)))
-                                         : std::span<Vec2>();
+    const std::span<Vec2> f_now = t != 0 ? std::span<Vec2>()
+                                  : split ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(nn, 1, T)))
+                                          : std::span<Vec2>(f);
     if (T > 1)
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
     ContactHistory::Cursor cursor;  // keys ascend within the run
-    std::size_t first = 0, count = todo_[0].size();
+    std::size_t first = 0, count = T == 1 ? todo_[0].size() : t == 0 ? examined : 0;
     std::vector<ContactHistory::Entry>& history_out = history_.segment(t);
-    if (T > 1) {
+    if (split) {
 #ifdef _OPENMP
       busy_from = omp_get_wtime();
 #endif
@@ -459,8 +479,6 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       };
       // Runs start at the first pair of a sum block (pairs whose triangle i is in one run of
       // kSumBlock indices), so no block is split between threads.
-      std::size_t examined = 0;
-      for (int u = 0; u < T; ++u) examined += todo_[u].size();
       auto pair_at = [&](std::size_t c) -> const ContactPair& {
         int u = 0;
         while (c >= todo_[u].size()) c -= todo_[u++].size();
@@ -510,7 +528,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
           sliding += rec.sliding ? 1 : 0;
         }
         active += static_cast<Index>(out.size() - before);
-        if (T > 1 && out.size() > before) note_touching(in, pr, t, T, nn, before, out.size());
+        if (split && out.size() > before) note_touching(in, pr, t, T, nn, before, out.size());
         // Half the clearance: margin for the float and for the sums' rounding.
         skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : static_cast<float>(res);
       }
@@ -519,11 +537,11 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     }
     if (block >= 0) my_blocks.push_back(sums);
     thread_counts_[t] = {active, sliding};
-    // 4. The forces to the nodes (one thread: done in step 3): thread t adds the forces
-    // of the records that touch its node range to those nodes (thread 0's own ones: done
-    // in step 3), in record order, so each node gets the same sum, in the same order, for
-    // any thread count.
-    if (T > 1) {
+    // 4. The forces to the nodes (one thread, or few pairs: done in step 3): thread t adds
+    // the forces of the records that touch its node range to those nodes (thread 0's own
+    // ones: done in step 3), in record order, so each node gets the same sum, in the same
+    // order, for any thread count.
+    if (split) {
       // Busy time: the pair loop alone. Every scatter starts after the barrier, so the
       // step's contact phase ends at the slowest pair loop plus the longest scatter; the
       // last thread's scatter is the longest by construction (it adds every record on its
@@ -538,7 +556,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     }
   }
   if (used_threads_ > 1 && used_threads_ == nt) {
-    pair_split_.rebalance();
+    if (pairs_split_) pair_split_.rebalance();
     filter_split_.rebalance();
   }
   std::size_t examined = 0;

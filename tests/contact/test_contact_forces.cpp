@@ -324,8 +324,11 @@ TEST(ContactForces, PileConservesMomentumAndAngularMomentum) {
 }
 
 TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
-  // Serial, and (with OpenMP) the parallel pair loop on 2 threads.
-  for (const bool parallel : {false, true}) {
+  // Serial, and (with OpenMP) the parallel pair loop on 2 threads, split or (few pairs)
+  // on the first thread.
+  for (const int mode : {0, 1, 2}) {
+    const bool parallel = mode > 0;
+    const std::size_t min_examined = mode == 2 ? SIZE_MAX : 0;
 #ifdef _OPENMP
     const int saved = omp_get_max_threads();
     omp_set_num_threads(parallel ? 2 : 1);
@@ -334,7 +337,8 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
 #endif
     Pile p = make_pile(22, 30);
     const ContactParamTable params = pile_params();
-    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = parallel ? 0 : SIZE_MAX});
+    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = parallel ? 0 : SIZE_MAX,
+                      .min_examined_pairs_to_split = min_examined});
     // Warm-up with nearly all pairs on thread 0, the counted steps with nearly all on
     // thread 1: a split the threads' timing may choose at any step must not allocate (each
     // thread's lists have room for a whole step's contacts). Under a sanitizer the tuned
@@ -358,7 +362,7 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
     dsdem::test::AllocationScope scope;
     const long contacts = run(100);
     const long allocations = scope.count();
-    EXPECT_EQ(allocations, 0) << "parallel " << parallel;
+    EXPECT_EQ(allocations, 0) << "mode " << mode;
     EXPECT_GE(cf.broad_phase().builds() - builds0, 2);  // rebuilds happened in the window
     EXPECT_GT(contacts, 100 * 50);
     EXPECT_EQ(cf.threads_used(), parallel ? 2 : 1);
@@ -372,11 +376,11 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
 TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   const int saved = omp_get_max_threads();
   auto run = [](int threads, std::vector<std::vector<Vec2>>& forces, std::vector<ContactStepStats>& stats,
-                std::vector<double> split = {}) {
+                std::vector<double> split = {}, std::size_t min_examined_to_split = 0) {
     omp_set_num_threads(threads);
     Pile p = make_pile(23, 30);
     const ContactParamTable params = pile_params();
-    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = 0});
+    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = 0, .min_examined_pairs_to_split = min_examined_to_split});
     if (!split.empty()) cf.pin_pair_split(split);
     std::vector<Vec2> f(p.mesh.x.size());
     for (int step = 0; step < 100; ++step) {
@@ -391,22 +395,31 @@ TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   // by expected cost (todo_weight_) across three filter lists.
   // The split of the pair loop between the threads, tuned from timing (balance_shares) or
   // pinned far off balance either way, changes no result either.
-  std::vector<std::vector<Vec2>> f1, f2, f3, f4, f5, f6;
-  std::vector<ContactStepStats> s1, s2, s3, s4, s5, s6;
+  // The examined pairs left to the first thread (few pairs, no split): the same results,
+  // on 2 threads, and on 3 with a threshold that some steps meet and others do not.
+  std::vector<std::vector<Vec2>> f1, f2, f3, f4, f5, f6, f7, f8;
+  std::vector<ContactStepStats> s1, s2, s3, s4, s5, s6, s7, s8;
   EXPECT_EQ(run(1, f1, s1), 1);
   EXPECT_EQ(run(2, f2, s2), 2);
   EXPECT_EQ(run(3, f3, s3), 3);
   EXPECT_EQ(run(2, f4, s4, {0.1, 0.9}), 2);
   EXPECT_EQ(run(2, f5, s5, {0.9, 0.1}), 2);
   EXPECT_EQ(run(3, f6, s6, {0.6, 0.05, 0.35}), 3);
+  EXPECT_EQ(run(2, f7, s7, {}, SIZE_MAX), 2);
+  std::vector<Index> examined;
+  for (const ContactStepStats& st : s1) examined.push_back(st.examined_pairs);
+  std::sort(examined.begin(), examined.end());
+  ASSERT_LT(examined.front(), examined.back());  // so the median threshold takes both ways
+  EXPECT_GT(examined.front(), 0);
+  EXPECT_EQ(run(3, f8, s8, {}, static_cast<std::size_t>(examined[examined.size() / 2])), 3);
   omp_set_num_threads(saved);
   long active = 0;
-  for (const auto* other : {&f2, &f3, &f4, &f5, &f6}) ASSERT_EQ(f1.size(), other->size());
+  for (const auto* other : {&f2, &f3, &f4, &f5, &f6, &f7, &f8}) ASSERT_EQ(f1.size(), other->size());
   for (std::size_t k = 0; k < f1.size(); ++k) {
-    for (const auto* other : {&f2, &f3, &f4, &f5, &f6}) {  // bit for bit
+    for (const auto* other : {&f2, &f3, &f4, &f5, &f6, &f7, &f8}) {  // bit for bit
       ASSERT_EQ(std::memcmp(f1[k].data(), (*other)[k].data(), f1[k].size() * sizeof(Vec2)), 0) << "step " << k;
     }
-    for (const auto* other : {&s2, &s3, &s4, &s5, &s6}) {
+    for (const auto* other : {&s2, &s3, &s4, &s5, &s6, &s7, &s8}) {
       EXPECT_EQ(s1[k].active_contacts, (*other)[k].active_contacts);
       EXPECT_EQ(s1[k].elastic_energy, (*other)[k].elastic_energy);
       EXPECT_EQ(s1[k].friction_dissipation, (*other)[k].friction_dissipation);
