@@ -454,8 +454,9 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // thread order still gives pair order.
     std::vector<ContactRecord>& out = buffers_[t];
     out.clear();
-    // Forces added at once, while the records are in cache: by one thread, to every node;
-    // by the first of several, to the nodes of its range (no earlier pair touches them).
+    // Forces added at once, while the records are in cache: by one thread (or the first
+    // alone, few pairs), to every node; by the first of several, to the nodes of its range
+    // (no earlier pair touches them).
     const std::size_t nn = f.size();
     const std::span<Vec2> f_now = t != 0 ? std::span<Vec2>()
                                   : split ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(nn, 1, T)))
@@ -463,7 +464,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     if (T > 1)
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
     ContactHistory::Cursor cursor;  // keys ascend within the run
-    std::size_t first = 0, count = T == 1 ? todo_[0].size() : t == 0 ? examined : 0;
+    std::size_t first = 0, count = t == 0 ? examined : 0;  // split: set below
     std::vector<ContactHistory::Entry>& history_out = history_.segment(t);
     if (split) {
 #ifdef _OPENMP
