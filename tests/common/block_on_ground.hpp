@@ -67,4 +67,13 @@ inline Model block_on_ground(const BlockOnGround& b, io::Scenario sc = impact_sc
   return model;
 }
 
+// The default block (joints on every interior edge, contact on, hitting the ground at
+// 20 m/s, so joints break within a few hundred steps) with nx x ny cells.
+inline Model impact_block(int nx, int ny) {
+  BlockOnGround b;
+  b.nx = nx;
+  b.ny = ny;
+  return block_on_ground(b);
+}
+
 }  // namespace dsdem::test

@@ -25,15 +25,6 @@ using namespace dsdem;
 
 namespace {
 
-// The block of tests/common/block_on_ground.hpp: joints on every interior edge,
-// contact on, hitting the ground at 20 m/s, so joints break within a few hundred steps.
-Model impact_model(int nx, int ny) {
-  test::BlockOnGround b;
-  b.nx = nx;
-  b.ny = ny;
-  return test::block_on_ground(b);
-}
-
 struct RunResult {
   std::vector<Vec2> u, v;
   long broken = 0;
@@ -47,7 +38,7 @@ RunResult run(int threads, int steps, int nx = 24, int ny = 12, int parallel = 1
 #ifdef _OPENMP
   omp_set_num_threads(threads);
 #endif
-  Model model = impact_model(nx, ny);
+  Model model = test::impact_block(nx, ny);
   solver::Solver s(model);
   // The 24 x 12 model is below the size that switches OpenMP on by itself.
   if (parallel >= 0) s.set_parallel(parallel == 1);
@@ -101,7 +92,7 @@ TEST(Determinism, PrescribedMotionsOnEveryThreadsNodes) {
 #ifdef _OPENMP
     omp_set_num_threads(threads);
 #endif
-    Model model = impact_model(24, 12);
+    Model model = test::impact_block(24, 12);
     solver::Solver s(model);
     s.set_parallel(true);
     io::BoundarySpec fixed, left, top;

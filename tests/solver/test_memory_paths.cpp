@@ -17,12 +17,7 @@ using namespace dsdem;
 
 namespace {
 
-Model impact_model() {
-  test::BlockOnGround b;
-  b.nx = 16;
-  b.ny = 8;
-  return test::block_on_ground(b);
-}
+Model impact_model() { return test::impact_block(16, 8); }
 
 void setup(solver::Solver& s, const Model& model, double alpha, double beta) {
   io::BoundarySpec fixed;

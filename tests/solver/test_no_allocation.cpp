@@ -18,20 +18,11 @@ using namespace dsdem;
 
 namespace {
 
-// The block of tests/common/block_on_ground.hpp: joints on every interior edge,
-// contact on, hitting the ground at 20 m/s, so joints break within a few hundred steps.
-Model impact_model(int nx, int ny) {
-  test::BlockOnGround b;
-  b.nx = nx;
-  b.ny = ny;
-  return test::block_on_ground(b);
-}
-
 void check_no_allocation(int threads, bool parallel) {
 #ifdef _OPENMP
   omp_set_num_threads(threads);
 #endif
-  Model model = impact_model(24, 12);
+  Model model = test::impact_block(24, 12);
   solver::Solver s(model);
   s.set_parallel(parallel);
   io::BoundarySpec fixed;
