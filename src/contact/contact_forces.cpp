@@ -5,6 +5,7 @@
 #include <string>
 
 #include "contact/buffer.hpp"
+#include "contact/dashpot_mass.hpp"
 #include "contact/shape_map.hpp"
 #include "contact/shapes_x2.hpp"
 
@@ -257,11 +258,7 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
   // Per pair, for all its contacts (the same operations as per contact).
   const BarycentricFrame frame_i = barycentric_frame(x[ci[0]], x[ci[1]], x[ci[2]]);
   const BarycentricFrame frame_j = barycentric_frame(x[cj[0]], x[cj[1]], x[cj[2]]);
-  const double mi = in.mass[ci[0]] + in.mass[ci[1]] + in.mass[ci[2]];
-  const double mj = in.mass[cj[0]] + in.mass[cj[1]] + in.mass[cj[2]];
-  const double m_pair = mi > 0.0 && mj > 0.0 ? mi * mj / (mi + mj) : 0.0;  // 0: no dashpot
-  const bool capped = p.damping_ratio > 0.0 && p.kn > 0.0;
-  const double cap_den = 4.0 * p.damping_ratio * p.damping_ratio * p.kn;
+  const PairDashpotMass dashpot = pair_dashpot_mass(ci, cj, in.mass, dt, p.damping_ratio, p.kn);
   for (int k = 0; k < n; ++k) {
     const ContactGeometry& g = geo[k];
     ContactRecord& r = out.emplace_back();  // filled in place: no copy of the record
@@ -274,16 +271,8 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
     r.Ni = barycentric(g.point, frame_i);
     r.Nj = barycentric(g.point, frame_j);
     const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
-    // Dashpot mass: the two triangles' masses (a contact softer than the elements moves
-    // each element as a whole, so the set restitution holds for element impacts), capped
-    // so the dashpot on the contact point's own mass stays explicit-stable (c dt <= m_pt).
-    const double inv_m = point_inverse_mass(r.Ni, ci, in.mass) + point_inverse_mass(r.Nj, cj, in.mass);
-    const double m_point = inv_m > 0.0 ? 1.0 / inv_m : 0.0;
-    double m_eff = m_pair;
-    if (capped) {
-      const double c_max = m_point / dt;
-      m_eff = std::min(m_eff, c_max * c_max / cap_den);
-    }
+    // Dashpot mass: the two triangles' reduced mass, capped for the point's own mass.
+    const double m_eff = contact_dashpot_mass(dashpot, r.Ni, ci, r.Nj, cj, in.mass);
     const ContactLawResult law =
         contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key, cursor), m_eff, p);
     r.sliding = law.sliding;
