@@ -36,12 +36,15 @@ struct PairDashpotMass {
   bool capped = false;   // zeta > 0 and kn > 0
   double dt = 0.0;
   double cap_den = 0.0;  // 4 zeta^2 kn
-  // The shortcut: with sum_k N_k^2 (one triangle) times its largest node inverse mass
-  // bounding that triangle's part of inv_m from above, inv_m * need <= 1 - kMargin proves
-  // the cap above m_pair by ~4e-9 relative, far beyond the ~30 ulps the chain rounds by.
+  // The shortcut. sum_k N_k^2 / m_k <= S / m_min per triangle (S = sum_k N_k^2, m_min its
+  // smallest node mass), so inv_m <= B = S_i / a + S_j / b (a, b: the two m_min), and
+  // B need <= 1 - kMargin with need = dt sqrt(m_pair cap_den) (1 + kMargin) puts the cap
+  // above m_pair by ~4e-9 relative, far beyond the ~30 ulps the chain rounds by. Tested
+  // without dividing or a root: (S_i b + S_j a)^2 need^2 <= (1 - kMargin)^2 (a b)^2.
   bool shortcut = false;
-  double need = 0.0;                // dt sqrt(m_pair cap_den) (1 + kMargin): m_point above it keeps m_pair
-  double inv_max_i = 0.0, inv_max_j = 0.0;  // 1 / the smallest node mass of i, of j
+  double need2 = 0.0;                 // need^2 = dt^2 m_pair cap_den (1 + kMargin)^2
+  double min_i = 0.0, min_j = 0.0;    // a, b, kg/m
+  double limit = 0.0;                 // (1 - kMargin)^2 (a b)^2
   static constexpr double kMargin = 1e-9;
 };
 
@@ -55,17 +58,18 @@ inline PairDashpotMass pair_dashpot_mass(const std::array<Index, 3>& ci, const s
   d.capped = damping_ratio > 0.0 && kn > 0.0;
   d.dt = dt;
   d.cap_den = 4.0 * damping_ratio * damping_ratio * kn;
-  const double min_i = std::min({mass[ci[0]], mass[ci[1]], mass[ci[2]]});
-  const double min_j = std::min({mass[cj[0]], mass[cj[1]], mass[cj[2]]});
+  d.min_i = std::min({mass[ci[0]], mass[ci[1]], mass[ci[2]]});
+  d.min_j = std::min({mass[cj[0]], mass[cj[1]], mass[cj[2]]});
   const double max_m = std::max({mass[ci[0]], mass[ci[1]], mass[ci[2]], mass[cj[0]], mass[cj[1]], mass[cj[2]]});
-  // Every node movable (no N_k^2 / m_k term left out) and no term that could underflow
-  // (then inv_m > 0 whenever some N_k^2 >= 0.03, see contact_dashpot_mass).
-  d.shortcut = d.capped && d.m_pair > 0.0 && dt > 0.0 && min_i > 0.0 && min_j > 0.0 && max_m < 1e300;
+  // Every node movable (no N_k^2 / m_k term left out), and masses in a range where no
+  // product below over- or underflows (then also inv_m > 0 whenever some N_k^2 >= 0.03).
+  d.shortcut = d.capped && d.m_pair > 0.0 && d.min_i >= 1e-60 && d.min_j >= 1e-60 && max_m <= 1e60;
   if (d.shortcut) {
-    d.need = dt * std::sqrt(d.m_pair * d.cap_den) * (1.0 + PairDashpotMass::kMargin);
-    d.inv_max_i = 1.0 / min_i;
-    d.inv_max_j = 1.0 / min_j;
-    d.shortcut = std::isfinite(d.need);
+    constexpr double up = 1.0 + PairDashpotMass::kMargin, down = 1.0 - PairDashpotMass::kMargin;
+    d.need2 = dt * dt * d.m_pair * d.cap_den * (up * up);
+    const double ab = d.min_i * d.min_j;
+    d.limit = (down * down) * (ab * ab);
+    d.shortcut = std::isnormal(d.need2) && std::isnormal(d.limit);
   }
   return d;
 }
@@ -74,9 +78,10 @@ inline PairDashpotMass pair_dashpot_mass(const std::array<Index, 3>& ci, const s
 inline bool cap_above_pair_mass(const PairDashpotMass& d, const Vec3& Ni, const Vec3& Nj) {
   if (!d.shortcut) return false;
   const double si = Ni.squaredNorm(), sj = Nj.squaredNorm();
+  const double l = si * d.min_j + sj * d.min_i;
   // si >= 0.1: some N_k^2 >= 0.03, so inv_m > 0 (m_point is not the 0 of no movable node).
-  // A NaN fails both tests.
-  return si >= 0.1 && (si * d.inv_max_i + sj * d.inv_max_j) * d.need <= 1.0 - PairDashpotMass::kMargin;
+  // A NaN fails both tests, an overflow the second.
+  return si >= 0.1 && (l * l) * d.need2 <= d.limit;
 }
 
 // m_eff of a contact at shape functions Ni (triangle i, nodes ci) and Nj (j, cj): bit for
