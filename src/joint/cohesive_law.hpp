@@ -133,6 +133,11 @@ inline LastTractions last_tractions(const JointPointState& st, const JointLawCon
 CohesivePoint cohesive_update_general(double dn, double ds, const JointLawConstants& p, JointPointState& st,
                                       bool damage_enabled);
 
+// The damage measure of eq. 9, sqrt(en^2 + es^2) (std::hypot), for max(damage_before,
+// min(1, .)): where the root is provably below damage_before, damage_before itself, which
+// that max() turns into the same damage bit for bit, without the libm call.
+double mixed_mode_damage(double en, double es, double damage_before);
+
 [[gnu::always_inline]] inline CohesivePoint cohesive_update(double dn, double ds, const JointLawConstants& p,
                                                             JointPointState& st, bool damage_enabled) {
   // Fast path, most joints most of the time: an undamaged point whose largest opening

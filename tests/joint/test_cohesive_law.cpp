@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <functional>
 #include <vector>
 
@@ -496,4 +498,46 @@ TEST(CohesiveLaw, LastTractionsAreThoseOfTheEvaluationThatLeftTheHistory) {
       if (enabled) EXPECT_EQ(st.damage, 1.0);
     }
   }
+}
+
+// Eq. 9's damage update with the libm call skipped below the damage reached: the same
+// bits as max(d, min(1, hypot(en, es))) everywhere, including at and near d (issue 7).
+TEST(CohesiveLaw, MixedModeDamageSkipsHypotOnlyWhereTheMaxKeepsTheOldDamage) {
+  auto reference = [](double en, double es, double d) {
+    const double e = en == 0.0 ? es : (es == 0.0 ? en : std::hypot(en, es));
+    return std::max(d, std::min(1.0, e));
+  };
+  auto same_bits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0), angle(0.0, 1.5707963267948966);
+  long skipped = 0, raised = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double d = k % 50 == 0 ? 0.0 : u(rng);
+    // Points around the circle of radius d (some exactly on it, as far as rounding allows),
+    // and anywhere in the unit square.
+    double en, es;
+    if (k % 2 == 0) {
+      const double r = d * (1.0 + (u(rng) - 0.5) * (k % 4 == 0 ? 1e-8 : 0.2)), a = angle(rng);
+      en = r * std::cos(a);
+      es = r * std::sin(a);
+    } else {
+      en = u(rng);
+      es = u(rng);
+    }
+    if (k % 7 == 0) en = 0.0;
+    const double got = std::max(d, std::min(1.0, mixed_mode_damage(en, es, d)));
+    ASSERT_TRUE(same_bits(got, reference(en, es, d))) << en << " " << es << " " << d;
+    if (en != 0.0 && es != 0.0) (got == d ? skipped : raised) += 1;
+  }
+  EXPECT_GT(skipped, 30000);
+  EXPECT_GT(raised, 30000);
+  // Within the margin of the old damage the libm call decides.
+  const double d = 0.6;
+  for (const double f : {1.0 - 1e-12, 1.0, 1.0 + 1e-12}) {
+    const double en = d * f * 0.6, es = d * f * 0.8;
+    EXPECT_EQ(mixed_mode_damage(en, es, d), std::hypot(en, es)) << f;
+  }
+  EXPECT_EQ(mixed_mode_damage(0.3, 0.4, 0.6), 0.6);  // 0.5 < 0.6: no call
+  EXPECT_TRUE(std::isnan(mixed_mode_damage(std::nan(""), 0.4, 0.6)));
+  EXPECT_EQ(mixed_mode_damage(1e-170, 1e-170, 1e-200), std::hypot(1e-170, 1e-170));  // no underflowed test
 }
