@@ -44,8 +44,8 @@ CohesivePoint cohesive_update_general(double dn, double ds, const JointLawConsta
   const LastTractions old_t = last_tractions(old, p);  // the last evaluation's sn and shear secant
   const double wt = p.ft / p.kn;  // opening at the tensile strength (eq. 6)
   if (damage_enabled) {
-    st.dn_max = std::max(old.dn_max, dn);
-    st.s_max = std::max(old.s_max, s);
+    st.dn_max = branchless_max(old.dn_max, dn);
+    st.s_max = branchless_max(old.s_max, s);
   }
 
   // Normal traction of the normal law alone (eq. 6, secant unloading): enters eq. 8.
@@ -53,23 +53,23 @@ CohesivePoint cohesive_update_general(double dn, double ds, const JointLawConsta
   // Eq. 8 with the tension cut-off; fr is the residual friction (compression only).
   // The floor only guards division by zero for properties validate() rejects.
   const double tiny = p.tiny;
-  const double fs = std::max(p.c - std::min(sn_normal, p.ft) * tan_phi, tiny);
-  const double fr = std::max(-sn_normal, 0.0) * tan_phi;
+  const double fs = branchless_max(p.c - branchless_min(sn_normal, p.ft) * tan_phi, tiny);
+  const double fr = branchless_max(-sn_normal, 0.0) * tan_phi;
   const double ws = fs / p.ks;
-  const double wsII = 2.0 * p.GII / std::max(fs - fr, tiny);
+  const double wsII = 2.0 * p.GII / branchless_max(fs - fr, tiny);
 
   // Eq. 9 on the largest opening and slip reached; damage never decreases.
   // Intact joints sit below both limits: the numerators are +0 and the quotients +0
   // without dividing (divisions are most of the law's latency).
-  const double past_n = std::max(st.dn_max - wt, 0.0), past_s = std::max(st.s_max - ws, 0.0);
+  const double past_n = branchless_max(st.dn_max - wt, 0.0), past_s = branchless_max(st.s_max - ws, 0.0);
   const double en = past_n != 0.0 ? past_n / wn : past_n;
   const double es = past_s != 0.0 ? past_s / wsII : past_s;
-  if (damage_enabled) st.damage = std::max(old.damage, std::min(1.0, mixed_mode_damage(en, es, old.damage)));
+  if (damage_enabled) st.damage = branchless_max(old.damage, branchless_min(1.0, mixed_mode_damage(en, es, old.damage)));
   const double D = st.damage;
 
   // Secant tractions: the envelope value at the largest separation, scaled back
   // linearly toward the origin (eqs. 6-7 on loading, secant on unloading).
-  r.sn = dn <= 0.0 ? p.kn * dn : p.ft * (1.0 - D) * dn / std::max(st.dn_max, wt);
+  r.sn = dn <= 0.0 ? p.kn * dn : p.ft * (1.0 - D) * dn / branchless_max(st.dn_max, wt);
   // The shear secant stiffness depends on the normal traction (fs, fr) once the slip
   // has passed ws. A secant that stiffens under compression at a fixed slip would hand
   // out elastic energy that was never stored (ks_sec * ds^2 / 2 grows without work):
@@ -80,10 +80,10 @@ CohesivePoint cohesive_update_general(double dn, double ds, const JointLawConsta
   // Whenever the secant stiffness stays constant along a path this is the secant law.
   // (last_tractions() recomputes sn and k_sec from the stored history: keep alike.)
   const double tau_env = fr + (fs - fr) * (1.0 - D);
-  const double k_sec = tau_env / std::max(st.s_max, ws);
+  const double k_sec = tau_env / branchless_max(st.s_max, ws);
   const double ss_secant = k_sec * ds;
   const double ss_trial = old.ss + k_sec * (ds - old.ds);
-  r.ss = std::clamp(ss_trial, std::min(0.0, ss_secant), std::max(0.0, ss_secant));
+  r.ss = branchless_clamp(ss_trial, branchless_min(0.0, ss_secant), branchless_max(0.0, ss_secant));
 
   auto shear_energy = [](double ss, double k) { return k > 0.0 ? 0.5 * ss * ss / k : 0.0; };
   r.energy = 0.5 * r.sn * dn + shear_energy(r.ss, k_sec);

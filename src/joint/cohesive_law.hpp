@@ -34,6 +34,7 @@
 #include <cmath>
 
 #include "joint/joints.hpp"
+#include "model/branchless.hpp"
 
 namespace dsdem {
 
