@@ -1,6 +1,7 @@
 #include "contact/narrow_phase.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -379,43 +380,43 @@ int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon
   std::array<CoreClosest, 3> ca, cb;
   closest_within_x3(a.core, b.core, eb, rsum, ca);
   closest_within_x3(b.core, a.core, ea, rsum, cb);
-  auto mutual_vv_a = [&](int v) {  // a's vertex v and b's vertex ca[v].vertex see each other
-    const CoreClosest& o = cb[ca[v].vertex];
-    return ca[v].at_vertex && o.at_vertex && o.vertex == v;
-  };
-
-  int n = 0;
-  for (int v = 0; v < 3; ++v) {  // side 0: vertex of a (i) on the core of b (j)
+  // Which of the six queries make a contact, as bits (side 0, a's vertex v on b's core:
+  // bit v; side 1, b's vertex v on a's core: bit 3 + v), without a branch per query: they
+  // were the most mispredicted branches of late Dr2 (2.2 M of 9.4 M in 300 steps, callgrind).
+  // Side 0 keeps a vertex-vertex contact only where it is mutual (a's vertex v and b's
+  // vertex ca[v].vertex see each other; see header); side 1 keeps none (each kept one is
+  // mutual and was counted on side 0). A far query has vertex 0 and at_vertex false.
+  unsigned keep = 0;
+  for (int v = 0; v < 3; ++v) {
     const CoreClosest& c = ca[v];
-    const double overlap = rsum - c.distance;
-    if (!(overlap > 0.0)) continue;
-    if (c.at_vertex && !mutual_vv_a(v)) continue;  // one-sided vertex-vertex: see header
+    const CoreClosest& o = cb[c.vertex];
+    const bool mutual = c.at_vertex & o.at_vertex & (o.vertex == v);
+    keep |= static_cast<unsigned>((rsum - c.distance > 0.0) & (!c.at_vertex | mutual)) << v;
+  }
+  for (int v = 0; v < 3; ++v) {
+    const CoreClosest& c = cb[v];
+    keep |= static_cast<unsigned>((rsum - c.distance > 0.0) & !c.at_vertex) << (3 + v);
+  }
+  // The contacts in bit order (side 0, then side 1, as two loops over the queries gave
+  // them), each side's values picked by index, not by a branch.
+  const std::array<const CoreClosest*, 2> queries{ca.data(), cb.data()};
+  const double r_self[2] = {a.r, b.r}, r_other[2] = {b.r, a.r};
+  const double to_i[2] = {1.0, -1.0};  // side 0: c.normal points from b's core to a's vertex, j -> i
+  int n = 0;
+  for (unsigned bits = keep; bits != 0; bits &= bits - 1) {
+    const int feature = std::countr_zero(bits);
+    const int side = feature / 3, v = feature - 3 * side;
+    const CoreClosest& c = queries[side][v];
     ContactGeometry& g = out[n++];
-    g.feature = static_cast<std::uint8_t>(v);
+    g.feature = static_cast<std::uint8_t>(feature);
     g.kind = c.at_vertex ? ContactKind::VertexVertex : ContactKind::VertexEdge;
     g.other = static_cast<std::uint8_t>(c.at_vertex ? c.vertex : c.edge);
     g.t = c.t;
     g.distance = c.distance;
-    g.overlap = overlap;
-    g.normal = c.normal;  // from b's core toward a's vertex: j -> i
-    // Midway between b's surface (point + r_b n) and a's surface (vertex - r_a n).
-    g.point = c.point + (0.5 * (c.distance + b.r - a.r)) * c.normal;
-  }
-  for (int v = 0; v < 3; ++v) {  // side 1: vertex of b (j) on the core of a (i)
-    const CoreClosest& c = cb[v];
-    const double overlap = rsum - c.distance;
-    if (!(overlap > 0.0)) continue;
-    // Every vertex-vertex contact kept is mutual and was counted on side 0.
-    if (c.at_vertex) continue;
-    ContactGeometry& g = out[n++];
-    g.feature = static_cast<std::uint8_t>(3 + v);
-    g.kind = ContactKind::VertexEdge;
-    g.other = static_cast<std::uint8_t>(c.edge);
-    g.t = c.t;
-    g.distance = c.distance;
-    g.overlap = overlap;
-    g.normal = -c.normal;  // c.normal points from a's core to b's vertex: i -> j
-    g.point = c.point + (0.5 * (c.distance + a.r - b.r)) * c.normal;
+    g.overlap = rsum - c.distance;
+    g.normal = to_i[side] * c.normal;  // * -1.0: the negation's bits
+    // Midway between the core's surface (point + r_other n) and the vertex's (vertex - r_self n).
+    g.point = c.point + (0.5 * (c.distance + r_other[side] - r_self[side])) * c.normal;
   }
   if (n == 0 && clearance) *clearance = clearance_after(a, ea, b, eb, ca, cb);
   return n;
