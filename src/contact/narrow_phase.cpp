@@ -414,7 +414,7 @@ int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon
     g.t = c.t;
     g.distance = c.distance;
     g.overlap = rsum - c.distance;
-    g.normal = to_i[side] * c.normal;  // * -1.0: the negation's bits
+    g.normal = to_i[side] * c.normal;  // * -1.0 is the negation of any number (a NaN stops the run anyway)
     // Midway between the core's surface (point + r_other n) and the vertex's (vertex - r_self n).
     g.point = c.point + (0.5 * (c.distance + r_other[side] - r_self[side])) * c.normal;
   }

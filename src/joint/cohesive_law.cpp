@@ -60,7 +60,7 @@ CohesivePoint cohesive_update_general(double dn, double ds, const JointLawConsta
 
   // Eq. 9 on the largest opening and slip reached; damage never decreases.
   // Intact joints sit below both limits: the numerators are +0 and the quotients +0
-  // without dividing (divisions are most of the law's latency).
+  // without dividing.
   const double past_n = branchless_max(st.dn_max - wt, 0.0), past_s = branchless_max(st.s_max - ws, 0.0);
   const double en = past_n != 0.0 ? past_n / wn : past_n;
   const double es = past_s != 0.0 ? past_s / wsII : past_s;
