@@ -101,6 +101,8 @@ CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const
 // x86-64 CPU with AVX2 the three queries run in the lanes of 256-bit registers, with
 // compares and blends for the scalar code's data-dependent branches (issue 7: those were
 // mispredicted ~42 000 times per late Dr2 step, callgrind); elsewhere three scalar calls.
+// narrow_phase() runs both sides of a pair in one AVX-512 pass instead where the CPU has
+// it (vertex_queries_x6.hpp), and this one otherwise.
 void closest_within_x3(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
                        double reach, std::array<CoreClosest, 3>& out);
 // True when closest_within_x3() uses the vector lanes on this CPU.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "contact/narrow_phase.hpp"
+#include "contact/vertex_queries_x6.hpp"
 #include "common/same_bits.hpp"
 
 using namespace dsdem;
@@ -446,10 +447,72 @@ TEST(VertexQueries, ThreeAtOnceEqualTheScalarQueryBitForBit) {
   EXPECT_GT(on_edge, 1000);
 }
 
+TEST(VertexQueries, SixAtOnceEqualTheScalarQueriesBitForBit) {
+  // vertex_queries_x6 (both sides of a pair in the eight AVX-512 lanes) against
+  // closest_within: one core's vertices placed far off, beyond an edge line, near, inside,
+  // on an edge and on a vertex of the other core (each side in turn), degenerate cores,
+  // and pairs with one side or both sides far.
+  if (!set_vertex_queries_x6(true)) GTEST_SKIP() << "this CPU has no AVX-512F: narrow_phase() uses closest_within_x3()";
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> d(-3.0, 3.0), unit(0.0, 1.0);
+  int inside = 0, at_vertex = 0, far = 0, on_edge = 0, one_side_far = 0;
+  for (int trial = 0; trial < 30000; ++trial) {
+    const std::array<Vec2, 3> target = random_core(rng, trial % 9 < 6 ? 0 : trial % 9 - 5);
+    std::array<Vec2, 3> placed;
+    for (int v = 0; v < 3; ++v) {
+      const int k = (trial + v) % 3;
+      switch ((trial / 3 + v) % 5) {
+        case 0: placed[v] = Vec2(d(rng), d(rng)); break;                                       // anywhere
+        case 1: placed[v] = target[k] + unit(rng) * (target[(k + 1) % 3] - target[k]); break;  // on an edge
+        case 2: placed[v] = target[k]; break;                                                  // on a vertex
+        case 3: placed[v] = (target[0] + target[1] + target[2]) / 3.0 + 0.1 * Vec2(d(rng), d(rng)); break;  // inside
+        default: placed[v] = target[k] + 0.05 * Vec2(d(rng), d(rng)); break;                   // near a vertex
+      }
+    }
+    if (trial % 17 == 0)  // one side far from the other core, or (every third time) both
+      for (Vec2& v : placed) v += Vec2(trial % 3 == 0 ? 50.0 : 5.0, 0.0);
+    // Side 0 queries a's vertices on b's core, side 1 b's on a's: the placed vertices
+    // take each side in turn.
+    const bool placed_is_a = trial % 2 == 0;
+    const std::array<Vec2, 3>& a = placed_is_a ? placed : target;
+    const std::array<Vec2, 3>& b = placed_is_a ? target : placed;
+    const CoreEdges ea = core_edges(a), eb = core_edges(b);
+    const double reach = trial % 4 == 0 ? 0.0 : 0.5 * unit(rng);
+    std::array<CoreClosest, 3> got_a, got_b;
+    vertex_queries_x6(a, ea, b, eb, reach, got_a, got_b);
+    int far_a = 0, far_b = 0;
+    for (int v = 0; v < 3; ++v) {
+      const CoreClosest want_a = closest_within(a[v], b, eb, reach);
+      const CoreClosest want_b = closest_within(b[v], a, ea, reach);
+      ASSERT_TRUE(same_closest(got_a[v], want_a)) << "trial " << trial << " a's vertex " << v;
+      ASSERT_TRUE(same_closest(got_b[v], want_b)) << "trial " << trial << " b's vertex " << v;
+      for (const CoreClosest* want : {&want_a, &want_b}) {
+        far += std::isinf(want->distance) ? 1 : 0;
+        inside += want->distance < 0.0 ? 1 : 0;
+        at_vertex += want->at_vertex ? 1 : 0;
+        on_edge += std::isfinite(want->distance) && !want->at_vertex && want->distance >= 0.0 ? 1 : 0;
+      }
+      far_a += std::isinf(want_a.distance) ? 1 : 0;
+      far_b += std::isinf(want_b.distance) ? 1 : 0;
+    }
+    one_side_far += (far_a == 3) != (far_b == 3) ? 1 : 0;
+  }
+  // Every branch of the scalar query was taken many times, and the pass with one side's
+  // lanes all far.
+  EXPECT_GT(far, 1000);
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(at_vertex, 1000);
+  EXPECT_GT(on_edge, 1000);
+  EXPECT_GT(one_side_far, 500);
+}
+
 TEST(VertexQueries, NarrowPhaseGivesTheSameContactsWithAndWithoutTheVectorLanes) {
+  // Three ways: both sides in one AVX-512 pass (where the CPU has it), each side in AVX2
+  // lanes, and the scalar queries.
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> d(-1.0, 1.0), unit(0.0, 1.0);
   const bool vectorised = closest_within_x3_vectorised();
+  const bool x6 = vertex_queries_x6_enabled();
   int contacts = 0;
   for (int trial = 0; trial < 5000; ++trial) {
     const std::array<Vec2, 3> ca = random_core(rng, trial % 11 == 0 ? 3 : 0);
@@ -457,16 +520,25 @@ TEST(VertexQueries, NarrowPhaseGivesTheSameContactsWithAndWithoutTheVectorLanes)
     for (Vec2& v : cb) v = 0.5 * v + Vec2(d(rng), d(rng));
     const Spheropolygon a{ca, 0.2 * unit(rng)}, b{cb, 0.2 * unit(rng)};
     const CoreEdgeScales sa = core_edge_scales(a.core), sb = core_edge_scales(b.core);
-    Out x4, x1;
-    double clear_x4 = 0.0, clear_x1 = 0.0;
+    Out x8, x4, x1;
+    double clear_x8 = 0.0, clear_x4 = 0.0, clear_x1 = 0.0;
+    set_vertex_queries_x6(true);
+    const int n8 = narrow_phase(a, sa, b, sb, x8, &clear_x8, trial % 2 == 0);
+    set_vertex_queries_x6(false);
     set_closest_within_x3_vectorised(true);
     const int n4 = narrow_phase(a, sa, b, sb, x4, &clear_x4, trial % 2 == 0);
     set_closest_within_x3_vectorised(false);
     const int n1 = narrow_phase(a, sa, b, sb, x1, &clear_x1, trial % 2 == 0);
     set_closest_within_x3_vectorised(vectorised);
+    set_vertex_queries_x6(x6);
+    ASSERT_EQ(n8, n1) << "trial " << trial;
     ASSERT_EQ(n4, n1) << "trial " << trial;
+    EXPECT_TRUE(same_bits(clear_x8, clear_x1)) << "trial " << trial;
     EXPECT_TRUE(same_bits(clear_x4, clear_x1)) << "trial " << trial;
-    for (int k = 0; k < n1; ++k) EXPECT_TRUE(same_geometry(x4[k], x1[k])) << "trial " << trial << " contact " << k;
+    for (int k = 0; k < n1; ++k) {
+      EXPECT_TRUE(same_geometry(x8[k], x1[k])) << "trial " << trial << " contact " << k;
+      EXPECT_TRUE(same_geometry(x4[k], x1[k])) << "trial " << trial << " contact " << k;
+    }
     contacts += n1;
   }
   EXPECT_GT(contacts, 2000);
