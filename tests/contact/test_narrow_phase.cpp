@@ -405,6 +405,24 @@ std::array<Vec2, 3> random_core(std::mt19937& rng, int kind) {
   return c;
 }
 
+// Three query points for `trial` around `core`, in turn anywhere, on an edge, on a vertex,
+// inside and near a vertex.
+std::array<Vec2, 3> points_around(const std::array<Vec2, 3>& core, int trial, std::mt19937& rng) {
+  std::uniform_real_distribution<double> d(-3.0, 3.0), unit(0.0, 1.0);
+  std::array<Vec2, 3> p;
+  for (int v = 0; v < 3; ++v) {
+    const int k = (trial + v) % 3;
+    switch ((trial / 3 + v) % 5) {
+      case 0: p[v] = Vec2(d(rng), d(rng)); break;                                      // anywhere
+      case 1: p[v] = core[k] + unit(rng) * (core[(k + 1) % 3] - core[k]); break;       // on an edge
+      case 2: p[v] = core[k]; break;                                                   // on a vertex
+      case 3: p[v] = (core[0] + core[1] + core[2]) / 3.0 + 0.1 * Vec2(d(rng), d(rng)); break;  // inside
+      default: p[v] = core[k] + 0.05 * Vec2(d(rng), d(rng)); break;                    // near a vertex
+    }
+  }
+  return p;
+}
+
 }  // namespace
 
 TEST(VertexQueries, ThreeAtOnceEqualTheScalarQueryBitForBit) {
@@ -412,22 +430,12 @@ TEST(VertexQueries, ThreeAtOnceEqualTheScalarQueryBitForBit) {
   // points far off, beyond an edge line, near, inside, on an edge and on a vertex.
   RecordProperty("vectorised", closest_within_x3_vectorised() ? "yes" : "no");
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> d(-3.0, 3.0), unit(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   int inside = 0, at_vertex = 0, far = 0, on_edge = 0;
   for (int trial = 0; trial < 30000; ++trial) {
     const std::array<Vec2, 3> core = random_core(rng, trial % 9 < 6 ? 0 : trial % 9 - 5);
     const CoreEdges ce = core_edges(core);
-    std::array<Vec2, 3> p;
-    for (int v = 0; v < 3; ++v) {
-      const int k = (trial + v) % 3;
-      switch ((trial / 3 + v) % 5) {
-        case 0: p[v] = Vec2(d(rng), d(rng)); break;                                      // anywhere
-        case 1: p[v] = core[k] + unit(rng) * (core[(k + 1) % 3] - core[k]); break;       // on an edge
-        case 2: p[v] = core[k]; break;                                                   // on a vertex
-        case 3: p[v] = (core[0] + core[1] + core[2]) / 3.0 + 0.1 * Vec2(d(rng), d(rng)); break;  // inside
-        default: p[v] = core[k] + 0.05 * Vec2(d(rng), d(rng)); break;                    // near a vertex
-      }
-    }
+    const std::array<Vec2, 3> p = points_around(core, trial, rng);
     const double reach = trial % 4 == 0 ? 0.0 : 0.5 * unit(rng);
     std::array<CoreClosest, 3> got;
     closest_within_x3(p, core, ce, reach, got);
@@ -454,21 +462,11 @@ TEST(VertexQueries, SixAtOnceEqualTheScalarQueriesBitForBit) {
   // and pairs with one side or both sides far.
   if (!set_vertex_queries_x6(true)) GTEST_SKIP() << "this CPU has no AVX-512F: narrow_phase() uses closest_within_x3()";
   std::mt19937 rng(13);
-  std::uniform_real_distribution<double> d(-3.0, 3.0), unit(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   int inside = 0, at_vertex = 0, far = 0, on_edge = 0, one_side_far = 0;
   for (int trial = 0; trial < 30000; ++trial) {
     const std::array<Vec2, 3> target = random_core(rng, trial % 9 < 6 ? 0 : trial % 9 - 5);
-    std::array<Vec2, 3> placed;
-    for (int v = 0; v < 3; ++v) {
-      const int k = (trial + v) % 3;
-      switch ((trial / 3 + v) % 5) {
-        case 0: placed[v] = Vec2(d(rng), d(rng)); break;                                       // anywhere
-        case 1: placed[v] = target[k] + unit(rng) * (target[(k + 1) % 3] - target[k]); break;  // on an edge
-        case 2: placed[v] = target[k]; break;                                                  // on a vertex
-        case 3: placed[v] = (target[0] + target[1] + target[2]) / 3.0 + 0.1 * Vec2(d(rng), d(rng)); break;  // inside
-        default: placed[v] = target[k] + 0.05 * Vec2(d(rng), d(rng)); break;                   // near a vertex
-      }
-    }
+    std::array<Vec2, 3> placed = points_around(target, trial, rng);
     if (trial % 17 == 0)  // one side far from the other core, or (every third time) both
       for (Vec2& v : placed) v += Vec2(trial % 3 == 0 ? 50.0 : 5.0, 0.0);
     // Side 0 queries a's vertices on b's core, side 1 b's on a's: the placed vertices
