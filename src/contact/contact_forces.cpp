@@ -54,7 +54,7 @@ void check_size(std::size_t got, std::size_t want, const char* what) {
 
 }  // namespace
 
-bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
+bool ContactForces::check_input(const ContactInput& in, std::size_t n_forces) {
   const std::size_t nn = in.x.size();
   const std::size_t nt = in.conn.size();
   const NodePositions x = in.positions();
@@ -85,47 +85,69 @@ bool ContactForces::prepare(const ContactInput& in, std::size_t n_forces) {
   sp_.resize(nt);
   edge_scales_.resize(nt);
   box_.resize(nt);
-  // Without a pending rebuild, the shape update also runs the broad phase's rebuild test,
-  // of its triangles (their nodes are loaded anyway) and of the others: a rebuild then
+  // Without a pending build, the shape update also runs the broad phase's rebuild test,
+  // of its triangles (their nodes are loaded anyway) and of the others: a build then
   // redoes the shapes of the new pair list (the same values: same inputs).
-  bool rebuilt = invalidated_ || nt != n_triangles_ || broad_.stale(x.size());
-  if (!rebuilt && update_shapes(in, false)) rebuilt = true;
-  if (rebuilt) {
-    const auto conn = in.conn;
-    const auto body = in.body;
-    if (body.empty()) {
-      broad_.build(x, in.conn, in.active, skin_,
-                   [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
-    } else {
-      broad_.build(x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
-        return (body[i] >= 0 && body[i] == body[j]) || shares_node(conn[i], conn[j]);
-      });
-    }
-    invalidated_ = false;
-    n_triangles_ = nt;
-    in_pair_.assign(nt, 0);
-    for (const ContactPair& p : broad_.pairs()) in_pair_[p.i] = in_pair_[p.j] = kInPair;
-    shape_slots_.clear();
-    other_slots_.clear();
-    if (shape_slots_.capacity() < nt) shape_slots_.reserve(nt);  // once: rebuilds happen in the time loop
-    if (other_slots_.capacity() < nt) other_slots_.reserve(nt);
-    if (scale_tris_.capacity() < nt) scale_tris_.reserve(nt);
-    const std::span<const Index> tris = broad_.active_triangles();
-    for (std::size_t slot = 0; slot < tris.size(); ++slot)
-      (in_pair_[tris[slot]] ? shape_slots_ : other_slots_).push_back(static_cast<Index>(slot));
-    // New pairs: every one checked at its first step; motions counted from the build.
-    reserve_with_headroom(skip_below_, broad_.pairs().size());
-    skip_below_.assign(broad_.pairs().size(), 0.0f);
-    motion_.assign(nt, 0.0);
-    update_shapes(in, true);
+  return invalidated_ || nt != n_triangles_ || broad_.stale(x.size());
+}
+
+void ContactForces::build(const ContactInput& in) {
+  const std::size_t nt = in.conn.size();
+  const NodePositions x = in.positions();
+  const auto conn = in.conn;
+  const auto body = in.body;
+  if (body.empty()) {
+    broad_.build(x, in.conn, in.active, skin_,
+                 [conn](Index i, Index j) { return shares_node(conn[i], conn[j]); });
+  } else {
+    broad_.build(x, in.conn, in.active, skin_, [conn, body](Index i, Index j) {
+      return (body[i] >= 0 && body[i] == body[j]) || shares_node(conn[i], conn[j]);
+    });
   }
-  return rebuilt;
+  invalidated_ = false;
+  n_triangles_ = nt;
+  in_pair_.assign(nt, 0);
+  for (const ContactPair& p : broad_.pairs()) in_pair_[p.i] = in_pair_[p.j] = kInPair;
+  shape_slots_.clear();
+  other_slots_.clear();
+  if (shape_slots_.capacity() < nt) shape_slots_.reserve(nt);  // once: rebuilds happen in the time loop
+  if (other_slots_.capacity() < nt) other_slots_.reserve(nt);
+  if (scale_tris_.capacity() < nt) scale_tris_.reserve(nt);
+  const std::span<const Index> tris = broad_.active_triangles();
+  for (std::size_t slot = 0; slot < tris.size(); ++slot)
+    (in_pair_[tris[slot]] ? shape_slots_ : other_slots_).push_back(static_cast<Index>(slot));
+  // New pairs: every one checked at its first step; motions counted from the build.
+  reserve_with_headroom(skip_below_, broad_.pairs().size());
+  skip_below_.assign(broad_.pairs().size(), 0.0f);
+  motion_.assign(nt, 0.0);
+  update_shapes(in, true);
+}
+
+int ContactForces::partition_threads() const {
+#ifdef _OPENMP
+  if (settings_.parallel && settings_.one_partition && broad_.pairs().size() >= settings_.min_pairs_per_parallel_run &&
+      static_cast<std::ptrdiff_t>(shape_slots_.size() + other_slots_.size()) > kMinParallelTriangles)
+    return omp_get_max_threads();
+#endif
+  return 1;
+}
+
+void ContactForces::equal_node_ranges(std::size_t nn, int T) {
+  node_bound_.resize(static_cast<std::size_t>(T) + 1);
+  for (int c = 0; c <= T; ++c) node_bound_[static_cast<std::size_t>(c)] = static_cast<Index>(nn * c / T);
+  node_split_partitioned_ = false;
+}
+
+Index ContactForces::partition_begin(int u, int T) const {
+  if (u <= 0) return 0;
+  const std::size_t n = shape_slots_.size();
+  const std::size_t s = u >= T ? n : part_split_.begin(n, u);
+  if (s >= n) return std::numeric_limits<Index>::max();
+  const Index tri = broad_.active_triangles()[static_cast<std::size_t>(shape_slots_[s])];
+  return tri - tri % kSumBlock;  // no sum block split between threads
 }
 
 bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
-  const NodePositions x = in.positions();
-  const std::span<const Index> tris = broad_.active_triangles();
-  const std::span<const Aabb> build_box = broad_.boxes();
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
   const std::ptrdiff_t n_others = rebuilt ? 0 : static_cast<std::ptrdiff_t>(other_slots_.size());
   int left = 0;  // a flag, so any thread count gives the same answer
@@ -148,65 +170,12 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
 #ifdef _OPENMP
     if (tuned) busy_from = omp_get_wtime();
 #endif
-    // Two triangles at a time (slots 2q and 2q + 1, the last one twice when n is odd), so
-    // that every triangle takes the same path for any thread count. Each thread a
-    // contiguous run, tuned from the threads' busy times (shape_split_).
-    const std::ptrdiff_t n_pairs = (n + 1) / 2;
-    const auto np2 = static_cast<std::size_t>(n_pairs);
+    // Each thread a contiguous run of slot pairs, tuned from the threads' busy times (shape_split_).
+    const auto np2 = static_cast<std::size_t>((n + 1) / 2);
     const auto q_begin = static_cast<std::ptrdiff_t>(tuned ? shape_split_.begin(np2, t) : np2 * t / T);
     const auto q_end = static_cast<std::ptrdiff_t>(tuned ? shape_split_.begin(np2, t + 1) : np2 * (t + 1) / T);
-    for (std::ptrdiff_t q = q_begin; q < q_end; ++q) {
-      const std::ptrdiff_t s_of[2] = {2 * q, std::min(2 * q + 1, n - 1)};
-      std::array<Vec2, 3> p[2];
-      Index t_of[2];
-      for (int lane = 0; lane < 2; ++lane) {
-        const Index slot = shape_slots_[s_of[lane]];
-        const Index t = tris[slot];
-        t_of[lane] = t;
-        const auto& c = in.conn[t];
-        p[lane] = {x[c[0]], x[c[1]], x[c[2]]};
-        // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
-        for (const Vec2& v : p[lane])
-          if (!contains(build_box[slot], v)) left = 1;
-      }
-      Spheropolygon shape[2];
-      CoreEdgeScales scales[2];
-#if defined(DSDEM_SHAPES_X2)
-      make_shapes_x2(p[0], p[1], in.rounding_radius[t_of[0]], in.rounding_radius[t_of[1]], shape[0], shape[1],
-                     scales_with_shapes_ ? &scales[0] : nullptr, &scales[1]);
-#else
-      for (int lane = 0; lane < 2; ++lane) {
-        shape[lane] = make_spheropolygon(p[lane][0], p[lane][1], p[lane][2], in.rounding_radius[t_of[lane]]);
-        if (scales_with_shapes_) scales[lane] = core_edge_scales(shape[lane].core);
-      }
-#endif
-      for (int lane = 0; lane < (s_of[1] == s_of[0] ? 1 : 2); ++lane) {
-        const Index t = t_of[lane];
-        // The largest core-vertex displacement since the last step bounds how much any gap
-        // measured between this core and another can have shrunk (triangle inequality). At
-        // a build the motions restart from these shapes (some were not updated before).
-        if (!rebuilt) {
-          double d2 = 0.0;
-          for (int k = 0; k < 3; ++k) d2 = std::max(d2, (shape[lane].core[k] - sp_[t].core[k]).squaredNorm());
-          motion_[t] += std::sqrt(d2);
-        }
-        sp_[t] = shape[lane];
-        box_[t] = bounding_box(shape[lane]);
-        if (scales_with_shapes_) edge_scales_[t] = scales[lane];
-      }
-    }
-    // The same test for the active triangles in no pair (no shape to update), from their
-    // list: each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
-    // all in pairs, first: a split of all the active slots gave one thread 90 % of the
-    // tests, issue 7 profile.)
-#pragma omp for schedule(static) nowait
-    for (std::ptrdiff_t s = 0; s < n_others; ++s) {
-      if (left) continue;
-      const Index slot = other_slots_[s];
-      const auto& c = in.conn[tris[slot]];
-      for (int k = 0; k < 3; ++k)
-        if (!contains(build_box[slot], x[c[k]])) left = 1;
-    }
+    update_shape_run(in, 2 * q_begin, std::min(2 * q_end, n), rebuilt, left);
+    if (!rebuilt) test_other_slots(in, left);
 #ifdef _OPENMP
     if (tuned) shape_split_.set_busy(t, omp_get_wtime() - busy_from);
 #endif
@@ -216,17 +185,96 @@ bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   return left != 0;
 }
 
+void ContactForces::update_shape_run(const ContactInput& in, std::ptrdiff_t s_begin, std::ptrdiff_t s_end,
+                                     bool rebuilt, int& left) {
+  const NodePositions x = in.positions();
+  const std::span<const Index> tris = broad_.active_triangles();
+  const std::span<const Aabb> build_box = broad_.boxes();
+  // Two triangles at a time, the last one twice when the count is odd; each lane equals the
+  // scalar functions bit for bit (shapes_x2.hpp), so any pairing gives the same shapes.
+  for (std::ptrdiff_t s = s_begin; s < s_end; s += 2) {
+    const std::ptrdiff_t s_of[2] = {s, std::min(s + 1, s_end - 1)};
+    std::array<Vec2, 3> p[2];
+    Index t_of[2];
+    for (int lane = 0; lane < 2; ++lane) {
+      const Index slot = shape_slots_[s_of[lane]];
+      const Index t = tris[slot];
+      t_of[lane] = t;
+      const auto& c = in.conn[t];
+      p[lane] = {x[c[0]], x[c[1]], x[c[2]]};
+      // The broad phase's rebuild test (BroadPhase::needs_rebuild) for this triangle.
+      for (const Vec2& v : p[lane])
+        if (!contains(build_box[slot], v)) left = 1;
+    }
+    Spheropolygon shape[2];
+    CoreEdgeScales scales[2];
+#if defined(DSDEM_SHAPES_X2)
+    make_shapes_x2(p[0], p[1], in.rounding_radius[t_of[0]], in.rounding_radius[t_of[1]], shape[0], shape[1],
+                   scales_with_shapes_ ? &scales[0] : nullptr, &scales[1]);
+#else
+    for (int lane = 0; lane < 2; ++lane) {
+      shape[lane] = make_spheropolygon(p[lane][0], p[lane][1], p[lane][2], in.rounding_radius[t_of[lane]]);
+      if (scales_with_shapes_) scales[lane] = core_edge_scales(shape[lane].core);
+    }
+#endif
+    for (int lane = 0; lane < (s_of[1] == s_of[0] ? 1 : 2); ++lane) {
+      const Index t = t_of[lane];
+      // The largest core-vertex displacement since the last step bounds how much any gap
+      // measured between this core and another can have shrunk (triangle inequality). At
+      // a build the motions restart from these shapes (some were not updated before).
+      if (!rebuilt) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) d2 = std::max(d2, (shape[lane].core[k] - sp_[t].core[k]).squaredNorm());
+        motion_[t] += std::sqrt(d2);
+      }
+      sp_[t] = shape[lane];
+      box_[t] = bounding_box(shape[lane]);
+      if (scales_with_shapes_) edge_scales_[t] = scales[lane];
+    }
+  }
+}
+
+void ContactForces::test_other_slots(const ContactInput& in, int& left, bool shared) {
+  // The rebuild test for the active triangles in no pair (no shape to update), from their
+  // list: each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
+  // all in pairs, first: a split of all the active slots gave one thread 90 % of the
+  // tests, issue 7 profile.)
+  const NodePositions x = in.positions();
+  const std::span<const Index> tris = broad_.active_triangles();
+  const std::span<const Aabb> build_box = broad_.boxes();
+  const std::ptrdiff_t n_others = static_cast<std::ptrdiff_t>(other_slots_.size());
+  auto test = [&](std::ptrdiff_t s) {
+    const Index slot = other_slots_[s];
+    const auto& c = in.conn[tris[slot]];
+    for (int k = 0; k < 3; ++k)
+      if (!contains(build_box[slot], x[c[k]])) left = 1;
+  };
+  if (!shared) {
+    for (std::ptrdiff_t s = 0; s < n_others && !left; ++s) test(s);
+    return;
+  }
+#pragma omp for schedule(static) nowait
+  for (std::ptrdiff_t s = 0; s < n_others; ++s)
+    if (!left) test(s);
+}
+
 int ContactForces::begin_pairs(std::size_t n_pairs) {
   int nt = 1;
 #ifdef _OPENMP
   if (settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
 #endif
-  if (buffers_.size() < static_cast<std::size_t>(nt)) buffers_.resize(nt);
-  if (todo_.size() < static_cast<std::size_t>(nt)) todo_.resize(nt);
-  if (todo_weight_.size() < static_cast<std::size_t>(nt)) todo_weight_.resize(nt);
-  if (touching_.size() < static_cast<std::size_t>(nt) * nt) touching_.resize(static_cast<std::size_t>(nt) * nt);
-  if (thread_counts_.size() < static_cast<std::size_t>(nt)) thread_counts_.resize(nt);
+  ensure_thread_lists(nt);
   return nt;
+}
+
+void ContactForces::ensure_thread_lists(int nt) {
+  const auto n = static_cast<std::size_t>(nt);
+  if (buffers_.size() < n) buffers_.resize(n);
+  if (todo_.size() < n) todo_.resize(n);
+  if (todo_weight_.size() < n) todo_weight_.resize(n);
+  if (touching_.size() < n * n) touching_.resize(n * n);
+  if (thread_counts_.size() < n) thread_counts_.resize(n);
+  if (block_sums_.size() < n) block_sums_.resize(n);
 }
 
 void ContactForces::collect_scale_triangles(int T) {
@@ -243,13 +291,13 @@ void ContactForces::collect_scale_triangles(int T) {
   }
 }
 
-double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
-                                   const ContactParamTable& params, double dt, bool check_apart,
-                                   ContactHistory::Cursor& cursor,
+double ContactForces::process_pair(Index i, Index j, const CoreEdgeScales& scales_i, const CoreEdgeScales& scales_j,
+                                   const ContactInput& in, const ContactParamTable& params, double dt,
+                                   bool check_apart, ContactHistory::Cursor& cursor,
                                    std::vector<ContactRecord>& out, std::span<Vec2> f_now) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
   double clearance = 0.0;
-  const int n = narrow_phase(sp_[i], edge_scales_[i], sp_[j], edge_scales_[j], geo, &clearance, check_apart);
+  const int n = narrow_phase(sp_[i], scales_i, sp_[j], scales_j, geo, &clearance, check_apart);
   if (n == 0) return clearance;
   const NodePositions x = in.positions();
   const auto& ci = in.conn[i];
@@ -297,6 +345,54 @@ double ContactForces::process_pair(Index i, Index j, const ContactInput& in,
   return -static_cast<double>(n);
 }
 
+void ContactForces::examine_pairs(const std::vector<Index>& list, std::size_t k_begin, std::size_t k_end,
+                                  const ContactInput& in, const ContactParamTable& params, double dt,
+                                  PairRun& run) {
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  std::vector<ContactRecord>& out = buffers_[run.t];
+  std::vector<ContactHistory::Entry>& history_out = history_.segment(run.t);
+  for (std::size_t k = k_begin; k < k_end; ++k) {
+    const Index p = list[k];
+    const ContactPair pr = pairs[p];
+    const double moved = motion_[pr.i] + motion_[pr.j];
+    const std::size_t before = out.size();
+    double res;
+    if (run.own_scales) {  // the same values as edge_scales_ would hold (same shapes)
+      const CoreEdgeScales si = core_edge_scales(sp_[pr.i].core), sj = core_edge_scales(sp_[pr.j].core);
+      res = process_pair(pr.i, pr.j, si, sj, in, params, dt, skip_below_[p] >= 0.0f, run.cursor, out, run.f_now);
+    } else {
+      res = process_pair(pr.i, pr.j, edge_scales_[pr.i], edge_scales_[pr.j], in, params, dt, skip_below_[p] >= 0.0f,
+                         run.cursor, out, run.f_now);
+    }
+    // Sums of the records of each block (pairs whose triangle i / kSumBlock is the same),
+    // in record order; finish() adds the blocks in order. Only blocks with records count,
+    // so the sums depend on the records alone: the same for any split, thread count or
+    // pair list (pairs skipped while apart, a rebuilt broad phase).
+    if (out.size() > before && pr.i / kSumBlock != run.block) {
+      if (run.block >= 0) block_sums_[run.t].push_back(run.sums);
+      run.sums = BlockSums{};
+      run.block = pr.i / kSumBlock;
+    }
+    for (std::size_t r = before; r < out.size(); ++r) {
+      const ContactRecord& rec = out[r];
+      history_out.push_back({rec.key, rec.ft});
+      run.sums.elastic_energy += rec.elastic_energy;
+      run.sums.friction_dissipation += rec.friction_dissipation;
+      run.sums.damping_dissipation += rec.damping_dissipation;
+      run.sliding += rec.sliding ? 1 : 0;
+    }
+    run.active += static_cast<Index>(out.size() - before);
+    if (run.note && out.size() > before) note_touching(in, pr, run.t, run.T, before, out.size());
+    // Half the clearance: margin for the float and for the sums' rounding.
+    skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : static_cast<float>(res);
+  }
+}
+
+void ContactForces::end_pair_run(const PairRun& run) {
+  if (run.block >= 0) block_sums_[run.t].push_back(run.sums);
+  thread_counts_[run.t] = {run.active, run.sliding};
+}
+
 std::size_t ContactForces::pairs_within_weight(std::uint64_t w, int T) const {
   std::size_t before = 0;
   for (int u = 0; u < T; ++u) {
@@ -309,12 +405,12 @@ std::size_t ContactForces::pairs_within_weight(std::uint64_t w, int T) const {
   return before;
 }
 
-void ContactForces::note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t nn,
-                                  std::size_t first, std::size_t last) {
+void ContactForces::note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t first,
+                                  std::size_t last) {
   const auto& ci = in.conn[pr.i];
   const auto& cj = in.conn[pr.j];
   for (int c = t == 0 ? 1 : 0; c < T; ++c) {
-    const Index lo = range_begin(nn, c, T), hi = range_begin(nn, c + 1, T);
+    const Index lo = range_begin(c), hi = range_begin(c + 1);
     bool touches = false;
     for (int k = 0; k < 3; ++k) touches |= (ci[k] >= lo && ci[k] < hi) || (cj[k] >= lo && cj[k] < hi);
     if (!touches) continue;
@@ -324,8 +420,7 @@ void ContactForces::note_touching(const ContactInput& in, const ContactPair& pr,
 }
 
 void ContactForces::scatter_forces(const ContactInput& in, std::vector<Vec2>& f, int c, int T) const {
-  const std::size_t nn = f.size();
-  const Index lo = range_begin(nn, c, T), hi = range_begin(nn, c + 1, T);
+  const Index lo = range_begin(c), hi = range_begin(c + 1);
   // add_point_force() restricted to [lo, hi): the same products, added in the same order.
   auto add = [&f, lo, hi](const Vec3& N, const std::array<Index, 3>& nodes, const Vec2& F) {
     for (int k = 0; k < 3; ++k)

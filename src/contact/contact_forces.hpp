@@ -10,15 +10,20 @@
 // result does not depend on the thread count.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
+#endif
+#if defined(__SSE2__)
+#include <emmintrin.h>  // _mm_pause
 #endif
 
 #include "contact/broad_phase.hpp"
@@ -71,6 +76,12 @@ struct ContactSettings {
   // chooses each step; the others force one way (tests: the results are the same).
   enum class EdgeScales { automatic, with_shapes, examined_only };
   EdgeScales edge_scales = EdgeScales::automatic;
+  // Several threads: one partition of the contact triangles per step (ContactForces::
+  // compute_partitioned): each thread updates the shapes of a contiguous run of them,
+  // then filters and examines the pairs whose triangle i is in its run, with no barrier
+  // between its filter and its pair loop. false: the shapes, the filter and the pair loop
+  // are split each on its own (tests: the results are the same).
+  bool one_partition = true;
 };
 
 // The model arrays the contact phase reads (sizes: nodes for x, v, mass, u; triangles
@@ -162,9 +173,12 @@ class ContactForces {
   // Fixes each thread's share of the pair loop's expected cost (one per thread, each > 0)
   // instead of tuning it from timing (balance_shares); empty: tune again. For tests: the
   // results are the same for any split.
+  // With one partition (ContactSettings::one_partition) these are the shares of the
+  // contact triangles' run each thread shapes, filters and examines.
   void pin_pair_split(std::vector<double> shares) {
     for (double s : shares)
       if (!(s > 0.0)) throw std::invalid_argument("pair split shares must be > 0");
+    part_split_.pin(shares);
     pair_split_.pin(std::move(shares));
   }
   // Each thread's share of the pair loop at the last call (empty before the first
@@ -201,6 +215,14 @@ class ContactForces {
   double skin() const { return skin_; }
   // OpenMP threads that ran the pair loop of the last call.
   int threads_used() const { return used_threads_; }
+  // The threads' node ranges of the last call when it ran on one partition
+  // (ContactSettings::one_partition): T + 1 ascending bounds, 0 first and the node count
+  // last; thread t's triangles use mostly the nodes [bound[t], bound[t + 1]). Empty
+  // otherwise. For the solver's node loops: a thread that kicks the nodes its contact
+  // pairs read does not fetch them from the other core.
+  std::span<const Index> node_split() const {
+    return node_split_partitioned_ ? std::span<const Index>(node_bound_) : std::span<const Index>();
+  }
   // The next call computes the edge data of every triangle in a candidate pair.
   bool edge_scales_with_shapes() const { return scales_with_shapes_; }
   // Spheropolygon of triangle t at the last call (contact triangles that are in some
@@ -208,8 +230,41 @@ class ContactForces {
   const Spheropolygon& spheropolygon(Index t) const { return sp_[t]; }
 
  private:
-  // Checks sizes, rebuilds the broad phase if needed, updates the spheropolygons.
-  bool prepare(const ContactInput& in, std::size_t n_forces);
+  // Checks sizes and sets the skin at the first call; true when the broad phase must be
+  // built before anything else (first call, invalidate(), other sizes, stale).
+  bool check_input(const ContactInput& in, std::size_t n_forces);
+  // Builds the broad phase and updates the shapes of its pairs' triangles (motions restart).
+  void build(const ContactInput& in);
+  // Threads of the one-partition path this call (ContactSettings::one_partition); 1: not taken.
+  int partition_threads() const;
+  // One partition (see ContactSettings::one_partition), in one parallel region of nt
+  // threads: shapes, then the filter and pair loop of each thread's pairs, then the
+  // scatter. Returns false, having only updated the shapes and motions, when a node left
+  // its box of the broad-phase build (the caller builds and takes the split path).
+  template <class Skip>
+  bool compute_partitioned(const ContactInput& in, const ContactParamTable& params, double dt, Skip& skip,
+                           std::vector<Vec2>& f, int nt, Index& skipped);
+  // The split path: the filter, the edge data and the pair loop each split on its own.
+  template <class Skip>
+  void compute_split(const ContactInput& in, const ContactParamTable& params, double dt, Skip& skip,
+                     std::vector<Vec2>& f, Index& skipped);
+  // Shapes of the slots [s_begin, s_end) of shape_slots_, two at a time (the last one twice
+  // when their count is odd); left = 1 when a node left its build box.
+  void update_shape_run(const ContactInput& in, std::ptrdiff_t s_begin, std::ptrdiff_t s_end, bool rebuilt,
+                        int& left);
+  // The rebuild test of the active triangles in no pair: shared by the threads of the
+  // enclosing parallel region (an orphaned worksharing loop, nowait; every thread of the
+  // team must call it), or all by the calling thread (shared = false).
+  void test_other_slots(const ContactInput& in, int& left, bool shared = true);
+  // Appends to todo the pairs of [b, e) to examine (the filter, see compute_split) and,
+  // given, their running expected costs to upto.
+  // before_chunk(c, c_end) runs before the filter reads the pairs [c, c_end) (one chunk).
+  template <class Skip, class BeforeChunk>
+  void filter_pairs(std::size_t b, std::size_t e, Skip& skip, bool cache_skip, std::vector<Index>& todo,
+                    std::vector<std::uint32_t>* upto, Index& skipped, BeforeChunk&& before_chunk);
+  // One partition: the first triangle of thread u's run of T (a multiple of kSumBlock; 0 for
+  // u = 0, past every triangle for u = T), from the tuned share of the shape slots.
+  Index partition_begin(int u, int T) const;
   // Shapes, boxes and (unless rebuilt) motions of the triangles of shape_slots_, in one
   // parallel region with the rebuild test of the other active triangles (unless rebuilt);
   // returns true when a node of an active triangle has left its box of the broad-phase build.
@@ -223,20 +278,44 @@ class ContactForces {
   // f_now: the pair's forces go at once to the nodes below f_now.size(), while its records
   // are in cache (in record order, as scatter_forces() would add them): f itself on one
   // thread, the first node range on the first of several, empty on the others.
-  double process_pair(Index i, Index j, const ContactInput& in, const ContactParamTable& params,
-                      double dt, bool check_apart, ContactHistory::Cursor& cursor,
-                      std::vector<ContactRecord>& out, std::span<Vec2> f_now) const;
+  double process_pair(Index i, Index j, const CoreEdgeScales& scales_i, const CoreEdgeScales& scales_j,
+                      const ContactInput& in, const ContactParamTable& params, double dt, bool check_apart,
+                      ContactHistory::Cursor& cursor, std::vector<ContactRecord>& out,
+                      std::span<Vec2> f_now) const;
+  struct BlockSums {
+    double elastic_energy = 0.0, friction_dissipation = 0.0, damping_dissipation = 0.0;
+  };
+  // One thread's pair loop over one or more lists of pairs, in pair order.
+  struct PairRun {
+    int t = 0, T = 1;
+    std::span<Vec2> f_now;  // see process_pair
+    bool note = false;      // note_touching() for the scatter
+    bool own_scales = false;  // the edge data per pair, not from edge_scales_
+    ContactHistory::Cursor cursor;  // keys ascend within the run
+    Index block = -1;
+    BlockSums sums;
+    Index active = 0, sliding = 0;
+  };
+  // Examines the pairs list[k] for k in [k_begin, k_end) into thread run.t's buffer, history
+  // segment and block sums (skip_below_ updated).
+  void examine_pairs(const std::vector<Index>& list, std::size_t k_begin, std::size_t k_end,
+                     const ContactInput& in, const ContactParamTable& params, double dt, PairRun& run);
+  // The run's last block sums and its counts.
+  void end_pair_run(const PairRun& run);
+  // Makes sure nt threads have their buffers and lists.
+  void ensure_thread_lists(int nt);
   // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
   void collect_scale_triangles(int T);
   // Serial, in order: history and sums (the forces reached the nodes in the pair loop).
   ContactStepStats finish();
-  // Node range of thread c of T: [nn c / T, nn (c + 1) / T).
-  static Index range_begin(std::size_t nn, int c, int T) { return static_cast<Index>(nn * c / T); }
+  // Node range of thread c of T in the scatter: [node_bound_[c], node_bound_[c + 1]).
+  Index range_begin(int c) const { return node_bound_[static_cast<std::size_t>(c)]; }
+  // node_bound_ = T equal node ranges of nn nodes.
+  void equal_node_ranges(std::size_t nn, int T);
   // More than one thread: thread t notes its records [first, last) (one pair's) in the
   // lists of the node ranges that the pair's six nodes touch (thread 0 not in its own:
   // it added those forces in the pair loop).
-  void note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t nn, std::size_t first,
-                     std::size_t last);
+  void note_touching(const ContactInput& in, const ContactPair& pr, int t, int T, std::size_t first, std::size_t last);
   // More than one thread: adds the forces of the records that touch node range c (of T)
   // to its nodes, in record order; the other nodes are left alone.
   void scatter_forces(const ContactInput& in, std::vector<Vec2>& f, int c, int T) const;
@@ -308,15 +387,31 @@ class ContactForces {
   // alone, see compute()), of the candidate pairs in the filter, and of the shapes to
   // update.
   TunedSplit pair_split_, filter_split_, shape_split_;
+  // One partition: each thread's share of shape_slots_ (its run of triangles, and so of
+  // the pairs), tuned from its busy time in the shapes, filter and pair loop together.
+  TunedSplit part_split_;
+  // One partition: shapes_done_[t] = calls_ once thread t has updated its shapes and set
+  // shapes_left_ if a node left its box. A thread reads another's triangles only after
+  // seeing the later threads' stamps (a pair's triangle j > i is its own or a later
+  // thread's), so no thread waits at a barrier for the others' shapes.
+  struct alignas(64) ShapeStamp {
+    std::atomic<long> call{0};
+  };
+  std::unique_ptr<ShapeStamp[]> shapes_done_;
+  // This call's node ranges of the threads (scatter_forces), T + 1 bounds: with one
+  // partition, each starts at the first node of the thread's first triangle (nodes are
+  // numbered by first use), so the nodes a thread's pairs touch are mostly in its range.
+  std::vector<Index> node_bound_, tri_bound_;
+  bool node_split_partitioned_ = false;  // node_bound_ came from the partition
+  int n_stamps_ = 0;
+  long calls_ = 0;
+  std::atomic<int> shapes_left_{0};
   // The contact sums per block of pairs (triangle i / kSumBlock), in record order, by the
   // thread that made the records while they are in its cache; block_sums_[t]: thread t's
   // blocks in order, added in thread order by finish(). The serial sum over every record it
   // replaces read each other thread's records from that core (issue 7). Counts per thread
   // (integers: any order).
   static constexpr Index kSumBlock = 32;
-  struct BlockSums {
-    double elastic_energy = 0.0, friction_dissipation = 0.0, damping_dissipation = 0.0;
-  };
   std::vector<ThreadVector<BlockSums>> block_sums_;
   struct alignas(64) ThreadCounts {
     Index active = 0, sliding = 0;
@@ -324,6 +419,7 @@ class ContactForces {
   std::vector<ThreadCounts> thread_counts_;
   int used_threads_ = 0;
   bool pairs_split_ = false;  // this step's pair loop ran on several threads (tune pair_split_)
+  bool cache_skip_ = false;  // this call's skip_epoch >= 0 (see compute())
   double last_elastic_energy_ = 0.0;
 };
 
@@ -337,17 +433,227 @@ inline float below(double x) {
 template <class Skip>
 ContactStepStats ContactForces::compute(const ContactInput& in, const ContactParamTable& params,
                                         double dt, Skip&& skip, std::vector<Vec2>& f, long skip_epoch) {
-  const bool rebuilt = prepare(in, f.size());
-  const std::span<const ContactPair> pairs = broad_.pairs();
-  const std::size_t np = pairs.size();
+  bool rebuilt = check_input(in, f.size());
+  const int partition = rebuilt ? 1 : partition_threads();
+  if (rebuilt) {
+    build(in);
+  } else if (partition < 2 && update_shapes(in, false)) {
+    build(in);
+    rebuilt = true;
+  }
   constexpr float kSkipped = std::numeric_limits<float>::infinity();  // skip_below_: skip() said yes
-  const bool cache_skip = skip_epoch >= 0;
-  if (skip_epoch != skip_epoch_) {  // answers may have changed: ask again
+  if (skip_epoch != skip_epoch_) {  // answers may have changed: ask again (a build has)
     if (!rebuilt)
       for (float& sb : skip_below_)
         if (sb == kSkipped) sb = 0.0f;
     skip_epoch_ = skip_epoch;
   }
+  cache_skip_ = skip_epoch >= 0;
+  Index skipped = 0;
+  if (partition < 2 || !compute_partitioned(in, params, dt, skip, f, partition, skipped)) {
+    if (partition >= 2) {  // a node left its box: the shapes are up to date, build on them
+      build(in);
+      rebuilt = true;
+    }
+    compute_split(in, params, dt, skip, f, skipped);
+  }
+  std::size_t examined = 0;
+  for (int u = 0; u < used_threads_; ++u) examined += todo_[u].size();
+  // Examined pairs per triangle of the candidate pairs: the disc < 0.25, late Dr2 > 1.4.
+  using Mode = ContactSettings::EdgeScales;
+  scales_with_shapes_ = settings_.edge_scales == Mode::automatic ? 2 * examined >= shape_slots_.size()
+                                                                 : settings_.edge_scales == Mode::with_shapes;
+  ContactStepStats st = finish();
+  st.rebuilt = rebuilt;
+  st.candidate_pairs = static_cast<Index>(broad_.pairs().size());
+  st.skipped_pairs = skipped;
+  st.examined_pairs = static_cast<Index>(examined);
+  return st;
+}
+
+template <class Skip, class BeforeChunk>
+void ContactForces::filter_pairs(std::size_t b, std::size_t e, Skip& skip, bool cache_skip,
+                                 std::vector<Index>& todo, std::vector<std::uint32_t>* upto, Index& skipped,
+                                 BeforeChunk&& before_chunk) {
+  constexpr float kSkipped = std::numeric_limits<float>::infinity();
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  std::uint32_t weight = 0;
+  // In chunks of the run: 1a. without branches, the pairs neither known to be apart (no
+  // need to load their boxes) nor skipped by skip() in this epoch. Late Dr2 has 18 600
+  // candidate pairs and examines 5 300, in no predictable pattern: as branches, this test
+  // was mispredicted ~6 300 times per step (callgrind, issue 7). A chunk on the stack, not
+  // a list of every pair: that list added 34 B per element to the 10^5 box's memory.
+  constexpr std::size_t kChunk = 256;
+  Index open[kChunk];
+  for (std::size_t c = b; c < e; c += kChunk) {
+    const std::size_t c_end = std::min(e, c + kChunk);
+    before_chunk(c, c_end);
+    std::size_t n_open = 0;
+    for (std::size_t p = c; p < c_end; ++p) {
+      const ContactPair pr = pairs[p];
+      const float sb = skip_below_[p];
+      const double moved = motion_[pr.i] + motion_[pr.j];
+      const bool asked = sb == kSkipped, apart = moved < sb;
+      open[n_open] = static_cast<Index>(p);
+      n_open += static_cast<std::size_t>(!(asked | apart));
+      skipped += static_cast<Index>(apart & !asked);
+    }
+    // 1b. Their boxes and the caller's skip(), in pair order.
+    for (std::size_t o = 0; o < n_open; ++o) {
+      const std::size_t p = static_cast<std::size_t>(open[o]);
+      const ContactPair pr = pairs[p];
+      const float sb = skip_below_[p];
+      const double moved = motion_[pr.i] + motion_[pr.j];
+      const Aabb& bi = box_[pr.i];
+      const Aabb& bj = box_[pr.j];
+      if (!overlaps(bi, bj)) {  // the skin's extras: apart while they move less than the gap
+        skip_below_[p] = below(moved + 0.5 * box_gap(bi, bj));
+        continue;
+      }
+      if (skip(pr.i, pr.j)) {
+        if (cache_skip) skip_below_[p] = kSkipped;
+        continue;
+      }
+      todo.push_back(static_cast<Index>(p));
+      if (upto) upto->push_back(weight += pair_weight(sb));
+    }
+  }
+}
+
+template <class Skip>
+bool ContactForces::compute_partitioned(const ContactInput& in, const ContactParamTable& params, double dt,
+                                        Skip& skip, std::vector<Vec2>& f, int nt, Index& skipped) {
+  ensure_thread_lists(nt);
+  part_split_.prepare(nt);
+  history_.begin_step(nt);
+  if (n_stamps_ < nt) {  // once per thread count: not in the time loop
+    shapes_done_ = std::make_unique<ShapeStamp[]>(static_cast<std::size_t>(nt));
+    n_stamps_ = nt;
+  }
+  const long call = ++calls_;
+  shapes_left_.store(0, std::memory_order_relaxed);
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  const std::span<const Index> tris = broad_.active_triangles();
+  const std::size_t nn = f.size();
+  // The nt parts: triangles [tri_bound_[u], tri_bound_[u + 1]) and their first nodes.
+  tri_bound_.resize(static_cast<std::size_t>(nt) + 1);
+  node_bound_.resize(static_cast<std::size_t>(nt) + 1);
+  for (int u = 0; u <= nt; ++u) {
+    const Index tri = partition_begin(u, nt);
+    tri_bound_[static_cast<std::size_t>(u)] = tri;
+    Index node = static_cast<Index>(nn);
+    if (u == 0) node = 0;
+    else if (tri < static_cast<Index>(in.conn.size()))
+      node = std::min({in.conn[tri][0], in.conn[tri][1], in.conn[tri][2]});
+    node_bound_[static_cast<std::size_t>(u)] = u > 0 ? std::max(node, node_bound_[static_cast<std::size_t>(u) - 1]) : 0;
+  }
+  node_split_partitioned_ = true;
+  bool tuned_team = false;
+#pragma omp parallel num_threads(nt) reduction(+ : skipped)
+  {
+    int t = 0, T = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    T = omp_get_num_threads();
+#endif
+    // A smaller team than asked for (nested parallelism, a thread limit): its first
+    // thread alone does everything.
+    const int P = T == nt ? nt : 1;
+    const bool tuned = P > 1;
+    if (P == 1) T = 1;
+    // Thread t's triangles [from, to): their shapes, and the pairs whose triangle i they hold.
+    const Index from = P == 1 ? 0 : tri_bound_[static_cast<std::size_t>(t)];
+    const Index to = P == 1 ? std::numeric_limits<Index>::max() : tri_bound_[static_cast<std::size_t>(t) + 1];
+    if (t < P) {
+      const auto slot_at = [&](Index tri) {
+        return std::lower_bound(shape_slots_.begin(), shape_slots_.end(), tri,
+                                [&](Index slot, Index x) { return tris[static_cast<std::size_t>(slot)] < x; }) -
+               shape_slots_.begin();
+      };
+      const auto pair_at = [&](Index tri) {
+        return static_cast<std::size_t>(
+            std::lower_bound(pairs.begin(), pairs.end(), tri, [](const ContactPair& p, Index x) { return p.i < x; }) -
+            pairs.begin());
+      };
+      double started = 0.0;
+#ifdef _OPENMP
+      started = omp_get_wtime();
+#endif
+      // 1. The shapes of this thread's triangles; the first thread also tests the others
+      // (in no pair) for a rebuild: the other threads' shapes are then done before the
+      // first thread's filter reaches pairs that need them (late Dr2, 2 threads: its wait
+      // for them fell from 25-60 to 7.5 us per step; a quarter of its pairs reach the other
+      // thread's triangles once the slide has moved).
+      int my_left = 0;
+      update_shape_run(in, slot_at(from), slot_at(to), false, my_left);
+      if (t == 0) test_other_slots(in, my_left, false);
+      if (my_left) shapes_left_.store(1, std::memory_order_relaxed);
+      shapes_done_[t].call.store(call, std::memory_order_release);
+      // The later threads' shapes, seen once: before the first chunk of pairs that reaches
+      // their triangles (j >= to), and by the first thread before its pair loop in any case
+      // (it adds forces to nodes at once, which a rebuild could not take back).
+      bool seen = t + 1 >= T;
+      const auto see_later_shapes = [&] {
+        for (int u = t + 1; u < T; ++u)
+          while (shapes_done_[u].call.load(std::memory_order_acquire) != call) {
+#if defined(__SSE2__)
+            _mm_pause();
+#endif
+          }
+        seen = true;
+      };
+      // 2. The pairs whose triangle i is this thread's, filtered and examined at once.
+      std::vector<Index>& todo = todo_[t];
+      todo.clear();
+      filter_pairs(pair_at(from), pair_at(to), skip, cache_skip_, todo, nullptr, skipped,
+                   [&](std::size_t c, std::size_t c_end) {
+                     if (seen) return;
+                     Index j_max = 0;
+                     for (std::size_t p = c; p < c_end; ++p) j_max = std::max(j_max, pairs[p].j);
+                     if (j_max >= to) see_later_shapes();
+                   });
+      if (!seen && t == 0) see_later_shapes();
+      const bool left = t == 0 && shapes_left_.load(std::memory_order_relaxed) != 0;
+      buffers_[t].clear();
+      block_sums_[t].clear();
+      for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
+      PairRun run;
+      run.t = t;
+      run.T = T;
+      run.note = T > 1;
+      run.own_scales = !scales_with_shapes_;
+      run.f_now = T == 1 ? std::span<Vec2>(f) : t == 0 ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(1)))
+                                                       : std::span<Vec2>();
+      if (!left) examine_pairs(todo, 0, todo.size(), in, params, dt, run);
+      end_pair_run(run);
+      // Busy: the whole phase up to here, waits included (a thread that waits for another's
+      // shapes should get less to do).
+#ifdef _OPENMP
+      if (tuned) part_split_.set_busy(t, omp_get_wtime() - started);
+#endif
+      if (t == 0) {
+        used_threads_ = T;
+        tuned_team = tuned;
+      }
+    }
+    // 3. The forces to each thread's node range, in record order (see compute_split),
+    // unless a node left its box (every thread sees the flag after the barrier).
+    if (P > 1) {
+#pragma omp barrier
+      if (shapes_left_.load(std::memory_order_relaxed) == 0) scatter_forces(in, f, t, T);
+    }
+  }
+  if (used_threads_ == 1) equal_node_ranges(nn, 1);
+  if (shapes_left_.load(std::memory_order_relaxed) != 0) return false;
+  if (tuned_team) part_split_.rebalance();
+  return true;
+}
+
+template <class Skip>
+void ContactForces::compute_split(const ContactInput& in, const ContactParamTable& params, double dt, Skip& skip,
+                                  std::vector<Vec2>& f, Index& skipped) {
+  const std::span<const ContactPair> pairs = broad_.pairs();
+  const std::size_t np = pairs.size();
   const int nt = begin_pairs(np);
   if (nt > 1) {
     pair_split_.prepare(nt);
@@ -355,8 +661,8 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
   }
   // Each thread writes its contacts' history to a segment of its own, and its blocks' sums.
   history_.begin_step(nt);
-  if (block_sums_.size() < static_cast<std::size_t>(nt)) block_sums_.resize(nt);
-  Index skipped = 0;
+  const bool cache_skip = cache_skip_;
+  equal_node_ranges(f.size(), nt);
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
   {
     int t = 0, T = 1;
@@ -370,7 +676,6 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     std::vector<std::uint32_t>& upto = todo_weight_[t];
     todo.clear();
     upto.clear();
-    std::uint32_t weight = 0;
     const bool tuned = T == nt && T > 1;
     const std::size_t b = tuned ? filter_split_.begin(np, t) : np * t / T;
     const std::size_t e = tuned ? filter_split_.begin(np, t + 1) : np * (t + 1) / T;
@@ -378,45 +683,7 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
 #ifdef _OPENMP
     if (tuned) busy_from = omp_get_wtime();
 #endif
-    // In chunks of the run: 1a. without branches, the pairs neither known to be apart (no
-    // need to load their boxes) nor skipped by skip() in this epoch. Late Dr2 has 18 600
-    // candidate pairs and examines 5 300, in no predictable pattern: as branches, this test
-    // was mispredicted ~6 300 times per step (callgrind, issue 7). A chunk on the stack, not
-    // a list of every pair: that list added 34 B per element to the 10^5 box's memory.
-    constexpr std::size_t kChunk = 256;
-    Index open[kChunk];
-    for (std::size_t c = b; c < e; c += kChunk) {
-      const std::size_t c_end = std::min(e, c + kChunk);
-      std::size_t n_open = 0;
-      for (std::size_t p = c; p < c_end; ++p) {
-        const ContactPair pr = pairs[p];
-        const float sb = skip_below_[p];
-        const double moved = motion_[pr.i] + motion_[pr.j];
-        const bool asked = sb == kSkipped, apart = moved < sb;
-        open[n_open] = static_cast<Index>(p);
-        n_open += static_cast<std::size_t>(!(asked | apart));
-        skipped += static_cast<Index>(apart & !asked);
-      }
-      // 1b. Their boxes and the caller's skip(), in pair order.
-      for (std::size_t o = 0; o < n_open; ++o) {
-        const std::size_t p = static_cast<std::size_t>(open[o]);
-        const ContactPair pr = pairs[p];
-        const float sb = skip_below_[p];
-        const double moved = motion_[pr.i] + motion_[pr.j];
-        const Aabb& bi = box_[pr.i];
-        const Aabb& bj = box_[pr.j];
-        if (!overlaps(bi, bj)) {  // the skin's extras: apart while they move less than the gap
-          skip_below_[p] = below(moved + 0.5 * box_gap(bi, bj));
-          continue;
-        }
-        if (skip(pr.i, pr.j)) {
-          if (cache_skip) skip_below_[p] = kSkipped;
-          continue;
-        }
-        todo.push_back(static_cast<Index>(p));
-        if (T > 1) upto.push_back(weight += pair_weight(sb));
-      }
-    }
+    filter_pairs(b, e, skip, cache_skip, todo, T > 1 ? &upto : nullptr, skipped, [](std::size_t, std::size_t) {});
 #ifdef _OPENMP
     if (tuned) filter_split_.set_busy(t, omp_get_wtime() - busy_from);
 #endif
@@ -452,20 +719,21 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     // ...), are split into T contiguous runs of equal expected cost (todo_weight_),
     // whatever share of them each thread's filter found. Concatenating the buffers in
     // thread order still gives pair order.
-    std::vector<ContactRecord>& out = buffers_[t];
-    out.clear();
+    buffers_[t].clear();
+    block_sums_[t].clear();
     // Forces added at once, while the records are in cache: by one thread (or the first
     // alone, few pairs), to every node; by the first of several, to the nodes of its range
     // (no earlier pair touches them).
-    const std::size_t nn = f.size();
-    const std::span<Vec2> f_now = t != 0 ? std::span<Vec2>()
-                                  : split ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(nn, 1, T)))
-                                          : std::span<Vec2>(f);
+    PairRun run;
+    run.t = t;
+    run.T = T;
+    run.note = split;
+    run.f_now = t != 0 ? std::span<Vec2>()
+                : split ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(1)))
+                        : std::span<Vec2>(f);
     if (T > 1)
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
-    ContactHistory::Cursor cursor;  // keys ascend within the run
     std::size_t first = 0, count = t == 0 ? examined : 0;  // split: set below
-    std::vector<ContactHistory::Entry>& history_out = history_.segment(t);
     if (split) {
 #ifdef _OPENMP
       busy_from = omp_get_wtime();
@@ -493,15 +761,6 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
       const std::size_t end = t + 1 == T ? examined : at_block(pairs_within_weight(bound(t + 1), T));
       count = end > first ? end - first : 0;
     }
-    // Sums of the records of each block (pairs whose triangle i / kSumBlock is the same),
-    // in record order; finish() adds the blocks in order. Only blocks with records count,
-    // so the sums depend on the records alone: the same for any split, thread count or
-    // pair list (pairs skipped while apart, a rebuilt broad phase).
-    std::vector<BlockSums>& my_blocks = block_sums_[t];
-    my_blocks.clear();
-    Index block = -1;
-    BlockSums sums;
-    Index active = 0, sliding = 0;
     for (int u = 0; u < T && count > 0; ++u) {
       const std::vector<Index>& list = todo_[u];
       if (first >= list.size()) {
@@ -509,35 +768,11 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
         continue;
       }
       const std::size_t end = std::min(list.size(), first + count);
-      for (std::size_t k = first; k < end; ++k) {
-        const Index p = list[k];
-        const ContactPair pr = pairs[p];
-        const double moved = motion_[pr.i] + motion_[pr.j];
-        const std::size_t before = out.size();
-        const double res = process_pair(pr.i, pr.j, in, params, dt, skip_below_[p] >= 0.0f, cursor, out, f_now);
-        if (out.size() > before && pr.i / kSumBlock != block) {
-          if (block >= 0) my_blocks.push_back(sums);
-          sums = BlockSums{};
-          block = pr.i / kSumBlock;
-        }
-        for (std::size_t r = before; r < out.size(); ++r) {
-          const ContactRecord& rec = out[r];
-          history_out.push_back({rec.key, rec.ft});
-          sums.elastic_energy += rec.elastic_energy;
-          sums.friction_dissipation += rec.friction_dissipation;
-          sums.damping_dissipation += rec.damping_dissipation;
-          sliding += rec.sliding ? 1 : 0;
-        }
-        active += static_cast<Index>(out.size() - before);
-        if (split && out.size() > before) note_touching(in, pr, t, T, nn, before, out.size());
-        // Half the clearance: margin for the float and for the sums' rounding.
-        skip_below_[p] = res > 0.0 ? below(moved + 0.5 * res) : static_cast<float>(res);
-      }
+      examine_pairs(list, first, end, in, params, dt, run);
       count -= end - first;
       first = 0;
     }
-    if (block >= 0) my_blocks.push_back(sums);
-    thread_counts_[t] = {active, sliding};
+    end_pair_run(run);
     // 4. The forces to the nodes (one thread, or few pairs: done in step 3): thread t adds
     // the forces of the records that touch its node range to those nodes (thread 0's own
     // ones: done in step 3), in record order, so each node gets the same sum, in the same
@@ -560,18 +795,6 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     if (pairs_split_) pair_split_.rebalance();
     filter_split_.rebalance();
   }
-  std::size_t examined = 0;
-  for (int u = 0; u < used_threads_; ++u) examined += todo_[u].size();
-  // Examined pairs per triangle of the candidate pairs: the disc < 0.25, late Dr2 > 1.4.
-  using Mode = ContactSettings::EdgeScales;
-  scales_with_shapes_ = settings_.edge_scales == Mode::automatic ? 2 * examined >= shape_slots_.size()
-                                                                 : settings_.edge_scales == Mode::with_shapes;
-  ContactStepStats st = finish();
-  st.rebuilt = rebuilt;
-  st.candidate_pairs = static_cast<Index>(np);
-  st.skipped_pairs = skipped;
-  st.examined_pairs = static_cast<Index>(examined);
-  return st;
 }
 
 }  // namespace dsdem::contact

@@ -72,12 +72,26 @@ inline std::pair<std::size_t, std::size_t> own_chunk_indices(std::size_t n, std:
   const auto [c_begin, c_end] = own_chunks(n, t, T);
   return {std::min(n, c_begin * kReductionChunk), std::min(n, c_end * kReductionChunk)};
 }
-// Thread t of T: the partial sums (K per chunk, into partial) of its own_chunks(), each
-// chunk summed in index order.
+// Thread t of T: its chunks from bounds (T + 1 chunk bounds, ascending, the last one the
+// chunk count) when given for T threads, else own_chunks().
+inline std::pair<std::size_t, std::size_t> chunks_of(std::size_t n, std::size_t t, std::size_t T,
+                                                     std::span<const std::size_t> bounds) {
+  if (bounds.size() == T + 1) return {bounds[t], bounds[t + 1]};
+  return own_chunks(n, t, T);
+}
+// The indices of those chunks, [begin, end).
+inline std::pair<std::size_t, std::size_t> chunk_indices(std::size_t n, std::size_t t, std::size_t T,
+                                                         std::span<const std::size_t> bounds) {
+  const auto [c_begin, c_end] = chunks_of(n, t, T, bounds);
+  return {std::min(n, c_begin * kReductionChunk), std::min(n, c_end * kReductionChunk)};
+}
+// Thread t of T: the partial sums (K per chunk, into partial) of its chunks (chunks_of),
+// each chunk summed in index order.
 template <std::size_t K, class Term>
-void sum_own_chunks(std::size_t n, const Term& term, double* partial, std::size_t t, std::size_t T) {
+void sum_own_chunks(std::size_t n, const Term& term, double* partial, std::size_t t, std::size_t T,
+                    std::span<const std::size_t> bounds = {}) {
   constexpr std::size_t C = kReductionChunk;
-  const auto [c_begin, c_end] = own_chunks(n, t, T);
+  const auto [c_begin, c_end] = chunks_of(n, t, T, bounds);
   for (std::size_t c = c_begin; c < c_end; ++c) {
     const std::size_t end = std::min(n, (c + 1) * C);
     std::array<double, K> s{};
@@ -141,7 +155,8 @@ template <std::size_t K1, std::size_t K2, class Prepare1, class Term1, class Ter
 std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std::size_t n1, Prepare1 prepare1,
                                                                              Term1 term1, std::size_t n2,
                                                                              Term2 term2, std::vector<double>& scratch,
-                                                                             bool parallel = true) {
+                                                                             bool parallel = true,
+                                                                             std::span<const std::size_t> chunks1_of = {}) {
   const std::size_t chunks1 = detail::reduction_chunks(n1), chunks2 = detail::reduction_chunks(n2);
   if (scratch.size() < K1 * chunks1 + K2 * chunks2) scratch.resize(K1 * chunks1 + K2 * chunks2);
   double* partial1 = scratch.data();
@@ -149,9 +164,9 @@ std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std
 #pragma omp parallel if (parallel && (chunks1 > 1 || chunks2 > 1))
   {
     const auto [t, T] = detail::thread_in_team();
-    const auto [begin1, end1] = detail::own_chunk_indices(n1, t, T);
+    const auto [begin1, end1] = detail::chunk_indices(n1, t, T, chunks1_of);
     prepare1(begin1, end1);
-    detail::sum_own_chunks<K1>(n1, term1, partial1, t, T);
+    detail::sum_own_chunks<K1>(n1, term1, partial1, t, T, chunks1_of);
     detail::sum_own_chunks<K2>(n2, term2, partial2, t, T);
   }
   return {detail::add_partials<K1>(partial1, chunks1), detail::add_partials<K2>(partial2, chunks2)};

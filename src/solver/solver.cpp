@@ -417,6 +417,21 @@ void Solver::kick_and_drift(std::size_t begin, std::size_t end) {
     if (on_nodes(d, begin, end) && d.kind == PrescribedDof::Displacement) n.u[d.node][d.dir] = d.u_start + d.history->at(t_end - d.t_start);
 }
 
+void Solver::refresh_node_chunks(int threads) {
+  node_chunks_.clear();
+  if (!contact_ || threads < 2) return;
+  const std::span<const Index> bound = contact_->node_split();
+  const std::size_t chunks = detail::reduction_chunks(model_.nodes.size());
+  if (bound.size() != static_cast<std::size_t>(threads) + 1 || chunks < 2) return;
+  // Each bound to the nearest chunk start, ascending.
+  node_chunks_.resize(bound.size());
+  for (std::size_t t = 0; t < bound.size(); ++t) {
+    const auto node = static_cast<std::size_t>(bound[t]);
+    const std::size_t c = t + 1 == bound.size() ? chunks : std::min(chunks, (node + kReductionChunk / 2) / kReductionChunk);
+    node_chunks_[t] = t == 0 ? 0 : std::max(c, node_chunks_[t - 1]);
+  }
+}
+
 void Solver::clear_forces() {
   auto& n = model_.nodes;
   const bool damped = this->damped();
@@ -478,6 +493,7 @@ void Solver::add_internal_and_joint_forces(Kick kick) {
   joint_split_.prepare(threads);
   own_split_.prepare(threads);
   counted_share_bounds(own_prefix_, own_split_.cum(), own_bound_);
+  if (kick == Kick::first) refresh_node_chunks(threads);
   bool full_team = false;
 #pragma omp parallel num_threads(threads) if (parallel_) reduction(| : inverted)
   {
@@ -494,7 +510,7 @@ void Solver::add_internal_and_joint_forces(Kick kick) {
       // The kick on this thread's node chunks (those it also finishes and sums at the
       // step's end: each node's lines stay on one core), then a barrier: the triangles
       // read any thread's nodes. A barrier instead of a fork and join of its own.
-      const auto [begin, end] = detail::own_chunk_indices(n.size(), th, static_cast<std::size_t>(team));
+      const auto [begin, end] = detail::chunk_indices(n.size(), th, static_cast<std::size_t>(team), node_chunks_);
       kick_and_drift(begin, end);
 #pragma omp barrier
     }
@@ -778,7 +794,7 @@ void Solver::update_energy(FinishVelocities finish) {
           return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
                                        0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
         },
-        nt, strain, reduction_scratch_, parallel_);
+        nt, strain, reduction_scratch_, parallel_, node_chunks_);
     energy_.kinetic = node_sums[0];
     energy_.gravity_potential = node_sums[1];
     energy_.damping_dissipated -= node_sums[2];
@@ -789,7 +805,7 @@ void Solver::update_energy(FinishVelocities finish) {
         [&](std::size_t i) {
           return std::array<double, 2>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i])};
         },
-        nt, strain, reduction_scratch_, parallel_);
+        nt, strain, reduction_scratch_, parallel_, node_chunks_);
     energy_.kinetic = node_sums[0];
     energy_.gravity_potential = node_sums[1];
     energy_.strain = strain_sum[0];

@@ -118,6 +118,9 @@ class Solver {
   Vec2 reaction_on(const std::vector<Index>& nodes) const;
   long broken_joints() const { return broken_joints_; }
   long active_contacts() const { return contact_stats_.active_contacts; }
+  // Each thread's node chunks in this step's node loops (see node_chunks_); empty: the
+  // equal shares of own_chunks().
+  std::span<const std::size_t> node_chunks() const { return node_chunks_; }
   const contact::ContactStepStats& contact_stats() const { return contact_stats_; }
   const contact::ContactForces* contact() const { return contact_.get(); }
   // True when triangles i and j are still glued by an intact joint (no contact between them).
@@ -285,6 +288,13 @@ class Solver {
   std::vector<Vec2> damping_force_, damping_force_prev_;
   std::vector<Vec2> u_prev_;
   std::vector<double> reduction_scratch_;
+  // The node chunks (kReductionChunk) of each thread in the node loops of this step (the
+  // kick and drift, the velocities, the node sums), T + 1 bounds; empty: own_chunks().
+  // From the contact phase's last partition (ContactForces::node_split): each thread then
+  // kicks the nodes its contact pairs read (issue 7: on late Dr2 the second thread's first
+  // ~350 triangles' nodes were kicked by the other core).
+  std::vector<std::size_t> node_chunks_;
+  void refresh_node_chunks(int threads);
   std::vector<fem::ElasticConstants> elastic_;
 };
 

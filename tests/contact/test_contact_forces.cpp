@@ -325,8 +325,8 @@ TEST(ContactForces, PileConservesMomentumAndAngularMomentum) {
 
 TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
   // Serial, and (with OpenMP) the parallel pair loop on 2 threads, split or (few pairs)
-  // on the first thread.
-  for (const int mode : {0, 1, 2}) {
+  // on the first thread; then a pile large enough for one partition (mode 3).
+  for (const int mode : {0, 1, 2, 3}) {
     const bool parallel = mode > 0;
     const std::size_t min_examined = mode == 2 ? SIZE_MAX : 0;
 #ifdef _OPENMP
@@ -335,7 +335,7 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
 #else
     if (parallel) continue;
 #endif
-    Pile p = make_pile(22, 30);
+    Pile p = make_pile(22, mode == 3 ? 70 : 30);
     const ContactParamTable params = pile_params();
     ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = parallel ? 0 : SIZE_MAX,
                       .min_examined_pairs_to_split = min_examined});
@@ -366,6 +366,7 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
     EXPECT_GE(cf.broad_phase().builds() - builds0, 2);  // rebuilds happened in the window
     EXPECT_GT(contacts, 100 * 50);
     EXPECT_EQ(cf.threads_used(), parallel ? 2 : 1);
+    EXPECT_EQ(cf.node_split().empty(), mode != 3) << "mode " << mode;  // one partition at the last step
 #ifdef _OPENMP
     omp_set_num_threads(saved);
 #endif
@@ -375,59 +376,132 @@ TEST(ContactForces, NoHeapAllocationAfterWarmUp) {
 #ifdef _OPENMP
 TEST(ContactForces, SameResultsWithOneAndTwoThreads) {
   const int saved = omp_get_max_threads();
+  struct Run {
+    int threads_used = 0;
+    long rebuilds = 0, partitioned_steps = 0;
+  };
   auto run = [](int threads, std::vector<std::vector<Vec2>>& forces, std::vector<ContactStepStats>& stats,
-                std::vector<double> split = {}, std::size_t min_examined_to_split = 0) {
+                std::vector<double> split = {}, std::size_t min_examined_to_split = 0, bool one_partition = true) {
     omp_set_num_threads(threads);
-    Pile p = make_pile(23, 30);
+    Pile p = make_pile(23, 70);  // 560 triangles: above kMinParallelTriangles, so one partition runs
     const ContactParamTable params = pile_params();
-    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = 0, .min_examined_pairs_to_split = min_examined_to_split});
+    ContactForces cf({.skin = 0.04,
+                      .min_pairs_per_parallel_run = 0,
+                      .min_examined_pairs_to_split = min_examined_to_split,
+                      .one_partition = one_partition});
     if (!split.empty()) cf.pin_pair_split(split);
     std::vector<Vec2> f(p.mesh.x.size());
+    Run r;
     for (int step = 0; step < 100; ++step) {
       p.set_time(step * p.dt);
       std::fill(f.begin(), f.end(), Vec2::Zero());
       stats.push_back(cf.compute(p.mesh.input(), params, p.dt, f));
       forces.push_back(f);
+      r.rebuilds += stats.back().rebuilt ? 1 : 0;
+      const std::span<const Index> nodes = cf.node_split();
+      if (!nodes.empty()) {
+        ++r.partitioned_steps;
+        // T + 1 ascending node bounds over all the nodes.
+        EXPECT_EQ(nodes.size(), static_cast<std::size_t>(threads) + 1);
+        EXPECT_EQ(nodes.front(), 0);
+        EXPECT_EQ(nodes.back(), static_cast<Index>(p.mesh.x.size()));
+        EXPECT_TRUE(std::is_sorted(nodes.begin(), nodes.end()));
+      }
     }
-    return cf.threads_used();
+    r.threads_used = cf.threads_used();
+    return r;
   };
-  // Three threads too (oversubscribed here): a middle thread, and the pair loop's split
-  // by expected cost (todo_weight_) across three filter lists.
-  // The split of the pair loop between the threads, tuned from timing (balance_shares) or
-  // pinned far off balance either way, changes no result either.
-  // The examined pairs left to the first thread (few pairs, no split): the same results,
-  // on 2 threads, and on 3 with a threshold that some steps meet and others do not.
-  std::vector<std::vector<Vec2>> f1, f2, f3, f4, f5, f6, f7, f8;
-  std::vector<ContactStepStats> s1, s2, s3, s4, s5, s6, s7, s8;
-  EXPECT_EQ(run(1, f1, s1), 1);
-  EXPECT_EQ(run(2, f2, s2), 2);
-  EXPECT_EQ(run(3, f3, s3), 3);
-  EXPECT_EQ(run(2, f4, s4, {0.1, 0.9}), 2);
-  EXPECT_EQ(run(2, f5, s5, {0.9, 0.1}), 2);
-  EXPECT_EQ(run(3, f6, s6, {0.6, 0.05, 0.35}), 3);
-  EXPECT_EQ(run(2, f7, s7, {}, SIZE_MAX), 2);
+  // One partition (the default): shapes, filter and pair loop of each thread's run of
+  // triangles, on 2 and 3 threads (oversubscribed here), its split tuned from timing or
+  // pinned far off balance either way. The split path (one_partition = false): the pair
+  // loop's split by expected cost (todo_weight_) across the filter's lists, pinned, and the
+  // examined pairs left to the first thread (few pairs, no split) on 2 threads, and on 3
+  // with a threshold that some steps meet and others do not. Every run the same bits.
+  std::vector<std::vector<std::vector<Vec2>>> f(12);
+  std::vector<std::vector<ContactStepStats>> s(12);
+  std::vector<Run> r(12);
+  r[0] = run(1, f[0], s[0]);
+  r[1] = run(2, f[1], s[1]);
+  r[2] = run(3, f[2], s[2]);
+  r[3] = run(2, f[3], s[3], {0.1, 0.9});
+  r[4] = run(2, f[4], s[4], {0.9, 0.1});
+  r[5] = run(3, f[5], s[5], {0.6, 0.05, 0.35});
+  r[6] = run(2, f[6], s[6], {}, 0, false);
+  r[7] = run(3, f[7], s[7], {}, 0, false);
+  r[8] = run(2, f[8], s[8], {0.1, 0.9}, 0, false);
+  r[9] = run(3, f[9], s[9], {0.6, 0.05, 0.35}, 0, false);
+  r[10] = run(2, f[10], s[10], {}, SIZE_MAX, false);
   std::vector<Index> examined;
-  for (const ContactStepStats& st : s1) examined.push_back(st.examined_pairs);
+  for (const ContactStepStats& st : s[0]) examined.push_back(st.examined_pairs);
   std::sort(examined.begin(), examined.end());
   ASSERT_LT(examined.front(), examined.back());  // so the median threshold takes both ways
   EXPECT_GT(examined.front(), 0);
-  EXPECT_EQ(run(3, f8, s8, {}, static_cast<std::size_t>(examined[examined.size() / 2])), 3);
+  r[11] = run(3, f[11], s[11], {}, static_cast<std::size_t>(examined[examined.size() / 2]), false);
   omp_set_num_threads(saved);
+  const std::vector<int> threads{1, 2, 3, 2, 2, 3, 2, 3, 2, 3, 2, 3};
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    EXPECT_EQ(r[k].threads_used, threads[k]) << "run " << k;
+    // The partitioned runs took that path at every step but the rebuilds (a node out of
+    // its box, found in the partition's shape update: the step redone on the split path).
+    if (threads[k] > 1 && k < 6) {
+      EXPECT_GE(r[k].rebuilds, 2) << "run " << k;
+      EXPECT_EQ(r[k].partitioned_steps + r[k].rebuilds, 100) << "run " << k;
+    } else {
+      EXPECT_EQ(r[k].partitioned_steps, 0) << "run " << k;
+    }
+  }
   long active = 0;
-  for (const auto* other : {&f2, &f3, &f4, &f5, &f6, &f7, &f8}) ASSERT_EQ(f1.size(), other->size());
-  for (std::size_t k = 0; k < f1.size(); ++k) {
-    for (const auto* other : {&f2, &f3, &f4, &f5, &f6, &f7, &f8}) {  // bit for bit
-      ASSERT_EQ(std::memcmp(f1[k].data(), (*other)[k].data(), f1[k].size() * sizeof(Vec2)), 0) << "step " << k;
+  for (std::size_t k = 0; k < f[0].size(); ++k) {
+    for (std::size_t o = 1; o < f.size(); ++o) {  // bit for bit
+      ASSERT_EQ(f[0].size(), f[o].size());
+      ASSERT_EQ(std::memcmp(f[0][k].data(), f[o][k].data(), f[0][k].size() * sizeof(Vec2)), 0)
+          << "run " << o << " step " << k;
+      EXPECT_EQ(s[0][k].active_contacts, s[o][k].active_contacts);
+      EXPECT_EQ(s[0][k].examined_pairs, s[o][k].examined_pairs);
+      EXPECT_EQ(s[0][k].elastic_energy, s[o][k].elastic_energy);
+      EXPECT_EQ(s[0][k].friction_dissipation, s[o][k].friction_dissipation);
+      EXPECT_EQ(s[0][k].damping_dissipation, s[o][k].damping_dissipation);
     }
-    for (const auto* other : {&s2, &s3, &s4, &s5, &s6, &s7, &s8}) {
-      EXPECT_EQ(s1[k].active_contacts, (*other)[k].active_contacts);
-      EXPECT_EQ(s1[k].elastic_energy, (*other)[k].elastic_energy);
-      EXPECT_EQ(s1[k].friction_dissipation, (*other)[k].friction_dissipation);
-      EXPECT_EQ(s1[k].damping_dissipation, (*other)[k].damping_dissipation);
-    }
-    active += s1[k].active_contacts;
+    active += s[0][k].active_contacts;
   }
   EXPECT_GT(active, 100 * 50);
+}
+
+TEST(ContactForces, OnePartitionInATeamSmallerThanAskedRunsOnItsFirstThread) {
+  // Called inside another parallel region (nested regions inactive): the contact phase
+  // asks for 2 threads and gets a team of 1, which must do all the work, with the same
+  // results as a plain one-thread run.
+  const int saved = omp_get_max_threads();
+  std::vector<std::vector<Vec2>> forces[2];
+  for (int mode = 0; mode < 2; ++mode) {
+    omp_set_num_threads(mode == 0 ? 1 : 2);
+    Pile p = make_pile(22, 70);
+    const ContactParamTable params = pile_params();
+    ContactForces cf({.skin = 0.04, .min_pairs_per_parallel_run = 0});
+    std::vector<Vec2> f(p.mesh.x.size());
+    for (int step = 0; step < 60; ++step) {
+      p.set_time(step * p.dt);
+      std::fill(f.begin(), f.end(), Vec2::Zero());
+      if (mode == 0) {
+        cf.compute(p.mesh.input(), params, p.dt, f);
+      } else {
+        const int level = omp_get_max_active_levels();
+        omp_set_max_active_levels(1);
+#pragma omp parallel num_threads(2)
+        {
+#pragma omp single
+          cf.compute(p.mesh.input(), params, p.dt, f);
+        }
+        omp_set_max_active_levels(level);
+      }
+      forces[mode].push_back(f);
+    }
+    EXPECT_EQ(cf.threads_used(), 1) << mode;
+  }
+  omp_set_num_threads(saved);
+  ASSERT_EQ(forces[0].size(), forces[1].size());
+  for (std::size_t k = 0; k < forces[0].size(); ++k)
+    ASSERT_EQ(std::memcmp(forces[0][k].data(), forces[1][k].data(), forces[0][k].size() * sizeof(Vec2)), 0) << k;
 }
 #endif
 

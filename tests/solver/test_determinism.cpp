@@ -30,6 +30,7 @@ struct RunResult {
   long broken = 0;
   long contacts = 0;
   double kinetic = 0.0;
+  long steps_on_partition_chunks = 0;  // node loops split where the contact partition put its threads
 };
 
 // parallel: 1 on, 0 off (set_parallel), -1 the solver's own (timed) choice. modes: the
@@ -52,6 +53,7 @@ RunResult run(int threads, int steps, int nx = 24, int ny = 12, int parallel = 1
   for (int k = 0; k < steps; ++k) {
     s.step();
     r.contacts = std::max<long>(r.contacts, s.active_contacts());
+    r.steps_on_partition_chunks += s.node_chunks().empty() ? 0 : 1;
     if (modes) modes->push_back(s.parallel());
   }
   r.u = model.nodes.u;
@@ -77,6 +79,12 @@ TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
   // The run must exercise what could differ: joints breaking and contacts.
   EXPECT_GT(one.broken, 0);
   EXPECT_GT(one.contacts, 0);
+  // Two threads: the node loops follow the contact phase's partition (from its second
+  // step on, but for the steps after a broad-phase rebuild).
+  EXPECT_EQ(one.steps_on_partition_chunks, 0);
+#ifdef _OPENMP
+  EXPECT_GT(two.steps_on_partition_chunks, steps / 2);
+#endif
   EXPECT_EQ(one.broken, two.broken);
   EXPECT_TRUE(bitwise_equal(one.u, two.u)) << "node displacements differ between 1 and 2 threads";
   EXPECT_TRUE(bitwise_equal(one.v, two.v)) << "node velocities differ between 1 and 2 threads";
@@ -289,6 +297,31 @@ TEST(DeterministicSums, PrepareRunsOnceOnEachIndexBeforeTheThreadSumsIt) {
           [&](std::size_t i) { return std::array<double, 1>{prepared[i]}; }, n2, term2, scratch, true);
       for (std::size_t i = 0; i < n1; ++i) ASSERT_EQ(times[i], 1) << "index " << i << " of " << n1 << ", threads " << threads;
       EXPECT_EQ(std::memcmp(&got1[0], &expected1[0], sizeof(double)), 0) << n1 << " threads " << threads;
+      // Range 1's chunks given per thread (the solver's node chunks from the contact
+      // partition): uneven, one thread with none, or bounds for another thread count
+      // (ignored). Each index still prepared once, the same bits.
+      const std::size_t chunks = (n1 + C - 1) / C;
+      std::vector<std::vector<std::size_t>> bound_sets{std::vector<std::size_t>(threads + 1, chunks),
+                                                       std::vector<std::size_t>(threads + 2, 0)};
+      bound_sets[0][0] = 0;
+      if (threads > 1) bound_sets[0][1] = chunks / 3;
+      bound_sets[1].back() = chunks;
+      for (const auto& bounds : bound_sets) {
+        std::fill(prepared.begin(), prepared.end(), 0.0);
+        std::fill(times.begin(), times.end(), 0);
+        const auto [b1, b2] = deterministic_sums<1, 1>(
+            n1,
+            [&](std::size_t begin, std::size_t end) {
+              for (std::size_t i = begin; i < end; ++i) {
+                prepared[i] += value(i);
+                ++times[i];
+              }
+            },
+            [&](std::size_t i) { return std::array<double, 1>{prepared[i]}; }, n2, term2, scratch, true, bounds);
+        for (std::size_t i = 0; i < n1; ++i) ASSERT_EQ(times[i], 1) << "index " << i << " of " << n1 << ", bounds";
+        EXPECT_EQ(std::memcmp(&b1[0], &expected1[0], sizeof(double)), 0) << n1 << " threads " << threads;
+        EXPECT_EQ(std::memcmp(&b2[0], &got2[0], sizeof(double)), 0) << n1 << " threads " << threads;
+      }
       const std::array<double, 1> expected2 = deterministic_sums<1>(n2, term2, scratch_alone, false);
       EXPECT_EQ(std::memcmp(&got2[0], &expected2[0], sizeof(double)), 0) << n1 << " threads " << threads;
     }
