@@ -286,15 +286,14 @@ TEST(DeterministicSums, PrepareRunsOnceOnEachIndexBeforeTheThreadSumsIt) {
 #endif
       std::vector<double> prepared(n1, 0.0);
       std::vector<int> times(n1, 0);
-      const auto [got1, got2] = deterministic_sums<1, 1>(
-          n1,
-          [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-              prepared[i] += value(i);
-              ++times[i];
-            }
-          },
-          [&](std::size_t i) { return std::array<double, 1>{prepared[i]}; }, n2, term2, scratch, true);
+      const auto prepare = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+          prepared[i] += value(i);
+          ++times[i];
+        }
+      };
+      const auto read = [&](std::size_t i) { return std::array<double, 1>{prepared[i]}; };
+      const auto [got1, got2] = deterministic_sums<1, 1>(n1, prepare, read, n2, term2, scratch, true);
       for (std::size_t i = 0; i < n1; ++i) ASSERT_EQ(times[i], 1) << "index " << i << " of " << n1 << ", threads " << threads;
       EXPECT_EQ(std::memcmp(&got1[0], &expected1[0], sizeof(double)), 0) << n1 << " threads " << threads;
       // Range 1's chunks given per thread (the solver's node chunks from the contact
@@ -309,15 +308,7 @@ TEST(DeterministicSums, PrepareRunsOnceOnEachIndexBeforeTheThreadSumsIt) {
       for (const auto& bounds : bound_sets) {
         std::fill(prepared.begin(), prepared.end(), 0.0);
         std::fill(times.begin(), times.end(), 0);
-        const auto [b1, b2] = deterministic_sums<1, 1>(
-            n1,
-            [&](std::size_t begin, std::size_t end) {
-              for (std::size_t i = begin; i < end; ++i) {
-                prepared[i] += value(i);
-                ++times[i];
-              }
-            },
-            [&](std::size_t i) { return std::array<double, 1>{prepared[i]}; }, n2, term2, scratch, true, bounds);
+        const auto [b1, b2] = deterministic_sums<1, 1>(n1, prepare, read, n2, term2, scratch, true, bounds);
         for (std::size_t i = 0; i < n1; ++i) ASSERT_EQ(times[i], 1) << "index " << i << " of " << n1 << ", bounds";
         EXPECT_EQ(std::memcmp(&b1[0], &expected1[0], sizeof(double)), 0) << n1 << " threads " << threads;
         EXPECT_EQ(std::memcmp(&b2[0], &got2[0], sizeof(double)), 0) << n1 << " threads " << threads;
