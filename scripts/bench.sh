@@ -84,6 +84,7 @@ ratio_run() {  # name filter-prefix round
 }
 for r in $(seq "$ROUNDS"); do
   echo "== 2-thread ratio, round $r of $ROUNDS" >&2
+  ratio_run box_1e3 BM_WholeBox/22/20 "$r"
   ratio_run box_1e4 BM_WholeBox/72/68 "$r"
   ratio_run box_1e5 BM_WholeBox/224/222 "$r"
   ratio_run disc_h5 BM_WholeDisc/50 "$r"
