@@ -236,7 +236,7 @@ void ContactForces::update_shape_run(const ContactInput& in, std::ptrdiff_t s_be
 
 void ContactForces::test_other_slots(const ContactInput& in, int& left, bool shared) {
   // The rebuild test for the active triangles in no pair (no shape to update), from their
-  // list: each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
+  // list: shared, each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
   // all in pairs, first: a split of all the active slots gave one thread 90 % of the
   // tests, issue 7 profile.)
   const NodePositions x = in.positions();

@@ -67,11 +67,6 @@ inline std::pair<std::size_t, std::size_t> own_chunks(std::size_t n, std::size_t
   auto first_chunk = [n, T](std::size_t k) { return (n * k / T + C - 1) / C; };  // at or after n k / T
   return {first_chunk(t), first_chunk(t + 1)};
 }
-// The indices of those chunks, [begin, end).
-inline std::pair<std::size_t, std::size_t> own_chunk_indices(std::size_t n, std::size_t t, std::size_t T) {
-  const auto [c_begin, c_end] = own_chunks(n, t, T);
-  return {std::min(n, c_begin * kReductionChunk), std::min(n, c_end * kReductionChunk)};
-}
 // Thread t of T: its chunks from bounds (T + 1 chunk bounds, ascending, the last one the
 // chunk count) when given for T threads, else own_chunks().
 inline std::pair<std::size_t, std::size_t> chunks_of(std::size_t n, std::size_t t, std::size_t T,
@@ -150,7 +145,8 @@ std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<d
 // prepare1(begin, end) runs first, on the indices of range 1 whose chunks this thread
 // sums: whole chunks, each index on exactly one thread. So a node loop whose results the
 // sums read (the velocity update) runs in the same region with no barrier, as long as
-// term1(i) reads only index i of what prepare1 writes.
+// term1(i) reads only index i of what prepare1 writes. chunks1_of: range 1's chunk bounds
+// per thread (detail::chunks_of; the solver's node chunks), when given for this team.
 template <std::size_t K1, std::size_t K2, class Prepare1, class Term1, class Term2>
 std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std::size_t n1, Prepare1 prepare1,
                                                                              Term1 term1, std::size_t n2,
