@@ -153,6 +153,7 @@ struct Scenario {
   std::string title;
   std::string mesh_file;  // absolute or relative to directory
   std::optional<double> element_size;
+  bool spatial_triangle_order = true;  // mesh.triangle_order: spatial (Hilbert) or file
   bool plane_stress = false;
   double thickness = 1.0;
   std::map<std::string, Material> materials;

@@ -10,12 +10,15 @@
 #include "contact/spheropolygon.hpp"
 #include "mesh/joint_insertion.hpp"
 #include "mesh/node_order.hpp"
+#include "mesh/triangle_order.hpp"
 
 #include <spdlog/spdlog.h>
 
 namespace dsdem::mesh {
 
-RawMesh load_mesh(const io::Scenario& sc, const std::string& work_dir) {
+namespace {
+
+RawMesh read_mesh_file(const io::Scenario& sc, const std::string& work_dir) {
   const std::string path = sc.resolve(sc.mesh_file);
   if (std::filesystem::path(path).extension() == ".geo") {
     std::filesystem::create_directories(work_dir);
@@ -34,6 +37,14 @@ RawMesh load_mesh(const io::Scenario& sc, const std::string& work_dir) {
   } catch (const std::exception& e) {
     throw io::ScenarioError({sc.where_mesh.describe(e.what())});
   }
+}
+
+}  // namespace
+
+RawMesh load_mesh(const io::Scenario& sc, const std::string& work_dir) {
+  RawMesh m = read_mesh_file(sc, work_dir);
+  if (sc.spatial_triangle_order) apply_triangle_order(m, spatial_triangle_order(m.nodes, m.triangles));
+  return m;
 }
 
 static std::vector<std::string> group_names(const RawMesh& mesh, int dim) {

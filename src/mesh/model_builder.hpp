@@ -9,7 +9,8 @@
 
 namespace dsdem::mesh {
 
-// Loads (and for a .geo, meshes into work_dir) the scenario's mesh.
+// Loads (and for a .geo, meshes into work_dir) the scenario's mesh; its triangles are
+// renumbered along a Hilbert curve unless mesh.triangle_order is file (triangle_order.hpp).
 RawMesh load_mesh(const io::Scenario& scenario, const std::string& work_dir);
 
 // Throws io::ScenarioError listing every mismatch between scenario and mesh.
