@@ -368,6 +368,7 @@ void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const Pre
   w.put("runner/dt", run.dt);
   w.put_int("runner/adaptive_dt", run.scenario.adaptive_dt ? 1 : 0);
   w.put("runner/node_order", mesh::node_order_fingerprint(m.nodes.X));
+  w.put_int("runner/spatial_triangle_order", run.scenario.spatial_triangle_order ? 1 : 0);
   w.put("runner/model_size", std::vector<double>{static_cast<double>(m.nodes.size()),
                                                   static_cast<double>(m.triangles.size()),
                                                   static_cast<double>(m.joints.size())});
@@ -403,6 +404,15 @@ RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun&
     throw std::runtime_error(
         "it was written by an older dsdem that numbered the nodes as the mesh does; this one numbers them in the "
         "order the elements use them, so its node arrays do not fit: run the scenario again from the start");
+  // The triangle numbering moves every node (mesh/triangle_order.hpp); a checkpoint with
+  // no record of it is from a dsdem that always kept the file's order.
+  const bool spatial = in.has("runner/spatial_triangle_order") && in.integer("runner/spatial_triangle_order") != 0;
+  if (spatial != run.scenario.spatial_triangle_order)
+    throw std::runtime_error(fmt::format(
+        "it was written with mesh.triangle_order = {}{}, this scenario gives {}: continue it with --set "
+        "mesh.triangle_order={}",
+        spatial ? "spatial" : "file", in.has("runner/spatial_triangle_order") ? "" : " (dsdem before 2026-11-24)",
+        run.scenario.spatial_triangle_order ? "spatial" : "file", spatial ? "spatial" : "file"));
   if (in.scalar("runner/node_order") != mesh::node_order_fingerprint(m.nodes.X))
     throw std::runtime_error("it belongs to another model (its node positions or their order differ): use the "
                              "scenario, mesh and --set options of the original run");

@@ -248,6 +248,32 @@ TEST_F(Restart, RefusesAnotherModelOrACompleteRunWithExitCode2) {
   EXPECT_EQ(renumbered.exit_code, 2) << renumbered.output;
   EXPECT_NE(renumbered.output.find("numbered the nodes as the mesh does"), std::string::npos) << renumbered.output;
 
+  // A checkpoint of the file's triangle numbering (or of a dsdem before it had another,
+  // with no record) continues only with that numbering, and the refusal says how.
+  ASSERT_EQ(run_dsdem("run " + small_dr2() + " --set mesh.triangle_order=file -o " + (out / "f").string() +
+                      " --stop-at-step 100")
+                .exit_code,
+            0);
+  const auto spatial = run_dsdem("run " + small_dr2() + " --restart " + (out / "f" / "checkpoint.h5").string() +
+                                 " -o " + (out / "s").string());
+  EXPECT_EQ(spatial.exit_code, 2) << spatial.output;
+  EXPECT_NE(spatial.output.find("mesh.triangle_order = file, this scenario gives spatial"), std::string::npos)
+      << spatial.output;
+  EXPECT_NE(spatial.output.find("--set mesh.triangle_order=file"), std::string::npos) << spatial.output;
+  const fs::path unrecorded = out / "no_order_record.h5";
+  fs::copy_file(out / "f" / "checkpoint.h5", unrecorded, fs::copy_options::overwrite_existing);
+  {
+    H5::H5File f(unrecorded.string(), H5F_ACC_RDWR);
+    f.unlink("runner/spatial_triangle_order");
+  }
+  const auto older = run_dsdem("run " + small_dr2() + " --restart " + unrecorded.string() + " -o " +
+                               (out / "u").string());
+  EXPECT_EQ(older.exit_code, 2) << older.output;
+  EXPECT_NE(older.output.find("(dsdem before 2026-11-24)"), std::string::npos) << older.output;
+  const auto as_file = run_dsdem("run " + small_dr2() + " --set mesh.triangle_order=file --restart " +
+                                 unrecorded.string() + " -o " + (out / "u").string() + " --stop-at-step 150");
+  EXPECT_EQ(as_file.exit_code, 0) << as_file.output;
+
   std::ofstream(out / "bad.h5") << "not a checkpoint";
   const auto bad = run_dsdem("run " + small_dr2() + " --restart " + (out / "bad.h5").string());
   EXPECT_EQ(bad.exit_code, 2) << bad.output;

@@ -4,8 +4,8 @@
 //
 // Two kinds of check (docs/dr2.md §6). Up to t = 2.4 s the motion is a smooth function of
 // the input: 62 runs differing only in the order of their sums (triangle numberings)
-// agree there to 1e-4 m and within 3 broken joints, so tight goldens catch a change of
-// physics. After it the column breaks up, and rounding picks one of several ways it does:
+// agree there to 5e-4 m and within 3 broken joints, so tight goldens catch a change of
+// physics. After it the column breaks up, and rounding picks one of three ways it does:
 // at 4.5 s the same 62 runs gave gauge 1 10.55-12.00 m, gauge 3 5.55-6.08 or 11.24-11.38 m
 // and 187-195 or 250-265 broken joints. The late checks are that envelope with a margin,
 // not one run's numbers: any compiler, flag or summation order moves a run within it.
@@ -22,7 +22,7 @@
 namespace {
 
 // Golden numbers at t = 2.4 s (shear_sliding.yaml, 16 m; dsdem 0.1.0, session 19). The
-// 62-run spread there: u1 2.2214-2.2216 m, u3 2.2426-2.2428 m, 149-152 broken joints.
+// 62-run spread there: u1 2.2214-2.2219 m, u3 2.2426-2.2428 m, 149-152 broken joints.
 constexpr double GOLDEN_ELEMENTS = 830;
 constexpr double EARLY_TIME = 2.4;          // s
 constexpr double GOLDEN_EARLY_U1 = 2.2216;  // |u| of gauge 1, m
