@@ -891,6 +891,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["dt_s"] = prepared.dt;
   summary["dt_controlled_by"] = prepared.stable.controlled_by;
   summary["dt_adaptive"] = sc.adaptive_dt;
+  summary["triangle_order"] = std::string(sc.spatial_triangle_order ? "spatial" : "file");  // how to rerun it bit for bit
   summary["dt_last_s"] = solver.settings().dt;
   summary["dt_last_controlled_by"] = step_control().controlled_by;
   summary["end_time_s"] = solver.time();
