@@ -24,6 +24,17 @@ int main(int argc, char** argv) {
   std::vector<solver::PrescribedDof> dofs;
   Vec2 g = Vec2::Zero();
   int a = 2;
+  // Arguments checked before any model is built: a disc H in metres (0.005) instead of
+  // tenths of a millimetre (50) asked for a ~10^10-cell mesh and aborted in bad_alloc.
+  const bool box_ok = kind == "box" && argc >= 4 && std::atoi(argv[2]) >= 1 && std::atoi(argv[3]) >= 1;
+  const bool disc_ok = kind == "disc" && argc >= 3 && std::atof(argv[2]) >= 5.0 && std::atof(argv[2]) <= 500.0;
+  if (!box_ok && !disc_ok) {
+    std::fprintf(stderr,
+                 "usage: %s box NX NY STEPS WARMUP | disc H STEPS WARMUP\n"
+                 "  box: NX, NY >= 1 cells; disc: H the element size in 0.1 mm, 5 to 500 (50 = 5 mm)\n",
+                 argv[0]);
+    return 2;
+  }
   if (kind == "box") {
     model = bench::box_model(std::atoi(argv[2]), std::atoi(argv[3]));
     dofs = bench::box_constraints(model);
