@@ -8,7 +8,8 @@
 // physics. After it the column breaks up, and rounding picks one of three ways it does:
 // at 4.5 s the same 62 runs gave gauge 1 10.55-12.00 m, gauge 3 5.55-6.08 or 11.24-11.38 m
 // and 187-195 or 250-265 broken joints. The late checks are that envelope with a margin,
-// not one run's numbers: any compiler, flag or summation order moves a run within it.
+// not one run's numbers: a compiler, flag or summation change can move a run to another
+// of these outcomes.
 #include <gtest/gtest.h>
 
 #include <cmath>
