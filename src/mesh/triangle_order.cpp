@@ -42,8 +42,11 @@ std::vector<Index> spatial_triangle_order(std::span<const Vec2> nodes, std::span
   if (!(extent > 0.0) || !std::isfinite(extent)) return order;
   constexpr int kOrder = 16;
   constexpr double kCells = double(1u << kOrder);
+  // A coordinate's cell; a centroid that is not a number (never from a mesh the reader
+  // accepts) goes to cell 0 rather than into an undefined conversion.
   const auto cell = [&](double v) {
-    return static_cast<std::uint32_t>(std::clamp(v / extent * kCells, 0.0, kCells - 1.0));
+    const double c = v / extent * kCells;
+    return c >= kCells - 1.0 ? static_cast<std::uint32_t>(kCells - 1.0) : c > 0.0 ? static_cast<std::uint32_t>(c) : 0u;
   };
   std::vector<std::uint64_t> key(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {

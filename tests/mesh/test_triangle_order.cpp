@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -122,6 +123,16 @@ TEST(TriangleOrder, DegenerateInputsKeepTheFileOrder) {
   const std::vector<Vec2> nodes{{0, 0}, {1, 0}, {0, 1}, {100, 100}};
   const std::vector<std::array<Index, 3>> same{{0, 1, 2}, {1, 2, 0}, {2, 0, 1}};
   EXPECT_EQ(spatial_triangle_order(nodes, same), (std::vector<Index>{0, 1, 2}));
+}
+
+TEST(TriangleOrder, ANodeThatIsNotANumberStillGivesAPermutation) {
+  // The reader refuses such meshes; the ordering must not convert NaN to an integer anyway.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Vec2> nodes{{0, 0}, {1, 0}, {0, 1}, {nan, 0.5}, {4, 4}};
+  const std::vector<std::array<Index, 3>> tris{{0, 1, 2}, {1, 3, 2}, {1, 4, 2}};
+  std::vector<Index> order = spatial_triangle_order(nodes, tris);
+  std::sort(order.begin(), order.end());
+  EXPECT_EQ(order, (std::vector<Index>{0, 1, 2}));
 }
 
 TEST(TriangleOrder, AnOrderThatIsNotAPermutationIsRefused) {
