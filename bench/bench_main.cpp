@@ -241,8 +241,11 @@ void BM_WholeBox(benchmark::State& state) {
   set_threads(1);
 }
 // ~10^3, 10^4, 10^5, 10^6 elements; 1 and 2 threads. Fixed step counts (each step of
-// 10^6 elements takes about a second).
-BENCHMARK(BM_WholeBox)->Args({22, 20, 1})->Args({22, 20, 2})->Iterations(1000)->UseRealTime()->Unit(benchmark::kMillisecond);
+// 10^6 elements takes about a second), all within the same phase of the motion: steps 20
+// to 120 at most, the block's bottom row on the ground, no joint broken yet. (10^3 used to
+// run 1 000 steps, into the impact that breaks ~100 of its joints: 190 against 124 ns per
+// element-step on one thread, a different load from the other sizes' measured steps.)
+BENCHMARK(BM_WholeBox)->Args({22, 20, 1})->Args({22, 20, 2})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WholeBox)->Args({72, 68, 1})->Args({72, 68, 2})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WholeBox)->Args({224, 222, 1})->Args({224, 222, 2})->Iterations(10)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WholeBox)->Args({710, 702, 1})->Args({710, 702, 2})->Iterations(3)->UseRealTime()->Unit(benchmark::kMillisecond);
