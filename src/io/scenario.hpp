@@ -154,6 +154,7 @@ struct Scenario {
   std::string mesh_file;  // absolute or relative to directory
   std::optional<double> element_size;
   bool spatial_triangle_order = true;  // mesh.triangle_order: spatial (Hilbert) or file
+  static const char* triangle_order_name(bool spatial) { return spatial ? "spatial" : "file"; }
   bool plane_stress = false;
   double thickness = 1.0;
   std::map<std::string, Material> materials;

@@ -411,8 +411,9 @@ RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun&
     throw std::runtime_error(fmt::format(
         "it was written with mesh.triangle_order = {}{}, this scenario gives {}: continue it with --set "
         "mesh.triangle_order={}",
-        spatial ? "spatial" : "file", in.has("runner/spatial_triangle_order") ? "" : " (dsdem before 2026-11-24)",
-        run.scenario.spatial_triangle_order ? "spatial" : "file", spatial ? "spatial" : "file"));
+        io::Scenario::triangle_order_name(spatial),
+        in.has("runner/spatial_triangle_order") ? "" : " (dsdem before 2026-11-24)",
+        io::Scenario::triangle_order_name(run.scenario.spatial_triangle_order), io::Scenario::triangle_order_name(spatial)));
   if (in.scalar("runner/node_order") != mesh::node_order_fingerprint(m.nodes.X))
     throw std::runtime_error("it belongs to another model (its node positions or their order differ): use the "
                              "scenario, mesh and --set options of the original run");
@@ -891,7 +892,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["dt_s"] = prepared.dt;
   summary["dt_controlled_by"] = prepared.stable.controlled_by;
   summary["dt_adaptive"] = sc.adaptive_dt;
-  summary["triangle_order"] = std::string(sc.spatial_triangle_order ? "spatial" : "file");  // how to rerun it bit for bit
+  summary["triangle_order"] = std::string(io::Scenario::triangle_order_name(sc.spatial_triangle_order));  // to rerun it bit for bit
   summary["dt_last_s"] = solver.settings().dt;
   summary["dt_last_controlled_by"] = step_control().controlled_by;
   summary["end_time_s"] = solver.time();
