@@ -18,17 +18,53 @@ struct ReferenceGeometry {
 };
 ReferenceGeometry reference_geometry(const Vec2& X0, const Vec2& X1, const Vec2& X2);
 
+// The per-step kernel and its pieces are inline (issue 7): the element loops then keep
+// them in registers and drop what their caller does not read (the damping forces' zeros
+// without beta, the Cauchy stress and the strain of a step that does not store them).
+// No -ffp-contract or FMA target here, so inlining leaves every result the same bits.
+
 // Deformation gradient F = [x1-x0, x2-x0] * Dm^-1.
-Mat2 deformation_gradient(const Vec2& x0, const Vec2& x1, const Vec2& x2, const Mat2& Dm_inv);
+inline Mat2 deformation_gradient(const Vec2& x0, const Vec2& x1, const Vec2& x2, const Mat2& Dm_inv) {
+  Mat2 Ds;
+  Ds.col(0) = x1 - x0;
+  Ds.col(1) = x2 - x0;
+  return Ds * Dm_inv;
+}
 
 // Green-Lagrange strain (xx, yy, 2xy) from F.
-Vec3 green_strain(const Mat2& F);
+inline Vec3 green_strain(const Mat2& F) {
+  const Mat2 C = F.transpose() * F;
+  return Vec3(0.5 * (C(0, 0) - 1.0), 0.5 * (C(1, 1) - 1.0), C(0, 1));
+}
 
 // Second Piola-Kirchhoff stress of St Venant-Kirchhoff, S = S0 + D E (Voigt).
-Vec3 svk_stress(const Vec3& green_voigt, const ElasticConstants& c);
+inline Vec3 svk_stress(const Vec3& E, const ElasticConstants& c) {
+  const double tr = E[0] + E[1];
+  return Vec3(c.lambda * tr + 2.0 * c.mu * E[0], c.lambda * tr + 2.0 * c.mu * E[1], c.mu * E[2]);
+}
+
+namespace detail {
+inline Mat2 to_tensor(const Vec3& s) {
+  Mat2 m;
+  m << s[0], s[2], s[2], s[1];
+  return m;
+}
+
+// Nodal forces -A0 t P grad0(N): nodes 1 and 2 take the columns of P Dm_inv^T, node 0
+// the negative of their sum (the shape-function gradients sum to zero).
+inline void nodal_forces(const Mat2& P, const Mat2& Dm_inv, double scale, std::array<Vec2, 3>& f) {
+  const Mat2 H = -scale * P * Dm_inv.transpose();
+  f[1] = H.col(0);
+  f[2] = H.col(1);
+  f[0] = -(f[1] + f[2]);
+}
+}  // namespace detail
 
 // Cauchy stress sigma = F S F^T / det F (Voigt xx, yy, xy).
-Vec3 cauchy_from_pk2(const Mat2& F, const Vec3& S);
+inline Vec3 cauchy_from_pk2(const Mat2& F, const Vec3& S) {
+  const Mat2 sigma = F * detail::to_tensor(S) * F.transpose() / F.determinant();
+  return Vec3(sigma(0, 0), sigma(1, 1), 0.5 * (sigma(0, 1) + sigma(1, 0)));
+}
 
 // Result of one element evaluation.
 struct TriangleResponse {
@@ -52,8 +88,29 @@ struct TriangleInput {
   double beta = 0.0;       // Rayleigh stiffness coefficient, s
   bool cauchy = true;      // false: out.cauchy is left as it was (a solver that needs it only for output)
 };
-void triangle_internal_force(const TriangleInput& in, const ElasticConstants& c,
-                             TriangleResponse& out, std::array<Vec2, 3>& damping_force);
+inline void triangle_internal_force(const TriangleInput& in, const ElasticConstants& c,
+                                    TriangleResponse& out, std::array<Vec2, 3>& damping_force) {
+  const Mat2 F = deformation_gradient(in.x[0], in.x[1], in.x[2], in.Dm_inv);
+  out.detF = F.determinant();
+  const Vec3 E = green_strain(F);
+  const Vec3 S = in.S0 + svk_stress(E, c);
+  const double scale = in.area0 * in.thickness;
+  detail::nodal_forces(F * detail::to_tensor(S), in.Dm_inv, scale, out.force);
+  out.green = E;
+  if (in.cauchy) out.cauchy = cauchy_from_pk2(F, S);
+  const Vec3 DE = svk_stress(E, c);
+  out.strain_energy = scale * (in.S0.dot(E) + 0.5 * (DE[0] * E[0] + DE[1] * E[1] + DE[2] * E[2]));
+
+  if (in.beta > 0.0) {
+    // Edot = sym(F^T Fdot); damping stress beta * D Edot (DESIGN.md §6).
+    const Mat2 Fdot = deformation_gradient(in.v[0], in.v[1], in.v[2], in.Dm_inv);
+    const Mat2 Ed = 0.5 * (F.transpose() * Fdot + Fdot.transpose() * F);
+    const Vec3 Sd = in.beta * svk_stress(Vec3(Ed(0, 0), Ed(1, 1), 2.0 * Ed(0, 1)), c);
+    detail::nodal_forces(F * detail::to_tensor(Sd), in.Dm_inv, scale, damping_force);
+  } else {
+    damping_force = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  }
+}
 
 // Characteristic length for the CFL limit: the smallest altitude 2A / longest edge.
 double characteristic_length(const Vec2& x0, const Vec2& x1, const Vec2& x2);
