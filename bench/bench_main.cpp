@@ -50,10 +50,15 @@ void set_threads(int t) {
 
 // --- kernels ---------------------------------------------------------------------
 
-// The element loop of the solver on a 4096-triangle patch: gather x, v; kernel; store
-// force, stress, strain, energy, det F. items = element evaluations.
+// The element loop of the solver on a 4096-triangle patch: gather x (and v with beta);
+// kernel; store force, energy, det F, and the damping forces with beta (as the solver's
+// shared triangles do). cauchy:0 is a step of `dsdem run` (stress on demand: no Cauchy
+// stress, nothing else stored); cauchy:1 a step with the stress and strain of every
+// triangle computed and stored (output, or a solver without stress on demand).
+// items = element evaluations.
 void BM_TriangleInternalForce(benchmark::State& state) {
   const bool damping = state.range(0) != 0;
+  const bool cauchy = state.range(1) != 0;
   const int nx = 64, ny = 32;
   Model model = mesh::build_model(mesh::rectangle_mesh(nx, ny, 1.0, 0.5), Material{"rock", "linear_elastic", 21e9, 0.2, 2500});
   std::mt19937 rng(1);
@@ -66,27 +71,32 @@ void BM_TriangleInternalForce(benchmark::State& state) {
   const auto& n = model.nodes;
   const std::size_t ne = tri.size();
   const fem::ElasticConstants c{model.materials[0].lambda(), model.materials[0].mu()};
-  std::vector<std::array<Vec2, 3>> force(ne), dforce(ne);
+  std::vector<std::array<Vec2, 3>> force(ne), dforce(damping ? ne : 0);
   std::vector<double> energy(ne), detF(ne);
-  tri.stress.assign(ne, Vec3::Zero());  // output buffers (empty in a built model)
-  tri.strain.assign(ne, Vec3::Zero());
+  if (cauchy) {
+    tri.stress.assign(ne, Vec3::Zero());  // output buffers (empty in a built model)
+    tri.strain.assign(ne, Vec3::Zero());
+  }
   for (auto _ : state) {
     for (std::size_t t = 0; t < ne; ++t) {
       const auto& cn = tri.conn[t];
       fem::TriangleInput in;
-      for (int k = 0; k < 3; ++k) {
-        in.x[k] = n.X[cn[k]] + n.u[cn[k]];
-        in.v[k] = n.v[cn[k]];
-      }
+      for (int k = 0; k < 3; ++k) in.x[k] = n.X[cn[k]] + n.u[cn[k]];
+      if (damping)  // the kernel reads v only when beta > 0 (as the solver gathers it)
+        for (int k = 0; k < 3; ++k) in.v[k] = n.v[cn[k]];
       in.Dm_inv = tri.Dm_inv[t];
       in.area0 = tri.area0[t];
       in.S0 = tri.initial_stress(t);
       in.beta = damping ? 1e-6 : 0.0;
+      in.cauchy = cauchy;
       fem::TriangleResponse r;
-      fem::triangle_internal_force(in, c, r, dforce[t]);
+      std::array<Vec2, 3> no_damping;  // beta = 0: zeros nobody reads (the solver's own stack array)
+      fem::triangle_internal_force(in, c, r, damping ? dforce[t] : no_damping);
       force[t] = r.force;
-      tri.stress[t] = r.cauchy;
-      tri.strain[t] = r.green;
+      if (cauchy) {
+        tri.stress[t] = r.cauchy;
+        tri.strain[t] = r.green;
+      }
       energy[t] = r.strain_energy;
       detF[t] = r.detF;
     }
@@ -96,7 +106,7 @@ void BM_TriangleInternalForce(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * ne));
   state.counters["elem_steps/s"] = benchmark::Counter(static_cast<double>(state.iterations() * ne), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_TriangleInternalForce)->Arg(0)->Arg(1)->ArgName("beta");
+BENCHMARK(BM_TriangleInternalForce)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"beta", "cauchy"});
 
 // The cohesive law of 4096 intact joints in the elastic / softening range.
 void BM_JointLaw(benchmark::State& state) {
@@ -207,11 +217,12 @@ void run_steps(benchmark::State& state, Model& model, std::vector<solver::Prescr
   for (int k = 0; k < warmup; ++k) s.step();
   double load[3] = {0.0, 0.0, 0.0};
   getloadavg(load, 3);
-  double contacts = 0.0;
+  double contacts = 0.0, examined = 0.0;
   const double cpu0 = process_cpu_seconds();
   for (auto _ : state) {
     s.step();
     contacts += static_cast<double>(s.active_contacts());
+    examined += static_cast<double>(s.contact_stats().examined_pairs);
   }
   // CPU seconds per step, all threads (the main-thread CPU time that Google Benchmark
   // reports misses the second thread).
@@ -223,6 +234,8 @@ void run_steps(benchmark::State& state, Model& model, std::vector<solver::Prescr
   state.counters["elem_steps/s"] = benchmark::Counter(steps * ne, benchmark::Counter::kIsRate);
   state.counters["contacts/s"] = benchmark::Counter(contacts, benchmark::Counter::kIsRate);
   state.counters["contacts"] = contacts / steps;
+  // The narrow phase's load per element: what a size's motion asks of the contact phase.
+  state.counters["examined/elem"] = examined / (steps * ne);
   state.counters["broken"] = static_cast<double>(s.broken_joints());
   state.counters["joints"] = static_cast<double>(model.joints.size());
   state.counters["peak_MB"] = peak_bytes() / 1e6;
@@ -249,6 +262,15 @@ BENCHMARK(BM_WholeBox)->Args({22, 20, 1})->Args({22, 20, 2})->Iterations(100)->U
 BENCHMARK(BM_WholeBox)->Args({72, 68, 1})->Args({72, 68, 2})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WholeBox)->Args({224, 222, 1})->Args({224, 222, 2})->Iterations(10)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WholeBox)->Args({710, 702, 1})->Args({710, 702, 2})->Iterations(3)->UseRealTime()->Unit(benchmark::kMillisecond);
+// Strips: boxes 20 cells high, 10^4 to 10^6 elements (10^3 is the 22 x 20 box above), over
+// the same steps 20 to 120. The square boxes' steps cover different motions per element at
+// each size: the impact's wave crosses the 20 rows of 10^3 in ~70 steps but only the lowest
+// ~40 of 222 or 702 rows in the window, and the pairs examined per element-step differ
+// threefold (0.077 at 10^3, 0.23-0.25 at 10^4 and 10^5). A strip's columns all move as
+// the 10^3 box's do, so its time per element-step measures the cost of size alone.
+BENCHMARK(BM_WholeBox)->Args({227, 20, 1})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeBox)->Args({2272, 20, 1})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeBox)->Args({22727, 20, 1})->Iterations(100)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // Synthetic Brazilian disc (see bench_models.hpp): args (element size in 0.1 mm, threads).
 void BM_WholeDisc(benchmark::State& state) {

@@ -69,6 +69,33 @@ def alternating_ratios(raw):
     return out
 
 
+def flat_rounds(raw):
+    """{name: [benchmark of round 1, round 2, ...]} from scripts/bench.sh's flatness rounds
+    (flat/NAME_rR.json), each with ns_per_elem_step (1 thread, CPU time) added."""
+    d = os.path.join(raw, "flat")
+    if not os.path.isdir(d):
+        return {}
+    found = {}
+    for f in os.listdir(d):
+        m = re.match(r"(.+)_r(\d+)\.json$", f)
+        if not m:
+            continue
+        _, bs = load(d, f[:-5])
+        rows = pick(bs)
+        if rows:
+            b = next(iter(rows.values()))
+            cpu_s = (b["cpu_time"] if b["time_unit"] == "ms" else b["cpu_time"] / 1e6) * 1e-3
+            b["ns_per_elem_step"] = cpu_s / b["elements"] * 1e9
+            found.setdefault(m.group(1), {})[int(m.group(2))] = b
+    return {name: [b for _, b in sorted(rounds.items())] for name, rounds in found.items()}
+
+
+FLAT_SERIES = {
+    "square boxes": ("box_1e3", "box_1e4", "box_1e5", "box_1e6"),
+    "20-cell-high strips": ("box_1e3", "strip_1e4", "strip_1e5", "strip_1e6"),
+}
+
+
 def sh(cmd):
     try:
         return subprocess.run(cmd, shell=True, capture_output=True, text=True, timeout=10).stdout.strip()
@@ -92,7 +119,13 @@ def main():
     lines.append("## Machine")
     lines.append("")
     cpu = sh("lscpu | sed -n 's/^Model name:[ ]*//p'") or platform.processor()
-    lines.append(f"- CPU: {cpu}; {ctx.get('num_cpus', os.cpu_count())} logical CPUs at {ctx.get('mhz_per_cpu', '?')} MHz")
+    # "AMD EPYC" names both Zen 3 and Zen 5 machines here: the family, model and AVX-512 tell them apart
+    # (Zen 3 runs the kernels ~1.8x slower, has half the L2 and takes the AVX2 narrow phase).
+    family = sh("lscpu | sed -n 's/^CPU family:[ ]*//p'") or "?"
+    model = sh("lscpu | sed -n 's/^Model:[ ]*//p'") or "?"
+    avx512 = "AVX-512F" if "avx512f" in sh("grep -m1 '^flags' /proc/cpuinfo").split() else "no AVX-512"
+    lines.append(f"- CPU: {cpu} (family {family}, model {model}, {avx512}); {ctx.get('num_cpus', os.cpu_count())} logical "
+                 f"CPUs at {ctx.get('mhz_per_cpu', '?')} MHz")
     caches = ", ".join(f"L{c['level']} {c['type']} {c['size'] // 1024} KiB" for c in ctx.get("caches", []))
     if caches:
         lines.append(f"- Caches: {caches}")
@@ -164,6 +197,30 @@ def main():
                      f"{b['broken']:.0f} | {b['peak_MB']:.0f} | {b['B/elem']:.0f} |")
     lines.append("")
 
+    flat = flat_rounds(raw)
+    if flat:
+        lines.append("### Time per element-step against size (alternating rounds)")
+        lines.append("")
+        lines.append("Each round runs every size once, one thread, one after the other (CPU time per element-step); "
+                     "a size's figure is its median over the rounds. The square boxes' measured steps (20 to 120 at "
+                     "10^3 and 10^4, 20 to 30 at 10^5, 20 to 23 at 10^6) cover a different motion per element at each "
+                     "size: the impact's wave has crossed the whole 10^3 box but only the lowest rows of the larger ones, "
+                     "so the narrow phase examines a different number of pairs per element (column 'examined pairs per "
+                     "element-step'). The strips (20 cells high, 10^3 is the same 22 x 20 box) move alike in every "
+                     "column at every size, over steps 20 to 120: their spread is the cost of size alone.")
+        lines.append("")
+        lines.append("| run | elements | steps | ns per element-step, by round | median | examined pairs per element-step | B/elem (RSS) |")
+        lines.append("|---|---|---|---|---|---|---|")
+        for n in dict.fromkeys(sum(FLAT_SERIES.values(), ())):
+            bs = flat.get(n)
+            if not bs:
+                continue
+            ns = [b["ns_per_elem_step"] for b in bs]
+            ex = statistics.median(b.get("examined/elem", float("nan")) for b in bs)
+            lines.append(f"| {n} | {bs[0]['elements']:.0f} | {bs[0]['iterations']} | {', '.join(f'{x:.0f}' for x in ns)} | "
+                         f"{statistics.median(ns):.0f} | {ex:.3f} | {statistics.median(b['B/elem'] for b in bs):.0f} |")
+        lines.append("")
+
     ex_path = os.path.join(raw, "examples.tsv")
     ex_rows = []
     if os.path.exists(ex_path):
@@ -195,12 +252,18 @@ def main():
     lines.append("")
     lines.append("| target | measured | met? |")
     lines.append("|---|---|---|")
-    tri = rates.get("BM_TriangleInternalForce/beta:0")
-    if tri:
-        v = tri["elem_steps/s"] / 1e6
-        lines.append(f"| triangle internal-force kernel >= 20 M element-steps/s per core | {v:.1f} M/s (beta = 0); "
-                     f"{rates.get('BM_TriangleInternalForce/beta:1', {}).get('elem_steps/s', 0) / 1e6:.1f} M/s (beta > 0) | "
-                     f"{'yes' if v >= 20 else 'no'} |")
+    # The kernel as a step of `dsdem run` calls it (stress on demand: no Cauchy stress), with and
+    # without stiffness damping: both must reach the target. The same with the stress and strain
+    # of every triangle stored (output steps) is shown beside.
+    kern_rate = {k: rates[f"BM_TriangleInternalForce/beta:{k[0]}/cauchy:{k[1]}"]["elem_steps/s"] / 1e6
+                 for k in ((0, 0), (1, 0), (0, 1), (1, 1)) if f"BM_TriangleInternalForce/beta:{k[0]}/cauchy:{k[1]}" in rates}
+    if (0, 0) in kern_rate and (1, 0) in kern_rate:
+        run_min = min(kern_rate[(0, 0)], kern_rate[(1, 0)])
+        out_steps = (f"; with the stress and strain stored (output steps): {kern_rate[(0, 1)]:.1f} / {kern_rate[(1, 1)]:.1f} M/s"
+                     if (0, 1) in kern_rate and (1, 1) in kern_rate else "")
+        lines.append(f"| triangle internal-force kernel >= 20 M element-steps/s per core (a step of `dsdem run`, beta = 0 and "
+                     f"beta > 0) | {kern_rate[(0, 0)]:.1f} M/s (beta = 0); {kern_rate[(1, 0)]:.1f} M/s (beta > 0){out_steps} | "
+                     f"{'yes' if run_min >= 20 else 'no'} |")
     for disc in ("disc_h5", "disc_h2"):
         d1 = get(disc + "_t1", "cpu_eps")
         if d1:
@@ -221,6 +284,29 @@ def main():
             eff = f"; CPU per element-step 2 threads / 1 thread = {pa / pb:.2f}" if pa and pb else ""
             lines.append(f"| 2 threads >= 1.7x one thread ({n}, wall; load avg {get(n + '_t2', 'load1') or 0:.1f}) | "
                          f"{s:.2f}x{eff} | {'yes' if s >= 1.7 else 'no'} |")
+    # The examples are whole runs too: their 2-thread speed-up over the CLI's wall time (set-up
+    # included; one run each, not alternated).
+    walls = {}
+    for r in ex_rows:
+        if len(r) > 4 and r[4] == "ok":
+            walls.setdefault(r[0], {})[r[1]] = float(r[2])
+    for label, w in walls.items():
+        if "1" in w and "2" in w and w["2"] > 0:
+            s = w["1"] / w["2"]
+            lines.append(f"| 2 threads >= 1.7x one thread (example {label}, CLI wall time incl. set-up, one run each) | "
+                         f"{w['1']:.1f} s / {w['2']:.1f} s = {s:.2f}x | {'yes' if s >= 1.7 else 'no'} |")
+    for series, sizes in FLAT_SERIES.items():
+        if not all(n in flat for n in sizes):
+            continue
+        med = {n: statistics.median(b["ns_per_elem_step"] for b in flat[n]) for n in sizes}
+        spread = max(med.values()) / min(med.values())
+        rounds = min(len(flat[n]) for n in sizes)
+        by_round = [max(flat[n][r]["ns_per_elem_step"] for n in sizes) / min(flat[n][r]["ns_per_elem_step"] for n in sizes)
+                    for r in range(rounds)]
+        per = ", ".join(f"{n}: {t:.0f} ns" for n, t in med.items())
+        lines.append(f"| time per element-step flat within 1.3x, 10^3 to 10^6 ({series}, 1 thread, CPU time, medians of "
+                     f"{rounds} alternating rounds) | {per}; slowest/fastest = {spread:.2f}x (within each round: "
+                     f"{', '.join(f'{x:.2f}x' for x in by_round)}) | {'yes' if spread <= 1.3 else 'no'} |")
     base = get("box_1e3_t1", "cpu_eps")
     if base:
         sizes = [n for n in ("box_1e3", "box_1e4", "box_1e5", "box_1e6") if get(n + "_t1", "cpu_eps")]
@@ -229,7 +315,8 @@ def main():
         ns = {n: 1e9 / get(n + "_t1", "cpu_eps") for n in sizes}
         spread = max(ns.values()) / min(ns.values())
         per = ", ".join(f"{n}: {t:.0f} ns" for n, t in ns.items())
-        lines.append(f"| time per element-step flat within 1.3x, 10^3 to 10^6 (1 thread, CPU time) | {per}; slowest/fastest = "
+        lines.append(f"| time per element-step flat within 1.3x, 10^3 to 10^6 (square boxes, 1 thread, CPU time, the blocks of "
+                     f"runs above, minutes apart) | {per}; slowest/fastest = "
                      f"{spread:.2f}x | {'yes' if spread <= 1.3 else 'no'} |")
     big = max((n for n in ("box_1e6_t1", "box_1e5_t1") if n in whole), default=None)
     if big:

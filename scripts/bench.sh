@@ -91,6 +91,31 @@ for r in $(seq "$ROUNDS"); do
   ratio_run disc_h2 BM_WholeDisc/20 "$r"
 done
 
+# Time per element-step against size, in alternation too: one block of runs per size, minutes
+# apart, compared this VM's speed at different times (the 10^3 box ran at 133 ns per
+# element-step in one session's results.md and at 195-266 ns in the next session's runs).
+# FLAT_ROUNDS rounds, each running every size once on one thread: the square boxes (whose
+# measured steps cover a different motion per element at each size) and the 20-cell-high
+# strips (the same motion per column at every size; bench_main.cpp). report.py gives each
+# size's median over the rounds.
+FLAT_ROUNDS=${FLAT_ROUNDS:-3}
+mkdir -p "$RAW/flat"
+rm -f "$RAW/flat/"*.json
+flat_run() {  # name filter-prefix round
+  "$BENCH" --benchmark_filter="^$2/1/" --benchmark_format=json \
+    --benchmark_out="$RAW/flat/$1_r$3.json" --benchmark_out_format=json > /dev/null
+}
+for r in $(seq "$FLAT_ROUNDS"); do
+  echo "== flatness, round $r of $FLAT_ROUNDS" >&2
+  flat_run box_1e3 BM_WholeBox/22/20 "$r"
+  flat_run box_1e4 BM_WholeBox/72/68 "$r"
+  flat_run box_1e5 BM_WholeBox/224/222 "$r"
+  flat_run box_1e6 BM_WholeBox/710/702 "$r"
+  flat_run strip_1e4 BM_WholeBox/227/20 "$r"
+  flat_run strip_1e5 BM_WholeBox/2272/20 "$r"
+  flat_run strip_1e6 BM_WholeBox/22727/20 "$r"
+done
+
 # Whole example runs through the CLI. Full runs take hours (the Brazilian disc needs
 # 5.6e5 steps, Dr2 43 s of simulated time): QUICK=1 runs a short piece of each instead
 # (disc: 0.5 ms of loading; Dr2: 0.2 s of gravity + 0.5 s of earthquake).
