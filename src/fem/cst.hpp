@@ -18,9 +18,10 @@ struct ReferenceGeometry {
 };
 ReferenceGeometry reference_geometry(const Vec2& X0, const Vec2& X1, const Vec2& X2);
 
-// The per-step kernel and its pieces are inline (issue 7): the element loops then keep
-// them in registers and drop what their caller does not read (the damping forces' zeros
-// without beta, the Cauchy stress and the strain of a step that does not store them).
+// The per-step kernel and its pieces are inline, the kernel always (issue 7; GCC kept it a
+// call in the solver's element region): the element loops then keep them in registers and
+// drop what their caller does not read (the damping forces' zeros without beta, the Cauchy
+// stress and the strain of a step that does not store them).
 // No -ffp-contract or FMA target here, so inlining leaves every result the same bits.
 
 // Deformation gradient F = [x1-x0, x2-x0] * Dm^-1.
@@ -80,7 +81,7 @@ struct TriangleResponse {
 // returned separately so the energy balance can book it as dissipation.
 struct TriangleInput {
   std::array<Vec2, 3> x;  // current positions
-  std::array<Vec2, 3> v;  // velocities (used only when beta > 0)
+  std::array<Vec2, 3> v{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};  // velocities (read only when beta > 0)
   Mat2 Dm_inv;
   double area0 = 0.0;      // reference area, m^2
   double thickness = 1.0;  // m
@@ -88,8 +89,8 @@ struct TriangleInput {
   double beta = 0.0;       // Rayleigh stiffness coefficient, s
   bool cauchy = true;      // false: out.cauchy is left as it was (a solver that needs it only for output)
 };
-inline void triangle_internal_force(const TriangleInput& in, const ElasticConstants& c,
-                                    TriangleResponse& out, std::array<Vec2, 3>& damping_force) {
+[[gnu::always_inline]] inline void triangle_internal_force(const TriangleInput& in, const ElasticConstants& c,
+                                                           TriangleResponse& out, std::array<Vec2, 3>& damping_force) {
   const Mat2 F = deformation_gradient(in.x[0], in.x[1], in.x[2], in.Dm_inv);
   out.detF = F.determinant();
   const Vec3 E = green_strain(F);

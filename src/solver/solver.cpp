@@ -623,19 +623,6 @@ void Solver::add_internal_and_joint_forces(Kick kick) {
   }
 }
 
-fem::TriangleInput Solver::triangle_input(std::size_t t) const {
-  const auto& n = model_.nodes;
-  const auto& tri = model_.triangles;
-  const auto& c = tri.conn[t];
-  fem::TriangleInput in;
-  for (int k = 0; k < 3; ++k) in.x[k] = n.X[c[k]] + n.u[c[k]];
-  in.Dm_inv = tri.Dm_inv[t];
-  in.area0 = tri.area0[t];
-  in.thickness = model_.thickness;
-  in.S0 = tri.initial_stress(t);
-  return in;
-}
-
 void Solver::set_stress_on_demand(bool on) {
   stress_on_demand_ = on;
   auto& tri = model_.triangles;
