@@ -46,21 +46,28 @@ def release_flags(raw):
     return " ".join(opts) or "(flags unknown)"
 
 
-def alternating_ratios(raw):
-    """{name: [2-thread / 1-thread element-steps per wall second, one per round]} from
-    scripts/bench.sh's alternating rounds (ratio/NAME_tT_rR.json)."""
-    d = os.path.join(raw, "ratio")
+def round_files(raw, sub, pattern):
+    """(regex match, benchmark row) for each file of raw/sub whose name matches pattern: the
+    rounds of scripts/bench.sh, one benchmark per file."""
+    d = os.path.join(raw, sub)
     if not os.path.isdir(d):
-        return {}
-    found = {}
-    for f in os.listdir(d):
-        m = re.match(r"(.+)_t([12])_r(\d+)\.json$", f)
+        return
+    for f in sorted(os.listdir(d)):
+        m = re.match(pattern, f)
         if not m:
             continue
         _, bs = load(d, f[:-5])
         rows = pick(bs)
         if rows:
-            found.setdefault(m.group(1), {}).setdefault(int(m.group(3)), {})[int(m.group(2))] = next(iter(rows.values()))
+            yield m, next(iter(rows.values()))
+
+
+def alternating_ratios(raw):
+    """{name: [2-thread / 1-thread element-steps per wall second, one per round]} from
+    scripts/bench.sh's alternating rounds (ratio/NAME_tT_rR.json)."""
+    found = {}
+    for m, b in round_files(raw, "ratio", r"(.+)_t([12])_r(\d+)\.json$"):
+        found.setdefault(m.group(1), {}).setdefault(int(m.group(3)), {})[int(m.group(2))] = b
     out = {}
     for name, rounds in found.items():
         r = [v[2]["elem_steps/s"] / v[1]["elem_steps/s"] for _, v in sorted(rounds.items()) if 1 in v and 2 in v]
@@ -72,21 +79,11 @@ def alternating_ratios(raw):
 def flat_rounds(raw):
     """{name: [benchmark of round 1, round 2, ...]} from scripts/bench.sh's flatness rounds
     (flat/NAME_rR.json), each with ns_per_elem_step (1 thread, CPU time) added."""
-    d = os.path.join(raw, "flat")
-    if not os.path.isdir(d):
-        return {}
     found = {}
-    for f in os.listdir(d):
-        m = re.match(r"(.+)_r(\d+)\.json$", f)
-        if not m:
-            continue
-        _, bs = load(d, f[:-5])
-        rows = pick(bs)
-        if rows:
-            b = next(iter(rows.values()))
-            cpu_s = (b["cpu_time"] if b["time_unit"] == "ms" else b["cpu_time"] / 1e6) * 1e-3
-            b["ns_per_elem_step"] = cpu_s / b["elements"] * 1e9
-            found.setdefault(m.group(1), {})[int(m.group(2))] = b
+    for m, b in round_files(raw, "flat", r"(.+)_r(\d+)\.json$"):
+        cpu_s = (b["cpu_time"] if b["time_unit"] == "ms" else b["cpu_time"] / 1e6) * 1e-3
+        b["ns_per_elem_step"] = cpu_s / b["elements"] * 1e9
+        found.setdefault(m.group(1), {})[int(m.group(2))] = b
     return {name: [b for _, b in sorted(rounds.items())] for name, rounds in found.items()}
 
 
