@@ -92,8 +92,8 @@ for r in $(seq "$ROUNDS"); do
 done
 
 # Time per element-step against size, in alternation too: one block of runs per size, minutes
-# apart, compared this VM's speed at different times (the 10^3 box ran at 133 ns per
-# element-step in one session's results.md and at 195-266 ns in the next session's runs).
+# apart, compared this VM's speed at different times (in one bench run the 10^3 box took 280 ns
+# per element-step in its block above and 169-250 ns in the three rounds below).
 # FLAT_ROUNDS rounds, each running every size once on one thread: the square boxes (whose
 # measured steps cover a different motion per element at each size) and the 20-cell-high
 # strips (the same motion per column at every size; bench_main.cpp). report.py gives each
