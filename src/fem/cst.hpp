@@ -22,7 +22,8 @@ ReferenceGeometry reference_geometry(const Vec2& X0, const Vec2& X1, const Vec2&
 // call in the solver's element region): the element loops then keep them in registers and
 // drop what their caller does not read (the damping forces' zeros without beta, the Cauchy
 // stress and the strain of a step that does not store them).
-// No -ffp-contract or FMA target here, so inlining leaves every result the same bits.
+// The library is built for the baseline x86-64 (no FMA instructions to contract into), so
+// inlining leaves every result the same bits.
 
 // Deformation gradient F = [x1-x0, x2-x0] * Dm^-1.
 inline Mat2 deformation_gradient(const Vec2& x0, const Vec2& x1, const Vec2& x2, const Mat2& Dm_inv) {
