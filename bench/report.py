@@ -252,8 +252,8 @@ def main():
     # The kernel as a step of `dsdem run` calls it (stress on demand: no Cauchy stress), with and
     # without stiffness damping: both must reach the target. The same with the stress and strain
     # of every triangle stored (output steps) is shown beside.
-    kern_rate = {k: rates[f"BM_TriangleInternalForce/beta:{k[0]}/cauchy:{k[1]}"]["elem_steps/s"] / 1e6
-                 for k in ((0, 0), (1, 0), (0, 1), (1, 1)) if f"BM_TriangleInternalForce/beta:{k[0]}/cauchy:{k[1]}" in rates}
+    kern_names = {(b, c): f"BM_TriangleInternalForce/beta:{b}/cauchy:{c}" for b in (0, 1) for c in (0, 1)}
+    kern_rate = {k: rates[n]["elem_steps/s"] / 1e6 for k, n in kern_names.items() if n in rates}
     if (0, 0) in kern_rate and (1, 0) in kern_rate:
         run_min = min(kern_rate[(0, 0)], kern_rate[(1, 0)])
         out_steps = (f"; with the stress and strain stored (output steps): {kern_rate[(0, 1)]:.1f} / {kern_rate[(1, 1)]:.1f} M/s"
