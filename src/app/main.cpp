@@ -166,6 +166,7 @@ int main(int argc, char** argv) {
     fmt::print("{}", dsdem::io::schema_markdown());
     return 0;
   }
-  fmt::print("{}", app.help());
+  // `wave` and the post commands ran in their callbacks; help only for a bare `dsdem`.
+  if (app.get_subcommands().empty()) fmt::print("{}", app.help());
   return 0;
 }

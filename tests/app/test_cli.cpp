@@ -15,6 +15,26 @@ TEST(Cli, VersionPrintsVersionAndCommit) {
   EXPECT_NE(c.output.find("git "), std::string::npos) << c.output;
 }
 
+// The wave commands run in CLI11 callbacks: main must not print the help after them
+// (it did, after every successful `wave generate` and `wave spectrum`); a bare `dsdem` shows it.
+TEST(Cli, WaveCommandsPrintTheirResultsWithoutTheHelp) {
+  const fs::path d = fresh_dir("cli_wave");
+  fs::create_directories(d);
+  const std::string wave = (d / "w.csv").string();
+  const auto g = run_dsdem("wave generate --duration 4 --t1 1 --t2 2.5 --iterations 2 --no-plot -o " + wave);
+  EXPECT_EQ(g.exit_code, 0) << g.output;
+  EXPECT_NE(g.output.find("wrote " + wave), std::string::npos) << g.output;
+  EXPECT_EQ(g.output.find("Usage:"), std::string::npos) << g.output;
+  const auto s = run_dsdem("wave spectrum " + wave + " --units m/s2 --n 10 --no-plot -o " + (d / "s.csv").string());
+  EXPECT_EQ(s.exit_code, 0) << s.output;
+  EXPECT_NE(s.output.find("read " + wave), std::string::npos) << s.output;
+  EXPECT_EQ(s.output.find("Usage:"), std::string::npos) << s.output;
+  const auto bare = run_dsdem("");
+  EXPECT_EQ(bare.exit_code, 0);
+  EXPECT_NE(bare.output.find("Usage:"), std::string::npos) << bare.output;
+  fs::remove_all(d);
+}
+
 TEST(Cli, CheckPrintsModelTimeStepAndEstimate) {
   const auto c = run_dsdem("check " + example("elastic_slope/scenario.yaml"));
   EXPECT_EQ(c.exit_code, 0) << c.output;
