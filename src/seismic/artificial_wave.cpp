@@ -233,18 +233,23 @@ Eigen::VectorXd regularised_solve(const std::vector<std::vector<double>>& A, con
   const std::size_t m = x0.size();
   Eigen::MatrixXd N = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
   Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
-  for (std::size_t k = 0; k < A.size(); ++k) {
-    const double w2 = w[k] * w[k];
-    const std::vector<double>& row = A[k];
-    for (std::size_t i = 0; i < m; ++i) {
-      const double ri = w2 * row[i];
+  // Column i of the lower triangle (contiguous in column-major N; the upper triangle
+  // along row i strode by m: 14 % of the wave's set-up) gets the rows' terms in row
+  // order: each column whole on one thread, so any thread count gives the same bits.
+  const auto ms = static_cast<std::ptrdiff_t>(m);
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::ptrdiff_t ci = 0; ci < ms; ++ci) {
+    const auto i = static_cast<std::size_t>(ci);
+    double* col_i = N.data() + ci * ms;
+    double r_i = 0.0;
+    for (std::size_t k = 0; k < A.size(); ++k) {
+      const std::vector<double>& row = A[k];
+      const double ri = w[k] * w[k] * row[i];
       if (ri == 0.0) continue;
-      r[static_cast<Eigen::Index>(i)] += ri * b[k];
-      // The lower triangle, down column i: contiguous in column-major N (the upper
-      // triangle, along row i, strode by m and took 14 % of the wave's set-up).
-      double* col_i = N.data() + static_cast<std::ptrdiff_t>(i * m);
+      r_i += ri * b[k];
       for (std::size_t j = i; j < m; ++j) col_i[j] += ri * row[j];
     }
+    r[ci] = r_i;
   }
   for (std::size_t i = 0; i < m; ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
@@ -329,7 +334,10 @@ std::vector<double> synthesise(const ArtificialWaveParams& P, const Setup& S, st
   // Content longer than twice the longest control period is left out: nothing
   // controls it and the baseline correction would remove it anyway.
   const double longest = 2.0 * P.period_max;
-  std::vector<double> a(n, 0.0);
+  struct Term {
+    double A, w, phase;
+  };
+  std::vector<Term> terms;
   for (std::size_t k = 1; k <= K; ++k) {
     const double f = df * static_cast<double>(k), w = 2.0 * kPi * f;
     const double phase = 2.0 * kPi * uniform01(rng);  // drawn for every k, used or not
@@ -337,9 +345,18 @@ std::vector<double> synthesise(const ArtificialWaveParams& P, const Setup& S, st
     const double A =
         std::sqrt(4.0 * spectrum_to_psd(P.spectrum.sa(1.0 / f), w, P.spectrum.damping, Td, P.exceedance) * 2.0 *
                   kPi * df);
-    for (std::size_t i = 0; i < n; ++i) a[i] += A * std::cos(w * P.dt * static_cast<double>(i) + phase);
+    terms.push_back({A, w, phase});
   }
-  for (std::size_t i = 0; i < n; ++i) a[i] *= S.envelope[i];
+  // Each sample sums its cosines in frequency order, on any thread: the same bits.
+  std::vector<double> a(n, 0.0);
+  const auto ns = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t ii = 0; ii < ns; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    double ai = 0.0;
+    for (const Term& t : terms) ai += t.A * std::cos(t.w * P.dt * static_cast<double>(i) + t.phase);
+    a[i] = ai * S.envelope[i];
+  }
   return a;
 }
 

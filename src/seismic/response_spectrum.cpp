@@ -105,7 +105,12 @@ ResponseSpectrum response_spectrum(std::span<const double> ag, double dt, std::s
   s.Sa.resize(periods.size());
   s.Sv.resize(periods.size());
   s.Sd.resize(periods.size());
-  for (std::size_t j = 0; j < periods.size(); ++j) {
+  // Each period on its own, on any thread: the same bits (the artificial wave's set-up
+  // judges every attempt on 600 periods, issue 7).
+  const auto np = static_cast<std::ptrdiff_t>(periods.size());
+#pragma omp parallel for schedule(dynamic, 8)
+  for (std::ptrdiff_t jj = 0; jj < np; ++jj) {
+    const auto j = static_cast<std::size_t>(jj);
     const SpectralValue v = spectral_value(ag, dt, periods[j], zeta);
     s.Sa[j] = v.Sa;
     s.Sv[j] = v.Sv;

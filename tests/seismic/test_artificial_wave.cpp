@@ -95,9 +95,10 @@ TEST(ArtificialWave, SameSeedSameWaveOtherSeedOtherWave) {
   EXPECT_GT(diff, 0.2 * norm);
 }
 
-// The oscillators and the linearised rows run on OpenMP threads
-// (issue 7: the wave is generated at every run's set-up and restart): each item is
-// computed whole by one thread, so the wave is the same bit for bit on 1 and 2 threads.
+// The phases' cosines, the oscillators, the linearised rows, the normal equations and
+// the dense misfit check run on OpenMP threads (issue 7: the wave is generated at every
+// run's set-up and restart). Each item is computed whole by one thread, so the wave is
+// the same bit for bit on 1 and 2 threads.
 TEST(ArtificialWave, SameWaveOnOneAndTwoThreads) {
   ArtificialWaveParams p;
   p.seed = 2;
