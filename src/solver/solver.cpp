@@ -493,6 +493,13 @@ void Solver::add_internal_and_joint_forces(Kick kick) {
   joint_split_.prepare(threads);
   own_split_.prepare(threads);
   counted_share_bounds(own_prefix_, own_split_.cum(), own_bound_);
+  const std::size_t n_joint_blocks = joints ? joint_blocks(J.size()) : 0;
+  if (threads > 1) {  // the runs' bounds; a thread that ends its own run helps with the others'
+    joint_bound_.resize(static_cast<std::size_t>(threads) + 1);
+    for (int t = 0; t <= threads; ++t) joint_bound_[static_cast<std::size_t>(t)] = joint_split_.begin(n_joint_blocks, t);
+    joint_runs_.reset(joint_bound_);
+    own_runs_.reset(own_bound_);
+  }
   if (kick == Kick::first) refresh_node_chunks(threads);
   bool full_team = false;
 #pragma omp parallel num_threads(threads) if (parallel_) reduction(| : inverted)
@@ -534,53 +541,63 @@ void Solver::add_internal_and_joint_forces(Kick kick) {
     busy_from = omp_get_wtime();
 #endif
     if (joints) {
-      const std::size_t nb = joint_blocks(J.size());
-      const std::size_t b_begin = split ? joint_split_.begin(nb, thread) : (thread == 0 ? 0 : nb);
-      const std::size_t b_end = split ? joint_split_.begin(nb, thread + 1) : nb;
-      evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now, b_begin, b_end);
-    }
+      // Any thread may evaluate any block (each writes its own slots; the count of
+      // breaks is a sum of integers): one block per claim.
+      if (split && team > 1) {
+        const std::size_t done = joint_runs_.run(thread, 1, [&](std::size_t b0, std::size_t b1) {
+          evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now, b0, b1);
+        });
 #ifdef _OPENMP
-    joint_split_.set_busy(thread, omp_get_wtime() - busy_from);
+        joint_split_.set_busy(thread, StealingRuns::busy_for_own_run(omp_get_wtime() - busy_from,
+                                                                     joint_bound_[th + 1] - joint_bound_[th], done));
 #endif
+      } else if (thread == 0) {
+        evaluate_joints(n, J, settings_.failure, thickness, joint_buf_, broken_now, 0, n_joint_blocks);
+      }
+    }
 #pragma omp barrier
 #ifdef _OPENMP
     busy_from = omp_get_wtime();
 #endif
     const std::array<Vec2, 2>* jforce = joint_buf_.force.data();
-    // Own triangles: this thread's share (they write only their own nodes; no order).
-    const std::size_t own_begin = split ? own_bound_[th] : (thread == 0 ? 0 : tri.size());
-    const std::size_t own_end = split ? own_bound_[th + 1] : tri.size();
-    for (std::size_t t = own_begin; t < own_end; ++t) {
-      const std::uint16_t code = own_corners_[t];
-      if (code == kSharedTriangle) continue;
-      std::array<Vec2, 3> df;
-      const fem::TriangleResponse r = element(t, df);
-      if (!(r.detF > 0.0)) inverted = 1;
-      // The joints' forces per corner, in joint order (as a per-node incidence would).
-      std::array<Vec2, 3> fj{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
-      for (int s = 0; s < 3; ++s) {
-        const Index j = triangle_joints_[t][s];
-        if (j == kNoIndex) break;
-        const unsigned c = static_cast<unsigned>(code) >> (5 * s);
-        const std::array<Vec2, 2>& F = jforce[j];
-        if (c & 16u) {  // face b: minus face a's force, bit for bit as adding it negated
-          fj[c & 3u] -= F[0];
-          fj[(c >> 2) & 3u] -= F[1];
-        } else {
-          fj[c & 3u] += F[0];
-          fj[(c >> 2) & 3u] += F[1];
+    // Own triangles [own_begin, own_end) (they write only their own nodes; no order).
+    auto own_triangles = [&](std::size_t own_begin, std::size_t own_end) {
+      for (std::size_t t = own_begin; t < own_end; ++t) {
+        const std::uint16_t code = own_corners_[t];
+        if (code == kSharedTriangle) continue;
+        std::array<Vec2, 3> df;
+        const fem::TriangleResponse r = element(t, df);
+        if (!(r.detF > 0.0)) inverted = 1;
+        // The joints' forces per corner, in joint order (as a per-node incidence would).
+        std::array<Vec2, 3> fj{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+        for (int s = 0; s < 3; ++s) {
+          const Index j = triangle_joints_[t][s];
+          if (j == kNoIndex) break;
+          const unsigned c = static_cast<unsigned>(code) >> (5 * s);
+          const std::array<Vec2, 2>& F = jforce[j];
+          if (c & 16u) {  // face b: minus face a's force, bit for bit as adding it negated
+            fj[c & 3u] -= F[0];
+            fj[(c >> 2) & 3u] -= F[1];
+          } else {
+            fj[c & 3u] += F[0];
+            fj[(c >> 2) & 3u] += F[1];
+          }
+        }
+        for (int k = 0; k < 3; ++k) {
+          const Index i = tri.conn[t][k];
+          // The sums a gather over one element would form: +0 + force (and damping force).
+          Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
+          f += r.force[k];
+          if (element_damping) fd += df[k];  // without beta fd stays +0 (bit-identical)
+          n.a[i] += f + fd + fj[k];  // the force sum (Nodes::a)
+          if (damped) damping_force_[i] += fd;
         }
       }
-      for (int k = 0; k < 3; ++k) {
-        const Index i = tri.conn[t][k];
-        // The sums a gather over one element would form: +0 + force (and damping force).
-        Vec2 f = Vec2::Zero(), fd = Vec2::Zero();
-        f += r.force[k];
-        if (element_damping) fd += df[k];  // without beta fd stays +0 (bit-identical)
-        n.a[i] += f + fd + fj[k];  // the force sum (Nodes::a)
-        if (damped) damping_force_[i] += fd;
-      }
-    }
+    };
+    // An own triangle writes only its own nodes: any thread may take it (kOwnChunk per claim).
+    std::size_t own_done = 0;
+    if (split && team > 1) own_done = own_runs_.run(thread, kOwnChunk, own_triangles);
+    else if (thread == 0) own_triangles(0, tri.size());
     // Flat views: entry 3 s + k is shared_force_[s][k], entry 2 j + e joint_buf_.force[j][e].
     const Vec2* sf = shared_force_.empty() ? nullptr : shared_force_[0].data();
     const Vec2* sdf = shared_damping_force_.empty() ? nullptr : shared_damping_force_[0].data();
@@ -605,7 +622,10 @@ void Solver::add_internal_and_joint_forces(Kick kick) {
       if (damped) damping_force_[i] += fd;
     }
 #ifdef _OPENMP
-    own_split_.set_busy(thread, omp_get_wtime() - busy_from);
+    // The gathered nodes' time counts as if spent on the own run: the loop is static.
+    own_split_.set_busy(thread, split && team > 1 ? StealingRuns::busy_for_own_run(omp_get_wtime() - busy_from,
+                                                                                 own_bound_[th + 1] - own_bound_[th], own_done)
+                                                  : omp_get_wtime() - busy_from);
 #endif
     if (thread == 0) full_team = split;
   }

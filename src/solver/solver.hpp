@@ -285,6 +285,12 @@ class Solver {
   // computes a triangle or a joint changes no result.
   TunedSplit shared_split_, joint_split_, own_split_;
   std::vector<std::size_t> own_bound_;  // triangle index bounds of the own-triangle runs
+  std::vector<std::size_t> joint_bound_;  // joint block bounds of the joint runs
+  // The joint blocks' and own triangles' runs, claimed in chunks: a thread that ends its
+  // own run takes what is left of the other's (one step's imbalance; the splits above
+  // follow the threads' speeds over steps).
+  StealingRuns joint_runs_, own_runs_;
+  static constexpr std::size_t kOwnChunk = 32;  // own triangles per claim (~1-2 us of work)
   // Per gathered node: shared slot entries 3 s + corner (ascending triangle), joint
   // entries 2 (2 j + end) + side (ascending joint; side 1 = face b, negated).
   std::vector<Index> gather_offset_, gather_entry_;
