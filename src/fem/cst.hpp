@@ -45,6 +45,18 @@ inline Vec3 svk_stress(const Vec3& E, const ElasticConstants& c) {
   return Vec3(c.lambda * tr + 2.0 * c.mu * E[0], c.lambda * tr + 2.0 * c.mu * E[1], c.mu * E[2]);
 }
 
+// Green strain rate (xx, yy, 2xy) = sym(F^T Fdot) (DESIGN.md §6), in scalars: M = F^T Fdot
+// and (Fdot^T F)(r, c) = M(c, r) bit for bit (two products, one addition each). Eigen's
+// 0.5 * (F^T Fdot + Fdot^T F) stored the products as scalars and loaded them as pairs, a
+// store-forwarding stall that took 30 % of the beta > 0 kernel's time (issue 7, perf).
+inline Vec3 strain_rate(const Mat2& F, const Mat2& Fdot) {
+  const double m00 = F(0, 0) * Fdot(0, 0) + F(1, 0) * Fdot(1, 0);
+  const double m01 = F(0, 0) * Fdot(0, 1) + F(1, 0) * Fdot(1, 1);
+  const double m10 = F(0, 1) * Fdot(0, 0) + F(1, 1) * Fdot(1, 0);
+  const double m11 = F(0, 1) * Fdot(0, 1) + F(1, 1) * Fdot(1, 1);
+  return Vec3(0.5 * (m00 + m00), 0.5 * (m11 + m11), 2.0 * (0.5 * (m01 + m10)));
+}
+
 namespace detail {
 inline Mat2 to_tensor(const Vec3& s) {
   Mat2 m;
@@ -106,8 +118,7 @@ struct TriangleInput {
   if (in.beta > 0.0) {
     // Edot = sym(F^T Fdot); damping stress beta * D Edot (DESIGN.md §6).
     const Mat2 Fdot = deformation_gradient(in.v[0], in.v[1], in.v[2], in.Dm_inv);
-    const Mat2 Ed = 0.5 * (F.transpose() * Fdot + Fdot.transpose() * F);
-    const Vec3 Sd = in.beta * svk_stress(Vec3(Ed(0, 0), Ed(1, 1), 2.0 * Ed(0, 1)), c);
+    const Vec3 Sd = in.beta * svk_stress(strain_rate(F, Fdot), c);
     detail::nodal_forces(F * detail::to_tensor(Sd), in.Dm_inv, scale, damping_force);
   } else {
     damping_force = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};

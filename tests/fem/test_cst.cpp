@@ -4,6 +4,9 @@
 
 #include <cmath>
 
+#include <random>
+
+#include "common/same_bits.hpp"
 #include "fem/cst.hpp"
 #include "mesh/model_builder.hpp"
 #include "model/model.hpp"
@@ -109,6 +112,25 @@ TEST(Cst, StiffnessDampingForceOpposesStrainRateAndVanishesForRigidMotion) {
   double power = 0;
   for (int k = 0; k < 3; ++k) power += fd[k].dot(in.v[k]);
   EXPECT_LT(power, 0.0);
+}
+
+// strain_rate() in scalars is the Green strain rate of the matrix form sym(F^T Fdot) that
+// it replaced (issue 7: a store-forwarding stall), bit for bit, over random gradients
+// of several scales and signs.
+TEST(Cst, StrainRateInScalarsEqualsTheMatrixFormBitForBit) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-12.0, 12.0);
+  auto value = [&] { return u(rng) * std::pow(10.0, e(rng)); };
+  for (int n = 0; n < 20000; ++n) {
+    Mat2 F, Fdot;
+    F << 1.0 + 1e-3 * value(), value(), value(), 1.0 + 1e-3 * value();
+    if (n % 2) F << value(), value(), value(), value();
+    Fdot << value(), value(), value(), value();
+    const Mat2 Ed = 0.5 * (F.transpose() * Fdot + Fdot.transpose() * F);
+    const Vec3 expected(Ed(0, 0), Ed(1, 1), 2.0 * Ed(0, 1));
+    const Vec3 got = fem::strain_rate(F, Fdot);
+    for (int k = 0; k < 3; ++k) ASSERT_TRUE(test::same_bits(got[k], expected[k])) << n << " " << k;
+  }
 }
 
 TEST(Cst, CriticalTimeStep) {
