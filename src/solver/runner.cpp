@@ -75,6 +75,16 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
     run.build_log = capture.lines();
   }
   run.mesh_file = raw.msh_file;
+  if (!work_dir.empty() && !run.mesh_file.empty()) {
+    std::error_code ec;
+    const fs::path mesh = fs::weakly_canonical(run.mesh_file, ec), work = fs::weakly_canonical(work_dir, ec);
+    if (!ec && mesh.parent_path() == work) {  // meshed here from the .geo: keep its bytes
+      std::ifstream in(mesh, std::ios::binary);
+      std::ostringstream bytes;
+      bytes << in.rdbuf();
+      if (in) run.mesh_text = std::move(bytes).str();
+    }
+  }
 
   // Gauges must sit in (or within half an element of) the model.
   std::vector<std::string> errors;
@@ -490,8 +500,19 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   }
   // Keep the mesh the run used next to its results.
   if (!prepared.mesh_file.empty()) {
-    std::error_code ec;  // best effort: a mesh that cannot be copied does not stop the run
-    fs::copy_file(prepared.mesh_file, out / fs::path(prepared.mesh_file).filename(), fs::copy_options::overwrite_existing, ec);
+    // Best effort: a mesh that cannot be copied does not stop the run.
+    const fs::path copy = out / fs::path(prepared.mesh_file).filename();
+    if (!prepared.mesh_text.empty()) {
+      try {
+        io::AtomicFile mesh_out(copy);
+        mesh_out.write(prepared.mesh_text);
+        mesh_out.commit();
+      } catch (const std::exception&) {
+      }
+    } else {
+      std::error_code ec;
+      fs::copy_file(prepared.mesh_file, copy, fs::copy_options::overwrite_existing, ec);
+    }
   }
 
   // Restart (issue 8): the checkpoint must come from this model and time step. Resuming in

@@ -43,6 +43,10 @@ struct PreparedRun {
   StableStep fixed_limit;
   long estimated_steps = 0;
   std::string mesh_file;  // the .msh the model came from (meshed from the .geo when one was given)
+  // The .msh's bytes when prepare_run() meshed it into work_dir (empty otherwise): run()
+  // writes them next to the results, so the caller may remove work_dir right after
+  // preparing and a run killed later (SIGKILL, a job's time limit) leaves no scratch behind.
+  std::string mesh_text;
   // Earthquake records resampled to dt (DESIGN.md §5), when the scenario has them; an
   // adaptive step only grows from dt, and the free field interpolates them at each step.
   std::optional<seismic::Accelerogram> quake_horizontal, quake_vertical;

@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/remove_at_exit.hpp"
+
 namespace dsdem::test {
 
 struct Command {
@@ -41,6 +43,8 @@ inline std::string read_text(const std::filesystem::path& p) {
 inline std::filesystem::path fresh_dir(const std::string& name) {
   const auto d = std::filesystem::temp_directory_path() / ("dsdem_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
+  remove_at_exit(d);  // with the log a test may write next to it
+  remove_at_exit(d.string() + ".log");
   return d;
 }
 

@@ -171,6 +171,10 @@ TEST(Reliability, SigkillLeavesOnlyCompleteFiles) {
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_GE(history_rows(out), 2) << "histories are flushed every 2 s";
   EXPECT_FALSE(fs::exists(out / "summary.json"));
+  // The mesh went from memory to the results, and no scratch folder was left behind:
+  // it is removed as soon as the model is built, not when the run ends.
+  EXPECT_GT(fs::file_size(out / "slope.msh"), 1000u);
+  EXPECT_FALSE(fs::exists(fs::temp_directory_path() / ("dsdem-run-" + std::to_string(pid))));
   fs::remove_all(out);
   fs::remove(out.string() + ".log");
 }

@@ -113,27 +113,35 @@ TEST(AtomicFile, RenameOntoADirectoryThrowsAndRemovesTemporary) {
 // A write that fails half-way (the disk fills up) must throw, keep the previous target
 // and remove the temporary. The file size limit stands in for a full disk (EFBIG on the
 // write, like ENOSPC); it is set in a child process so that it does not leak.
+// The child's own exit: its scratch folder (made by the child's ScratchDir, whose
+// destructor _Exit skips) removed first.
+[[noreturn]] void leave(const std::filesystem::path& dir, int code) {
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+  std::_Exit(code);
+}
+
 void write_past_file_size_limit(const std::filesystem::path& dir) {
   const auto target = dir / "big.vtu";
   write_file_atomically(target, "old");
   std::signal(SIGXFSZ, SIG_IGN);  // get EFBIG from write() instead of a signal
   rlimit limit{4096, 4096};
-  if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) std::_Exit(2);
+  if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) leave(dir, 2);
   try {
     write_file_atomically(target, std::string(1 << 20, 'x'));
     std::fputs("no exception\n", stderr);
-    std::_Exit(3);
+    leave(dir, 3);
   } catch (const std::runtime_error& e) {
     const std::string msg = e.what();
     if (msg.find(target.string()) == std::string::npos ||
         msg.find("File too large") == std::string::npos) {
       std::fprintf(stderr, "bad message: %s\n", msg.c_str());
-      std::_Exit(4);
+      leave(dir, 4);
     }
   }
-  if (read_text(target) != "old") std::_Exit(5);
-  if (list_dir(dir) != std::vector<std::string>{"big.vtu"}) std::_Exit(6);
-  std::_Exit(0);
+  if (read_text(target) != "old") leave(dir, 5);
+  if (list_dir(dir) != std::vector<std::string>{"big.vtu"}) leave(dir, 6);
+  leave(dir, 0);
 }
 
 TEST(AtomicFileDeathTest, WriteFailureMidwayKeepsOldTargetAndRemovesTemporary) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/remove_at_exit.hpp"
 #include "mesh/gmsh_reader.hpp"
 
 using namespace dsdem;
@@ -14,6 +15,8 @@ std::string data(const std::string& name) { return std::string(DSDEM_TEST_DATA_D
 fs::path temp_dir() {
   const fs::path d = fs::temp_directory_path() / ("dsdem_test_mesh_" + std::to_string(::getpid()));
   fs::create_directories(d);
+  static const bool registered = (test::remove_at_exit(d), true);
+  (void)registered;
   return d;
 }
 std::string error_of(const std::function<void()>& f) {
