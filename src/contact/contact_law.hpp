@@ -3,9 +3,6 @@
 // normal spring with an optional dashpot, incremental tangential spring with the
 // Coulomb cap, no tension. A pure function of the contact's geometry, the relative
 // velocity at the contact point, dt, the stored tangential force and parameters.
-#include <algorithm>
-#include <cmath>
-
 #include "model/types.hpp"
 
 namespace dsdem::contact {
@@ -48,7 +45,7 @@ ContactLawParams law_params(const ContactProperties& p);
 // The stored tangential force carried into the current contact frame: turned
 // (not projected) onto the current tangent t = (-n_y, n_x), keeping its magnitude and
 // its side, so a contact that rotates rigidly keeps its force.
-inline Vec2 rotate_into_frame(const Vec2& ft_prev, const Vec2& normal);
+Vec2 rotate_into_frame(const Vec2& ft_prev, const Vec2& normal);
 
 struct ContactLawResult {
   double fn = 0.0;             // normal force on i along +normal, >= 0, N/m
@@ -67,61 +64,7 @@ struct ContactLawResult {
 //   Fn = max(0, kn*delta - c*(v_rel.n))           (no tension)
 //   Ft = rot(Ft_prev) - ks*(v_rel tangential)*dt  (paper eq. 2)
 //   |Ft| <= mu*Fn                                 (paper eq. 3)
-// Inline (issue 7): called once per contact in the pair loop, which copied the result
-// back from the stack, two doubles stored apart and loaded as a pair (a store-forwarding
-// stall, perf on late Dr2).
-inline ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_rel, double dt,
-                                    const Vec2& ft_prev, double m_eff, const ContactLawParams& p);
-
-// --- definitions ---
-
-inline Vec2 rotate_into_frame(const Vec2& ft_prev, const Vec2& normal) {
-  const Vec2 t(-normal.y(), normal.x());
-  const double mag = ft_prev.norm();
-  return (ft_prev.dot(t) >= 0.0 ? mag : -mag) * t;
-}
-
-inline ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_rel, double dt,
-                                    const Vec2& ft_prev, double m_eff, const ContactLawParams& p) {
-  ContactLawResult r;
-  if (!(overlap > 0.0)) return r;
-
-  const double vn = v_rel.dot(normal);  // > 0: separating
-  const double c = (p.damping_ratio > 0.0 && m_eff > 0.0 && std::isfinite(m_eff))
-                       ? 2.0 * p.damping_ratio * std::sqrt(m_eff * p.kn)
-                       : 0.0;
-  const double fe = p.kn * overlap;
-  r.fn = std::max(0.0, fe - c * vn);  // no tensile normal force
-  // Work of the dashpot part actually applied: -(fn - fe) * vn * dt >= 0.
-  r.damping_dissipation = -(r.fn - fe) * vn * dt;
-
-  const Vec2 vt = v_rel - vn * normal;
-  const Vec2 prev = rotate_into_frame(ft_prev, normal);
-  const Vec2 trial = prev - (p.ks * dt) * vt;
-  const double cap = p.mu * r.fn;
-  const double trial_mag = trial.norm();
-  if (trial_mag > cap) {
-    r.sliding = true;
-    r.ft = trial_mag > 0.0 ? Vec2(trial * (cap / trial_mag)) : Vec2::Zero();
-    // Heat = work of the tangential force over the slip of the step (trapezoidal, with
-    // the force actually applied, not the trial one) minus the change of the stored
-    // spring energy. Steady sliding gives exactly mu*Fn*slip; a stick step gives 0.
-    // (The trial-state formula (trial^2 - cap^2)/(2 ks) adds ks*slip^2/2 per step, which
-    // is no work of any force: with ks = 2e9 Pa and 0.03 m slip per step it exceeded
-    // the real heat 50-fold and broke the energy balance of run-out runs.)
-    if (p.ks > 0.0) {
-      const double work = 0.5 * (prev + r.ft).dot(trial - prev) / p.ks;
-      const double d_elastic = 0.5 * (r.ft.squaredNorm() - prev.squaredNorm()) / p.ks;
-      r.friction_dissipation = std::max(0.0, work - d_elastic);
-    }
-  } else {
-    r.ft = trial;
-  }
-  r.force = r.fn * normal + r.ft;
-  r.elastic_energy = 0.5 * p.kn * overlap * overlap +
-                     (p.ks > 0.0 ? 0.5 * r.ft.squaredNorm() / p.ks : 0.0);
-  return r;
-}
-
+ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_rel, double dt,
+                             const Vec2& ft_prev, double m_eff, const ContactLawParams& p);
 
 }  // namespace dsdem::contact
