@@ -117,11 +117,11 @@ int main(int argc, char** argv) {
         std::filesystem::path p;
         ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
       } cleanup{work};
-      std::error_code ec_ignored;
       auto prepared = dsdem::solver::prepare_run(sc, work.string());
       // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
       // run killed outright later on.
-      std::filesystem::remove_all(work, ec_ignored);
+      std::error_code ec;
+      std::filesystem::remove_all(work, ec);
       dsdem::solver::RunOptions options;
       options.output_dir = out_dir;
       options.threads = threads;

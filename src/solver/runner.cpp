@@ -76,9 +76,9 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   }
   run.mesh_file = raw.msh_file;
   if (!work_dir.empty() && !run.mesh_file.empty()) {
-    std::error_code ec;
-    const fs::path mesh = fs::weakly_canonical(run.mesh_file, ec), work = fs::weakly_canonical(work_dir, ec);
-    if (!ec && mesh.parent_path() == work) {  // meshed here from the .geo: keep its bytes
+    std::error_code ec_mesh, ec_work;
+    const fs::path mesh = fs::weakly_canonical(run.mesh_file, ec_mesh), work = fs::weakly_canonical(work_dir, ec_work);
+    if (!ec_mesh && !ec_work && mesh.parent_path() == work) {  // meshed here from the .geo: keep its bytes
       std::ifstream in(mesh, std::ios::binary);
       std::ostringstream bytes;
       bytes << in.rdbuf();

@@ -110,9 +110,6 @@ TEST(AtomicFile, RenameOntoADirectoryThrowsAndRemovesTemporary) {
   EXPECT_EQ(list_dir(dir.path()), std::vector<std::string>{"taken"});
 }
 
-// A write that fails half-way (the disk fills up) must throw, keep the previous target
-// and remove the temporary. The file size limit stands in for a full disk (EFBIG on the
-// write, like ENOSPC); it is set in a child process so that it does not leak.
 // The child's own exit: its scratch folder (made by the child's ScratchDir, whose
 // destructor _Exit skips) removed first.
 [[noreturn]] void leave(const std::filesystem::path& dir, int code) {
@@ -121,6 +118,9 @@ TEST(AtomicFile, RenameOntoADirectoryThrowsAndRemovesTemporary) {
   std::_Exit(code);
 }
 
+// A write that fails half-way (the disk fills up) must throw, keep the previous target
+// and remove the temporary. The file size limit stands in for a full disk (EFBIG on the
+// write, like ENOSPC); it is set in a child process so that it does not leak.
 void write_past_file_size_limit(const std::filesystem::path& dir) {
   const auto target = dir / "big.vtu";
   write_file_atomically(target, "old");
