@@ -504,9 +504,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     const fs::path copy = out / fs::path(prepared.mesh_file).filename();
     if (!prepared.mesh_text.empty()) {
       try {
-        io::AtomicFile mesh_out(copy);
-        mesh_out.write(prepared.mesh_text);
-        mesh_out.commit();
+        io::write_file_atomically(copy, prepared.mesh_text);
       } catch (const std::exception&) {
       }
     } else {
