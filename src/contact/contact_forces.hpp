@@ -33,7 +33,7 @@
 #include "contact/narrow_phase.hpp"
 #include "contact/positions.hpp"
 #include "contact/spheropolygon.hpp"
-#include "model/work_split.hpp"
+#include "exec/work_split.hpp"
 
 namespace dsdem::contact {
 
@@ -386,10 +386,10 @@ class ContactForces {
   // time) of the examined pairs' expected cost in the pair loop (busy: its pair loop
   // alone, see compute()), of the candidate pairs in the filter, and of the shapes to
   // update.
-  TunedSplit pair_split_, filter_split_, shape_split_;
+  exec::TunedSplit pair_split_, filter_split_, shape_split_;
   // One partition: each thread's share of shape_slots_ (its run of triangles, and so of
   // the pairs), tuned from its busy time in the shapes, filter and pair loop together.
-  TunedSplit part_split_;
+  exec::TunedSplit part_split_;
   // One partition: shapes_done_[t] = calls_ once thread t has updated its shapes and set
   // shapes_left_ if a node left its box. A thread reads another's triangles only after
   // seeing the later threads' stamps (a pair's triangle j > i is its own or a later

@@ -242,10 +242,8 @@ void Solver::restore(const io::CheckpointReader& in) {
   }
   // The restored joints set the step (the rule's walk starts over: a checkpoint of an
   // earlier state may have fewer joints broken than this solver has seen).
-  if (has_time_step_rule()) {
-    joint_limit_first_ = 0;
-    apply_time_step_rule();
-  }
+  time_step_.restart(model_, broken_joints_);
+  settings_.dt = time_step_.dt();
 }
 
 }  // namespace dsdem::solver

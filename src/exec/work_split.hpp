@@ -1,7 +1,7 @@
 #pragma once
-// Splitting a loop between threads by their measured speed (issue 7). On a VM one core
-// often runs slower than the other for a while (another guest on it), and a split by
-// count then leaves the faster thread waiting at every barrier. The phases that may give
+// Execution layer: splitting a loop between threads by their measured speed. On a VM
+// one core often runs slower than the other for a while, and a split by count then
+// leaves the faster thread waiting at every barrier. The phases that may give
 // any thread any item (the contact pair loop, the element loops: every item writes its
 // own slots or its own nodes) keep each thread on a contiguous share, tuned each step;
 // which thread computes an item never changes a result.
@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace dsdem {
+namespace dsdem::exec {
 
 // The shares that would make every thread finish together if each kept the rate it
 // showed (share / busy seconds), moved `gain` of the way there (one step's timing is
@@ -123,4 +123,4 @@ class StealingRuns {
   int n_ = 0;
 };
 
-}  // namespace dsdem
+}  // namespace dsdem::exec

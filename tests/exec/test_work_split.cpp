@@ -9,9 +9,9 @@
 #include <omp.h>
 #endif
 
-#include "model/work_split.hpp"
+#include "exec/work_split.hpp"
 
-using dsdem::balance_shares;
+using dsdem::exec::balance_shares;
 
 TEST(BalanceShares, MovesWorkToTheFasterThreadUntilBothFinishTogether) {
   // Equal times: nothing to move.
@@ -56,9 +56,9 @@ TEST(BalanceShares, MovesWorkToTheFasterThreadUntilBothFinishTogether) {
 
 TEST(CumulativeShares, RunFromZeroToOneWhateverTheSum) {
   std::vector<double> cum;
-  dsdem::cumulative_shares(std::vector<double>{1.0, 3.0}, cum);
+  dsdem::exec::cumulative_shares(std::vector<double>{1.0, 3.0}, cum);
   EXPECT_EQ(cum, (std::vector<double>{0.0, 0.25, 1.0}));
-  dsdem::cumulative_shares(std::vector<double>{0.2, 0.3, 0.5}, cum);
+  dsdem::exec::cumulative_shares(std::vector<double>{0.2, 0.3, 0.5}, cum);
   ASSERT_EQ(cum.size(), 4u);
   EXPECT_EQ(cum[0], 0.0);
   EXPECT_NEAR(cum[1], 0.2, 1e-15);
@@ -67,7 +67,7 @@ TEST(CumulativeShares, RunFromZeroToOneWhateverTheSum) {
 }
 
 TEST(TunedSplit, RunsTileTheItemsAndFollowTheMeasuredTimes) {
-  dsdem::TunedSplit split;
+  dsdem::exec::TunedSplit split;
   split.prepare(2);
   EXPECT_EQ(split.begin(1000, 0), 0u);
   EXPECT_EQ(split.begin(1000, 1), 500u);
@@ -102,9 +102,9 @@ bool runs_left_in_other(const std::vector<std::atomic<int>>& hits, std::size_t n
 }  // namespace
 
 // Every item is done exactly once, whatever thread gets there first: a thread whose run
-// is empty or fast takes the chunks left in the other's run (issue 7, the element loops).
+// is empty or fast takes the chunks left in the other's run (the element loops).
 TEST(StealingRuns, EveryItemOnceAndAFastThreadTakesTheSlowOnesChunks) {
-  dsdem::StealingRuns runs;
+  dsdem::exec::StealingRuns runs;
   constexpr std::size_t n = 1000;
   // One thread alone (what a team of one meets): both runs, own first, in chunks of 7.
   {
@@ -157,6 +157,6 @@ TEST(StealingRuns, EveryItemOnceAndAFastThreadTakesTheSlowOnesChunks) {
   }
   // The busy time for the tuned split: the time the own run would have taken at the
   // rate shown (own 500 items, 750 done in 3 ms: 2 ms); nothing done: as measured.
-  EXPECT_DOUBLE_EQ(dsdem::StealingRuns::busy_for_own_run(3e-3, 500, 750), 2e-3);
-  EXPECT_DOUBLE_EQ(dsdem::StealingRuns::busy_for_own_run(3e-3, 500, 0), 3e-3);
+  EXPECT_DOUBLE_EQ(dsdem::exec::StealingRuns::busy_for_own_run(3e-3, 500, 750), 2e-3);
+  EXPECT_DOUBLE_EQ(dsdem::exec::StealingRuns::busy_for_own_run(3e-3, 500, 0), 3e-3);
 }

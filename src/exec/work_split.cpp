@@ -1,8 +1,8 @@
-#include "model/work_split.hpp"
+#include "exec/work_split.hpp"
 
 #include <cmath>
 
-namespace dsdem {
+namespace dsdem::exec {
 
 void balance_shares(std::span<double> share, std::span<const double> busy, double gain) {
   const std::size_t T = share.size();
@@ -42,4 +42,4 @@ void cumulative_shares(std::span<const double> share, std::vector<double>& cum) 
   cum[T] = 1.0;
 }
 
-}  // namespace dsdem
+}  // namespace dsdem::exec

@@ -1,11 +1,11 @@
 #pragma once
-// Reductions that give bit-identical results for any thread count: the sum is split
-// into fixed-size chunks (independent of the number of threads), each chunk summed in
-// order, and the chunk sums added serially (DESIGN.md §9, issue 7).
+// Execution layer: reductions that give bit-identical results for any thread count. The
+// sum is split into fixed-size chunks (independent of the number of threads), each chunk
+// summed in order, and the chunk sums added serially (DESIGN.md §9).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
-#include <array>
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -16,36 +16,17 @@
 #include <omp.h>
 #endif
 
-namespace dsdem {
+namespace dsdem::exec {
 
 // Small, so that a thread's chunks end at most 63 indices past its share of the node loops
 // (see deterministic_sums); the partial sums cost K doubles per 64 indices.
 constexpr std::size_t kReductionChunk = 64;
 
-// The automatic choice between one thread and OpenMP (Solver::probe_parallel): keep the
-// threads unless their median step time is above the serial median by more than
-// `margin`. Medians, not sums: a few steps slowed by something else (a broad-phase
-// rebuild, a page-fault burst) in one window must not decide. The margin, because on a
-// virtual machine the second core's speed comes and goes: measured on late Dr2 windows,
-// parallel medians of 1.6 to 2.9 ms against serial 2.5 to 2.7 ms; when the two are
-// close, one thread gains little, and the threads gain much once the core is back.
-template <std::size_t N>
-bool choose_parallel(std::array<double, N> serial, std::array<double, N> parallel, double margin = 1.1) {
-  static_assert(N > 0);
-  auto median = [](std::array<double, N>& t) {
-    std::sort(t.begin(), t.end());
-    return N % 2 == 1 ? t[N / 2] : 0.5 * (t[N / 2 - 1] + t[N / 2]);
-  };
-  return median(parallel) <= margin * median(serial);
-}
-
 // Boundaries b[0] = 0 <= b[1] <= ... <= b[T] = n of T contiguous index ranges of [0, n),
 // range k holding the counted items of ranks floor(total cum[k]) up to floor(total
 // cum[k + 1]) (cum: cumulative shares, cum[0] = 0, cum[T] = 1; prefix[i]: counted items
 // before index i, size n + 1, total = prefix[n]). Shares of the costly items wherever
-// they are numbered: a static split of the index range alone gave one thread all of
-// Dr2's 3 233 own triangles (zone A is numbered first) and the other thread none (issue
-// 7, 2-thread profile).
+// they are numbered: a static split of the index range can give one thread all of them.
 inline void counted_share_bounds(std::span<const Index> prefix, std::span<const double> cum,
                                  std::vector<std::size_t>& bounds) {
   const std::size_t n = prefix.size() - 1, T = cum.size() - 1;
@@ -121,11 +102,8 @@ inline std::pair<std::size_t, std::size_t> thread_in_team() {
 // summed in index order, then the chunk sums in chunk order: the same bits for any
 // thread count. scratch holds K doubles per chunk.
 // Thread t of T sums the chunks that start in [n t / T, n (t + 1) / T), the share of the
-// node loops (kick, velocities: static schedules) in which it wrote these nodes: a sum
-// that reads another thread's nodes pulls their lines into its cache, and that thread's
-// next kick must take each back across the cores. Issue 7 profile, 2 threads, box of
-// 1 056 elements (3 168 nodes): the second thread's kick loop 14.4 us (serial sums) and
-// 9.6 us (chunks of 2048 nodes) against the first thread's 4.5 us.
+// node loops (kick, velocities) in which it wrote these nodes, so each node's cache lines
+// stay on one core.
 template <std::size_t K, class Term>
 std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<double>& scratch, bool parallel = true) {
   const std::size_t chunks = detail::reduction_chunks(n);
@@ -140,8 +118,7 @@ std::array<double, K> deterministic_sums(std::size_t n, Term term, std::vector<d
 }
 
 // Sums over two index ranges (the nodes and the triangles) in one parallel region: each
-// result the bits of deterministic_sums on its range, one fork and join instead of two
-// (an empty region costs ~3 us on this VM, issue 7 profile).
+// result the bits of deterministic_sums on its range, one fork and join instead of two.
 // prepare1(begin, end) runs first, on the indices of range 1 whose chunks this thread
 // sums: whole chunks, each index on exactly one thread. So a node loop whose results the
 // sums read (the velocity update) runs in the same region with no barrier, as long as
@@ -174,4 +151,4 @@ std::pair<std::array<double, K1>, std::array<double, K2>> deterministic_sums(std
   return deterministic_sums<K1, K2>(n1, [](std::size_t, std::size_t) {}, term1, n2, term2, scratch, parallel);
 }
 
-}  // namespace dsdem
+}  // namespace dsdem::exec

@@ -1,0 +1,113 @@
+// The element and joint phases of the step (DESIGN.md §1 phases 3-4) as per-item kernels
+// for the execution layer's region (exec::ElementRegion), and the stress on demand.
+#include "solver/solver.hpp"
+
+namespace dsdem::solver {
+
+// The kernels of one step's element region: each item's physics, and where its forces go
+// (exec::NodeScatter). Status bit kInverted: some element had det F <= 0.
+struct ElementKernels {
+  static constexpr int kInverted = 1;
+  Solver& s;
+  Nodes& n;
+  Triangles& tri;
+  Joints& J;
+  const bool element_damping;  // the stiffness-damping forces (Rayleigh beta)
+  Vec2* const damping_sum;     // the nodes' damping forces, when booked
+  const std::array<Vec2, 2>* const joint_force;
+  Index broken_now = 0;
+
+  // One triangle (DESIGN.md §2): stress (unless on demand), strain energy, nodal forces
+  // and the stiffness-damping forces into damping (zeros when beta = 0).
+  [[gnu::always_inline]] fem::TriangleResponse element(std::size_t t, std::array<Vec2, 3>& damping) const {
+    fem::TriangleInput in = s.triangle_input(t);
+    if (element_damping)  // the kernel reads v only when beta > 0
+      for (int k = 0; k < 3; ++k) in.v[k] = n.v[tri.conn[t][k]];
+    in.beta = s.settings_.beta;
+    in.cauchy = !s.stress_on_demand_;
+    fem::TriangleResponse r;
+    fem::triangle_internal_force(in, s.elastic_[tri.material[t]], r, damping);
+    if (!s.stress_on_demand_) {
+      tri.stress[t] = r.cauchy;
+      tri.strain[t] = r.green;
+    }
+    s.element_strain_energy_[t] = r.strain_energy;
+    return r;
+  }
+  int shared(std::size_t slot) {
+    std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
+    const fem::TriangleResponse r =
+        element(s.scatter_.shared_triangle(slot), element_damping ? s.scatter_.shared_damping_force(slot) : no_damping);
+    s.scatter_.shared_force(slot) = r.force;
+    return r.detF > 0.0 ? 0 : kInverted;
+  }
+  // Cohesive joints (DESIGN.md §3), breaking for good; any thread may take any block.
+  void joint_blocks(std::size_t b0, std::size_t b1) {
+    evaluate_joints(n, J, s.settings_.failure, s.model_.thickness, s.joint_buf_, broken_now, b0, b1);
+  }
+  int own(std::size_t t0, std::size_t t1) const {
+    int bits = 0;
+    for (std::size_t t = t0; t < t1; ++t) {
+      if (!s.scatter_.is_own(t)) continue;
+      std::array<Vec2, 3> df;
+      const fem::TriangleResponse r = element(t, df);
+      if (!(r.detF > 0.0)) bits |= kInverted;
+      s.scatter_.add_own(t, tri.conn[t], r.force, df, element_damping, joint_force, n.a.data(), damping_sum);
+    }
+    return bits;
+  }
+  void gathered(std::size_t g) const { s.scatter_.gather(g, joint_force, n.a.data(), damping_sum); }
+};
+
+void Solver::add_element_and_joint_forces() {
+  auto& J = model_.joints;
+  const bool joints = J.size() > 0;
+  ElementKernels k{*this, model_.nodes, model_.triangles, J, settings_.beta > 0.0,
+                   damped() ? damping_force_.data() : nullptr, joint_buf_.force.empty() ? nullptr : joint_buf_.force.data()};
+  const int bits =
+      element_region_.run(team_, model_.nodes.size(), scatter_, joints ? joint_blocks(J.size()) : 0, k);
+  inverted_ = (bits & ElementKernels::kInverted) != 0;
+  if (joints) {
+    energy_.joint_elastic = joint_buf_.energy();
+    energy_.fracture_dissipated += joint_buf_.dissipation();
+    broken_joints_ += k.broken_now;
+    if (k.broken_now) record_new_breaks(model_.nodes, J, time_);
+  }
+}
+
+void Solver::set_stress_on_demand(bool on) {
+  stress_on_demand_ = on;
+  auto& tri = model_.triangles;
+  if (on) {
+    release_stress();
+  } else if (tri.stress.size() != tri.size()) {  // the element loop writes them every step
+    tri.stress.assign(tri.size(), Vec3::Zero());
+    tri.strain.assign(tri.size(), Vec3::Zero());
+  }
+}
+
+void Solver::compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const {
+  const auto& tri = model_.triangles;
+  stress.resize(tri.size());
+  strain.resize(tri.size());
+  // The element loop's kernel on the same inputs (positions unchanged since the step):
+  // the same stress and strain bits. Damping does not enter the Cauchy stress.
+  exec::parallel_for(team_, tri.size(), [&](std::size_t t) {
+    const fem::TriangleInput in = triangle_input(t);
+    fem::TriangleResponse r;
+    std::array<Vec2, 3> no_damping;
+    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);
+    stress[t] = r.cauchy;
+    strain[t] = r.green;
+  });
+}
+
+void Solver::update_stress() { compute_stress(model_.triangles.stress, model_.triangles.strain); }
+
+void Solver::release_stress() {
+  if (!stress_on_demand_) return;  // the steps write them
+  std::vector<Vec3>().swap(model_.triangles.stress);
+  std::vector<Vec3>().swap(model_.triangles.strain);
+}
+
+}  // namespace dsdem::solver
