@@ -116,8 +116,8 @@ constexpr int kMaxContactsPerPair = 6;
 // True when an edge normal of either core separates the two cores by more than
 // a.r + b.r (plus a margin far above rounding), so the rounded shapes cannot touch and
 // narrow_phase() would find no contact. Most candidate pairs of a discrete mesh are
-// triangles meeting at a vertex that never touch: this rejects
-// them with dot products instead of six closest-point queries.
+// triangles meeting at a vertex that never touch: this rejects them with dot products
+// instead of six closest-point queries.
 // cores_clearance() > 0 is that test, and says by how much more than the limit the cores
 // are apart along the first separating normal found: while the two cores' vertices move
 // less than that in all, the pair still has no contact (ContactForces skips it).

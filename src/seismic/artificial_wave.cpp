@@ -234,8 +234,8 @@ Eigen::VectorXd regularised_solve(const std::vector<std::vector<double>>& A, con
   Eigen::MatrixXd N = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
   Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
   // Column i of the lower triangle (contiguous in column-major N; the upper triangle
-  // along row i would stride by m) gets the rows' terms in row
-  // order: each column whole on one thread, so any thread count gives the same bits.
+  // along row i would stride by m) gets the rows' terms in row order: each column whole
+  // on one thread, so any thread count gives the same bits.
   const auto ms = static_cast<std::ptrdiff_t>(m);
 #pragma omp parallel for schedule(dynamic, 4)
   for (std::ptrdiff_t ci = 0; ci < ms; ++ci) {
