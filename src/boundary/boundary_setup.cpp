@@ -128,9 +128,9 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
     bn.coef = viscous_spring_coefficients(bn.area, bn.medium, R);
   }
   // Free-field column of each node: from the base to the free surface above it. Side
-  // nodes use the column at their own x; base nodes the column above them. (The surface
-  // was once the highest node within half a mean element of x: under a coarse, graded
-  // mesh that missed the surface, e.g. 225 m low at x = 130 m on Dr2 at h = 12 m.)
+  // nodes use the column at their own x; base nodes the column above them. (The highest
+  // node within half a mean element of x can miss the surface under a coarse, graded
+  // mesh.)
   const SurfaceProfile surface(nodes.X, model.triangles.conn);
   for (auto& bn : out) {
     const Vec2 X = nodes.X[bn.node];

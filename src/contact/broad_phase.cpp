@@ -100,8 +100,8 @@ std::size_t BroadPhase::pair_bound() const {
 }
 
 void BroadPhase::reserve_first_pairs() {
-  // Only the touched pages of a large block become resident, so the overestimate (~2.4x
-  // on the box) costs address space, not memory; capped for degenerate grids.
+  // Only the touched pages of a large block become resident, so the overestimate costs
+  // address space, not memory; capped for degenerate grids.
   const std::size_t room = std::min(pair_bound(), kFirstPairsPerTriangleCap * tris_.size());
   if (pairs_.capacity() < room) pairs_.reserve(room);
 }

@@ -20,8 +20,7 @@ namespace dsdem::contact {
 
 // Below this many triangles the per-triangle loops of the contact phase run on one
 // thread: a parallel region costs a few microseconds (threads spinning) to tens (asleep).
-// 256, not 1024: the shape update of ~1000 triangles takes ~25 us, and left serial it
-// held the 968-element box at 1.29x on 2 threads (1.70x at 256; issue 7).
+// 256, not 1024: the shape update of some hundreds of triangles already repays a split.
 constexpr std::ptrdiff_t kMinParallelTriangles = 256;
 
 struct ContactPair {
@@ -71,8 +70,7 @@ class BroadPhase {
   void bin(const NodePositions& x, std::span<const std::array<Index, 3>> conn,
            std::span<const std::uint8_t> active, double skin);
   // Room for the first build's pairs (pair_bound) before its sweep. Grown by doubling, the
-  // list's old and new blocks were both resident at its last growth: the peak memory of
-  // the 10^6-element box was 43 MB above its steady state (issue 7 memory).
+  // list's old and new blocks would both be resident at its last growth (peak memory).
   void reserve_first_pairs();
   static constexpr std::size_t kFirstPairsPerTriangleCap = 32;
   int cell_x(double v) const {

@@ -17,10 +17,9 @@ void reserve_with_headroom(Vector& v, std::size_t n) {
 }
 
 // A vector that one thread fills while the others fill theirs, on cache lines of its own.
-// push_back writes the vector's end pointer each time, and the vectors of adjacent threads
-// shared a 64-byte line, so two threads' pushes kept taking it from each other: late in
-// Dr2 the filter of the 18 400 candidate pairs took as long on each of 2 threads as on
-// one (171 us per step; issue 7 profile).
+// push_back writes the vector's end pointer each time: vectors of adjacent threads on one
+// 64-byte line would make two threads' pushes keep taking it from each other (false
+// sharing).
 template <class T>
 struct alignas(64) ThreadVector : std::vector<T> {};
 

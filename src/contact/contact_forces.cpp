@@ -236,9 +236,8 @@ void ContactForces::update_shape_run(const ContactInput& in, std::ptrdiff_t s_be
 
 void ContactForces::test_other_slots(const ContactInput& in, int& left, bool shared) {
   // The rebuild test for the active triangles in no pair (no shape to update), from their
-  // list: shared, each thread tests an equal share. (Dr2 numbers its discrete triangles, nearly
-  // all in pairs, first: a split of all the active slots gave one thread 90 % of the
-  // tests, issue 7 profile.)
+  // list: shared, each thread tests an equal share. (A split of all the active slots would
+  // be uneven: discrete triangles, numbered first, are nearly all in pairs.)
   const NodePositions x = in.positions();
   const std::span<const Index> tris = broad_.active_triangles();
   const std::span<const Aabb> build_box = broad_.boxes();
@@ -452,8 +451,8 @@ ContactStepStats ContactForces::finish() {
   // Spare room so that a slowly growing contact count does not reallocate every step. Each
   // thread's lists get room for the whole step's count, not only for its own: the split
   // between the threads follows their measured speed (TunedSplit) and may give any thread
-  // more than it ever had, which must not allocate in the time loop (a slow core under a
-  // sanitizer did). On one thread it is the same room as before.
+  // more than it ever had, which must not allocate in the time loop (DESIGN.md §9). On one
+  // thread it is the same room as before.
   std::size_t records = 0, examined = 0, blocks = 0;
   for (int t = 0; t < used_threads_; ++t) {
     records += buffers_[t].size();

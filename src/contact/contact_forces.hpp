@@ -65,9 +65,8 @@ struct ContactSettings {
   // Below this many candidate pairs the pair loop runs on one thread.
   std::size_t min_pairs_per_parallel_run = 128;
   // Below this many pairs examined in a step (after the parallel filter), the first thread
-  // alone computes their edge data, contacts and forces: a split costs three barriers
-  // (~1.5 us each when this VM's cores are far apart) and saves ~0.1 us per pair (issue 7:
-  // the 968-element box examines ~41 pairs per step, the 2 680-element disc ~70-170).
+  // alone computes their edge data, contacts and forces: a split costs three barriers,
+  // which a few dozen pairs do not repay.
   std::size_t min_examined_pairs_to_split = 64;
   // false: every loop on one thread (the solver turns OpenMP off for small models; a
   // parallel region there costs more than it saves, and far more on a loaded machine).
@@ -104,12 +103,11 @@ struct ContactInput {
 };
 
 // One contact of the last call. The constructor leaves the values unset: the contact
-// phase writes every field (a zero-fill of each record first cost ~4 % of a Dr2
-// late-phase step, issue 7 profile).
+// phase writes every field, so a zero-fill would be wasted work on every record.
 struct ContactRecord {
   ContactRecord() {}  // user-provided: emplace_back() does not zero-fill either
   // What scatter_forces() reads comes first and together (key, force, Ni, Nj: 80 B, two
-  // cache lines, not three): on two threads each thread reads every record (issue 7).
+  // cache lines, not three): on two threads each thread reads every record.
   ContactKey key;  // triangles i < j and feature (see ContactGeometry)
   ContactKind kind;
   std::uint8_t other;
@@ -126,7 +124,7 @@ struct ContactRecord {
   double friction_dissipation;   // J/m this step
   double damping_dissipation;    // J/m this step
 };
-static_assert(sizeof(ContactRecord) <= 176, "keep the contact record compact (issue 7 memory)");
+static_assert(sizeof(ContactRecord) <= 176, "keep the contact record compact (memory per contact)");
 
 
 struct ContactStepStats {
@@ -327,20 +325,17 @@ class ContactForces {
   BroadPhase broad_;
   ContactHistory history_;
   std::vector<Spheropolygon> sp_;
-  // Of sp_[t].core; expand() per pair (issue 7 memory). Computed each step either for
+  // Of sp_[t].core; expand() per pair (memory per triangle). Computed each step either for
   // the triangles of the pairs examined only (scale_tris_, collected by a serial pass),
   // or, while most triangles of the candidate pairs are in pairs examined, with their
-  // shapes in update_shapes() (scales_with_shapes_): late in Dr2 3 200 of 3 600 are,
-  // and the serial pass and its barrier cost two threads more than the extra scales;
-  // in the Brazilian disc 5-25 % are, and computing all would cost 7.5 % more
-  // instructions (issue 7 profile). The same values either way.
+  // shapes in update_shapes() (scales_with_shapes_): then the serial pass and its
+  // barrier would cost more than the extra scales. The same values either way.
   std::vector<CoreEdgeScales> edge_scales_;
   bool scales_with_shapes_ = false;  // decided at the end of each call for the next one
   std::vector<Aabb> box_;  // current boxes of the rounded shapes
   // Broad-phase slots (BroadPhase::active_triangles()) of the triangles in some candidate
   // pair (ascending), set at each broad-phase build: only their shapes are updated each
-  // step. A contact zone's interior (one body, no pairs) is skipped: on Dr2 that was
-  // most of the 12 % the shapes took (issue 7 profile).
+  // step. A contact zone's interior (one body, no pairs) is skipped.
   std::vector<Index> shape_slots_;
   // The other active triangles' slots (ascending), for their rebuild test in update_shapes().
   std::vector<Index> other_slots_;
@@ -354,20 +349,20 @@ class ContactForces {
   std::vector<ThreadVector<Index>> todo_;
   // More than one thread: running sums of the examined pairs' expected costs
   // (pair_weight), per list of todo_. The pair loop splits the pairs by these sums, not by
-  // count: late in Dr2 one of two equal-count halves had 8 % more contacts (issue 7).
+  // count: contacts are not spread evenly over the pair list.
   std::vector<ThreadVector<std::uint32_t>> todo_weight_;
   // Expected cost of examining a pair, from skip_below_ (its last check): a pair with n
-  // contacts costs about 2 + 2 n times one found apart (issue 7 profile: the narrow phase
-  // ~700 instructions per pair, the law and mapping ~650 per contact).
+  // contacts costs about 2 + 2 n times one found apart (from instruction counts of the
+  // narrow phase per pair and of the law and mapping per contact).
   static std::uint32_t pair_weight(float skip_below) {
     return skip_below < 0.0f ? 2u + 2u * static_cast<std::uint32_t>(-skip_below) : 1u;
   }
   // Examined pairs, in pair order over todo_[0..T), whose running weight is <= w.
   std::size_t pairs_within_weight(std::uint64_t w, int T) const;
   // Pairs whose cores were found apart by some clearance are skipped until their cores
-  // have moved that much (issue 7: on Dr2 about half the pairs reaching the narrow phase
-  // are vertex neighbours that never touch); so are pairs whose boxes were apart (half
-  // the candidates late in Dr2: the skin's extras), without loading the boxes again.
+  // have moved that much (vertex neighbours of a discrete mesh that never touch are
+  // common); so are pairs whose boxes were apart (the skin's extras), without loading
+  // the boxes again.
   // motion_[t]: summed largest core-vertex
   // displacement of triangle t per step since the last build; skip_below_[p]: pair p is
   // skipped while motion_[i] + motion_[j] < it (0: check). Skipped pairs are exactly pairs
@@ -380,7 +375,7 @@ class ContactForces {
   std::vector<ThreadVector<ContactRecord>> buffers_;  // one per thread
   // touching_[u T + c]: indices into buffers_[u] of the records with a node in range c,
   // ascending (more than one thread). Each thread reads only those in the scatter, not
-  // every record: on late Dr2 each of two threads read all ~6 400 (issue 7 profile).
+  // every record.
   std::vector<ThreadVector<Index>> touching_;
   // More than one thread: each thread's share (model/work_split.hpp, tuned from its busy
   // time) of the examined pairs' expected cost in the pair loop (busy: its pair loop
@@ -408,9 +403,9 @@ class ContactForces {
   std::atomic<int> shapes_left_{0};
   // The contact sums per block of pairs (triangle i / kSumBlock), in record order, by the
   // thread that made the records while they are in its cache; block_sums_[t]: thread t's
-  // blocks in order, added in thread order by finish(). The serial sum over every record it
-  // replaces read each other thread's records from that core (issue 7). Counts per thread
-  // (integers: any order).
+  // blocks in order, added in thread order by finish(). A serial sum over every record
+  // would read each other thread's records from that core. Counts per thread (integers:
+  // any order).
   static constexpr Index kSumBlock = 32;
   std::vector<ThreadVector<BlockSums>> block_sums_;
   struct alignas(64) ThreadCounts {
@@ -459,7 +454,8 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
   }
   std::size_t examined = 0;
   for (int u = 0; u < used_threads_; ++u) examined += todo_[u].size();
-  // Examined pairs per triangle of the candidate pairs: the disc < 0.25, late Dr2 > 1.4.
+  // Edge data with the shapes next call once the examined pairs are at least half the
+  // shape slots (most of those triangles then need them; see edge_scales_).
   using Mode = ContactSettings::EdgeScales;
   scales_with_shapes_ = settings_.edge_scales == Mode::automatic ? 2 * examined >= shape_slots_.size()
                                                                  : settings_.edge_scales == Mode::with_shapes;
@@ -479,10 +475,9 @@ void ContactForces::filter_pairs(std::size_t b, std::size_t e, Skip& skip, bool 
   const std::span<const ContactPair> pairs = broad_.pairs();
   std::uint32_t weight = 0;
   // In chunks of the run: 1a. without branches, the pairs neither known to be apart (no
-  // need to load their boxes) nor skipped by skip() in this epoch. Late Dr2 has 18 600
-  // candidate pairs and examines 5 300, in no predictable pattern: as branches, this test
-  // was mispredicted ~6 300 times per step (callgrind, issue 7). A chunk on the stack, not
-  // a list of every pair: that list added 34 B per element to the 10^5 box's memory.
+  // need to load their boxes) nor skipped by skip() in this epoch. Which pairs those are
+  // follows no predictable pattern, so as branches this test would be mispredicted often.
+  // A chunk on the stack, not a list of every pair (memory per element).
   constexpr std::size_t kChunk = 256;
   Index open[kChunk];
   for (std::size_t c = b; c < e; c += kChunk) {
@@ -581,9 +576,8 @@ bool ContactForces::compute_partitioned(const ContactInput& in, const ContactPar
 #endif
       // 1. The shapes of this thread's triangles; the first thread also tests the others
       // (in no pair) for a rebuild: the other threads' shapes are then done before the
-      // first thread's filter reaches pairs that need them (late Dr2, 2 threads: its wait
-      // for them fell from 25-60 to 7.5 us per step; a quarter of its pairs reach the other
-      // thread's triangles once the slide has moved).
+      // first thread's filter reaches pairs that need them (once the bodies have moved,
+      // many of its pairs reach the other thread's triangles).
       int my_left = 0;
       update_shape_run(in, slot_at(from), slot_at(to), false, my_left);
       if (t == 0) test_other_slots(in, my_left, false);
@@ -782,8 +776,7 @@ void ContactForces::compute_split(const ContactInput& in, const ContactParamTabl
       // step's contact phase ends at the slowest pair loop plus the longest scatter; the
       // last thread's scatter is the longest by construction (it adds every record on its
       // nodes, the first thread only the others' records). Balancing pair loop + scatter
-      // kept the first thread's pair loop longer by that difference: late Dr2, 2 threads,
-      // 644 / 608 us pair loops and 14 / 54 us scatters (issue 7 profile).
+      // would keep the first thread's pair loop longer by that difference.
 #ifdef _OPENMP
       if (tuned) pair_split_.set_busy(t, omp_get_wtime() - busy_from);
 #endif

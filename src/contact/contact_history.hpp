@@ -6,9 +6,9 @@
 // holds ascending keys, all above those of segment t - 1, so the segments in order are
 // one sorted list. Each thread then writes and next step mostly reads its own segment
 // (the contacts of its share of the pairs): no serial copy of every thread's contacts,
-// and no history line last written by another core (issue 7: ~220 ns per line one way
-// on the 2-core VM). A contact absent this step is dropped; deterministic; no allocation
-// once the segments have grown to the largest contact counts.
+// and no history line last written by another core (a costly transfer between cores).
+// A contact absent this step is dropped; deterministic; no allocation once the segments
+// have grown to the largest contact counts.
 #include <cassert>
 #include <compare>
 #include <cstdint>

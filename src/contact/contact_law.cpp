@@ -84,8 +84,7 @@ ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_r
     // the force actually applied, not the trial one) minus the change of the stored
     // spring energy. Steady sliding gives exactly mu*Fn*slip; a stick step gives 0.
     // (The trial-state formula (trial^2 - cap^2)/(2 ks) adds ks*slip^2/2 per step, which
-    // is no work of any force: with ks = 2e9 Pa and 0.03 m slip per step it exceeded
-    // the real heat 50-fold and broke the energy balance of run-out runs.)
+    // is no work of any force and breaks the energy balance of run-out runs.)
     if (p.ks > 0.0) {
       const double work = 0.5 * (prev + r.ft).dot(trial - prev) / p.ks;
       const double d_elastic = 0.5 * (r.ft.squaredNorm() - prev.squaredNorm()) / p.ks;

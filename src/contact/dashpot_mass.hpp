@@ -4,10 +4,9 @@
 // each element as a whole, so the set restitution holds for element impacts), capped so
 // the dashpot on the contact point's own mass stays explicit-stable (c dt <= m_point):
 //   m_eff = min(m_pair, (m_point / dt)^2 / (4 zeta^2 kn)),  1 / m_point = sum N_k^2 / m_k.
-// The cap costs a chain of divisions per contact (six N_k^2 / m_k, then three in series;
-// a quarter of process_pair's samples in a late Dr2 perf profile). A bound per pair
-// proves it inactive without dividing (every contact of late Dr2); the result is then
-// m_pair, the same bits as the chain. Late Dr2 step on one thread -5.7 % (issue 7).
+// The cap costs a chain of divisions per contact (six N_k^2 / m_k, then three in series).
+// A bound per pair proves it inactive without dividing (the usual case); the result is
+// then m_pair, the same bits as the chain.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -171,7 +171,7 @@ __attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 
       add(bc(reach * (1.0 + 1e-6)), mul(bc(1e-12), add(_mm256_andnot_pd(sign, px), _mm256_andnot_pd(sign, py))));
   far = bit_or(far, bit_or(lt(beyond, sd[0]), bit_or(lt(beyond, sd[1]), lt(beyond, sd[2]))));
   const int far_bits = _mm256_movemask_pd(far) & 7;
-  if (far_bits == 7) {  // two thirds of Dr2's queries are far: no more work for them
+  if (far_bits == 7) {  // all three far (common): no more work for them
     for (CoreClosest& c : out) {
       c = CoreClosest{};
       c.distance = std::numeric_limits<double>::infinity();
@@ -357,7 +357,7 @@ double gap_along(const Vec2& n, const std::array<Vec2, 3>& p, const std::array<V
 // disjoint convex cores that is their distance) or along x or y (the cores' boxes),
 // beyond clearance_limit(); 0 when none exceeds it. Any axis bounds the distance from
 // below, so a positive result is a valid cores_clearance() (vertex neighbours whose
-// nearest points are two corners, which no edge normal separates, issue 7 disc profile).
+// nearest points are two corners, which no edge normal separates).
 double clearance_after(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon& b, const CoreEdges& eb,
                        const std::array<CoreClosest, 3>& ca, const std::array<CoreClosest, 3>& cb) {
   double best = std::numeric_limits<double>::infinity(), gap = -std::numeric_limits<double>::infinity();
@@ -387,8 +387,8 @@ int contacts_of(const Spheropolygon& a, const CoreEdges& ea, const Spheropolygon
     closest_within_x3(b.core, a.core, ea, rsum, cb);
   }
   // Which of the six queries make a contact, as bits (side 0, a's vertex v on b's core:
-  // bit v; side 1, b's vertex v on a's core: bit 3 + v), without a branch per query: they
-  // were the most mispredicted branches of late Dr2 (2.2 M of 9.4 M in 300 steps, callgrind).
+  // bit v; side 1, b's vertex v on a's core: bit 3 + v), without a branch per query: such
+  // data-dependent branches are mispredicted often.
   // Side 0 keeps a vertex-vertex contact only where it is mutual (a's vertex v and b's
   // vertex ca[v].vertex see each other; see header); side 1 keeps none (each kept one is
   // mutual and was counted on side 0). A far query has vertex 0 and at_vertex false.

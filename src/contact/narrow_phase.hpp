@@ -42,7 +42,7 @@ struct CoreEdges {
 CoreEdges core_edges(const std::array<Vec2, 3>& core);
 
 // What core_edges computes with a square root or a division, kept per triangle between
-// the shape update and the pair loop (56 B instead of CoreEdges' 160, issue 7 memory):
+// the shape update and the pair loop (56 B instead of CoreEdges' 160: memory per triangle):
 // expand() redoes the rest (edge vectors, normals from the scales, box) with the same
 // operations, so expand(core, core_edge_scales(core)) equals core_edges(core) bit for bit.
 struct CoreEdgeScales {
@@ -99,8 +99,8 @@ inline CoreClosest closest_on_core(const Vec2& p, const std::array<Vec2, 3>& cor
 CoreClosest closest_within(const Vec2& p, const std::array<Vec2, 3>& core, const CoreEdges& ce, double reach);
 // out[v] = closest_within(p[v], core, ce, reach) for v = 0, 1, 2, bit for bit. On an
 // x86-64 CPU with AVX2 the three queries run in the lanes of 256-bit registers, with
-// compares and blends for the scalar code's data-dependent branches (issue 7: those were
-// mispredicted ~42 000 times per late Dr2 step, callgrind); elsewhere three scalar calls.
+// compares and blends for the scalar code's data-dependent branches, which are
+// mispredicted often; elsewhere three scalar calls.
 // narrow_phase() runs both sides of a pair in one AVX-512 pass instead where the CPU has
 // it (vertex_queries_x6.hpp), and this one otherwise.
 void closest_within_x3(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core, const CoreEdges& ce,
@@ -116,8 +116,8 @@ constexpr int kMaxContactsPerPair = 6;
 // True when an edge normal of either core separates the two cores by more than
 // a.r + b.r (plus a margin far above rounding), so the rounded shapes cannot touch and
 // narrow_phase() would find no contact. Most candidate pairs of a discrete mesh are
-// triangles meeting at a vertex that never touch (issue 7, Dr2 profile): this rejects
-// them with dot products instead of six closest-point queries.
+// triangles meeting at a vertex that never touch: this rejects them with dot products
+// instead of six closest-point queries.
 // cores_clearance() > 0 is that test, and says by how much more than the limit the cores
 // are apart along the first separating normal found: while the two cores' vertices move
 // less than that in all, the pair still has no contact (ContactForces skips it).
@@ -129,8 +129,8 @@ inline bool cores_apart(const Spheropolygon& a, const CoreEdges& ea, const Spher
 
 // One contact between spheropolygons i and j.
 // No default values: narrow_phase() writes every field of the contacts it returns, and
-// the contact phase declares a buffer of kMaxContactsPerPair of these per pair, whose
-// zero-fill cost 3.5 % of a Dr2 late-phase step (issue 7 profile).
+// the contact phase declares a buffer of kMaxContactsPerPair of these per pair, which a
+// zero-fill per pair would cost for nothing.
 struct ContactGeometry {
   // Identifies the contact within the pair, stable while the same vertex stays in
   // contact: 3*side + vertex, side 0 = a vertex of i on the core of j, side 1 = a

@@ -1,7 +1,7 @@
 #pragma once
 // Current node positions as the contact phase reads them: x itself, or X + u when the
 // displacements are given too. The solver passes its reference positions and
-// displacements, so no per-step copy of the positions is kept (16 B per node, issue 7);
+// displacements, so no per-step copy of the positions is kept (16 B per node);
 // X + u is the same sum the copy held, so the results do not change.
 #include <cstddef>
 #include <span>

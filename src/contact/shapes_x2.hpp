@@ -1,9 +1,9 @@
 #pragma once
-// The shape update of two triangles at once (issue 7): make_spheropolygon() and
+// The shape update of two triangles at once: make_spheropolygon() and
 // core_edge_scales() on the two lanes of SSE2 registers (x86-64's baseline, no
 // dispatch). The shape update does 7 square roots and 10 divisions per triangle and
 // little else, so it waits on the divider; the packed forms do two lanes for about the
-// cost of one (late Dr2: 164 us per step on one thread for ~3 600 triangles).
+// cost of one.
 // The same IEEE operations in the same order per lane, no fused multiply-add: each lane
 // equals the scalar functions bit for bit (test ShapesX2.*). Elsewhere: the scalar code.
 #include <array>

@@ -67,7 +67,7 @@ __attribute__((target("avx512f"))) void queries_avx512(const std::array<Vec2, 3>
   const V beyond = add(bc(reach * (1.0 + 1e-6)), mul(bc(1e-12), add(abs_of(px), abs_of(py))));
   far |= lt(beyond, sd[0]) | lt(beyond, sd[1]) | lt(beyond, sd[2]);
   const M far_bits = far & kQueryLanes;
-  if (far_bits == kQueryLanes) {  // never late in Dr2 (examined pairs touch or nearly), cheap anyway
+  if (far_bits == kQueryLanes) {  // rare (examined pairs touch or nearly), cheap anyway
     for (auto* out : {&out_a, &out_b})
       for (CoreClosest& c : *out) {
         c = CoreClosest{};

@@ -1,11 +1,11 @@
 #pragma once
-// The six vertex queries of a pair in one pass on CPUs with AVX-512 (issue 7): a's three
+// The six vertex queries of a pair in one pass on CPUs with AVX-512: a's three
 // core vertices on b's core and b's three on a's core, in the eight lanes of 512-bit
 // registers (lanes 0-2 and 4-6), where closest_within_x3() runs each side in four AVX2
-// lanes. Late in Dr2 a pair has both sides near in 38 % of calls and one side near in the
-// other 62 % (never both far: the pairs examined touch or nearly), so the two four-lane
-// calls cost about 1.6 passes per pair; the eight-lane pass costs one (this CPU runs 512-bit
-// operations at the rate of 256-bit ones, square root and division included).
+// lanes. The pairs examined touch or nearly, so both sides or at least one are near and
+// the two four-lane calls cost well over one pass per pair; the eight-lane pass costs one
+// (on CPUs that run 512-bit operations at the rate of 256-bit ones, square root and
+// division included).
 // The same IEEE operations in the same order per lane as closest_within(), no fused
 // multiply-add (the file is compiled with -ffp-contract=off): each lane equals the scalar
 // query bit for bit (test VertexQueries.*).

@@ -18,8 +18,8 @@ struct ReferenceGeometry {
 };
 ReferenceGeometry reference_geometry(const Vec2& X0, const Vec2& X1, const Vec2& X2);
 
-// The per-step kernel and its pieces are inline, the kernel always (issue 7; GCC kept it a
-// call in the solver's element region): the element loops then keep them in registers and
+// The per-step kernel and its pieces are inline, the kernel always (GCC otherwise keeps it
+// a call in the solver's element region): the element loops then keep them in registers and
 // drop what their caller does not read (the damping forces' zeros without beta, the Cauchy
 // stress and the strain of a step that does not store them).
 // The library is built for the baseline x86-64 (no FMA instructions to contract into), so
@@ -47,8 +47,8 @@ inline Vec3 svk_stress(const Vec3& E, const ElasticConstants& c) {
 
 // Green strain rate (xx, yy, 2xy) = sym(F^T Fdot) (DESIGN.md §6), in scalars: M = F^T Fdot
 // and (Fdot^T F)(r, c) = M(c, r) bit for bit (two products, one addition each). Eigen's
-// 0.5 * (F^T Fdot + Fdot^T F) stored the products as scalars and loaded them as pairs, a
-// store-forwarding stall that took 30 % of the beta > 0 kernel's time (issue 7, perf).
+// 0.5 * (F^T Fdot + Fdot^T F) stores the products as scalars and loads them as pairs, a
+// store-forwarding stall.
 inline Vec3 strain_rate(const Mat2& F, const Mat2& Fdot) {
   const double m00 = F(0, 0) * Fdot(0, 0) + F(1, 0) * Fdot(1, 0);
   const double m01 = F(0, 0) * Fdot(0, 1) + F(1, 0) * Fdot(1, 1);

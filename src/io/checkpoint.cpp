@@ -11,7 +11,7 @@ namespace dsdem::io {
 namespace {
 constexpr const char* kMagic = "dsdem_checkpoint_version";
 // 2: joint end-point states without the recomputable tractions, break records as a
-// list (issue 7). A file of another version is refused, naming both versions.
+// list (memory per element). A file of another version is refused, naming both versions.
 constexpr std::int64_t kVersion = 2;
 
 // HDF5 does not create intermediate groups by itself: "nodes/u" needs group "nodes".

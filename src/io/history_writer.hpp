@@ -40,7 +40,7 @@ class HistoryWriter {
   // std::runtime_error if the file cannot be created.
   HistoryWriter(std::filesystem::path path, std::vector<HistoryColumn> columns,
                 HistoryOptions options = {});
-  // Resuming a run from a checkpoint (issue 8): `path` must exist with the same header;
+  // Resuming a run from a checkpoint: `path` must exist with the same header;
   // its first `keep_rows` rows are kept and any later ones (written after the checkpoint,
   // before the run was stopped or killed) are dropped, atomically; appends follow them.
   // Throws std::runtime_error naming the path if the file is missing, has another

@@ -26,8 +26,8 @@ double mixed_mode_damage(double en, double es, double damage_before) {
   // Only e above damage_before raises the damage (eq. 9 keeps the maximum). hypot is
   // within an ulp or so of sqrt(en^2 + es^2); its square below damage_before^2 by a
   // margin far above that gives a value whose max() with damage_before is damage_before:
-  // return that, not the libm call (hypot was 9 % of the 968-element box, issue 7). The
-  // floor on damage_before keeps en^2 + es^2 clear of underflow. NaN takes hypot.
+  // return that, not the libm call (costly in the joint phase's hot path). The floor on
+  // damage_before keeps en^2 + es^2 clear of underflow. NaN takes hypot.
   if (damage_before >= 1e-100 && en * en + es * es <= damage_before * damage_before * (1.0 - 1e-9))
     return damage_before;
   return std::hypot(en, es);

@@ -58,8 +58,8 @@ struct CohesiveResponse : CohesivePoint {
 };
 
 // Everything of the law that depends on the properties only, computed once per
-// property set: the joint phase evaluates the law twice per joint per step, and
-// recomputing tan(phi) there alone was 13 % of the joint phase (issue 7 profile).
+// property set: the joint phase evaluates the law twice per joint per step, too often
+// to recompute tan(phi) and the like each time.
 struct JointLawConstants {
   double kn = 0.0, ks = 0.0, ft = 0.0, c = 0.0, GII = 0.0;
   double tan_phi = 0.0;  // tan(phi)

@@ -26,17 +26,13 @@ JointPhaseTotals add_joint_forces(const Nodes& nodes, std::vector<Vec2>& force, 
                                   bool damage_enabled = true, double thickness = 1.0);
 
 // Joints per block of evaluate_joints: the unit of its work sharing and of its partial
-// energy sums (fixed, so the sums do not depend on the thread count). Small enough that
-// a few thousand joints split evenly over the threads: with 2048, Dr2's ~4.7k joints
-// made 3 blocks (2 on one thread, 1 on the other) and a model under 2048 joints ran its
-// joint loop on one thread (issue 7). 64, not 256: the 968-element box's 1278 joints made
-// 5 blocks of 256, split 3:2 over 2 threads, and its softening joints (several times
-// dearer than elastic ones) gather near the crack: 1.68x on 2 threads, 1.74x with 64.
-// (Blocks handed out dynamically were faster still there, 1.78x, but slower on the
-// 10^4-10^5 models, whose own triangles then read joint forces another thread wrote.)
+// energy sums (fixed, so the sums do not depend on the thread count). 64: small enough
+// that a thousand joints split evenly over the threads even when a crack's softening
+// joints, several times dearer than elastic ones, gather in a few blocks. (Blocks are not
+// handed out dynamically: triangles would then read joint forces another thread wrote.)
 constexpr std::size_t kJointBlock = 64;
 
-// Results of evaluate_joints for a deterministic parallel gather (issue 7): per joint
+// Results of evaluate_joints for a deterministic parallel gather: per joint
 // the forces on its face-a nodes a0, a1 (b0, b1 get their negatives; zero for a broken
 // joint), per block of kJointBlock joints the elastic energy and the dissipation of
 // this call summed in joint order (not per joint: memory per element).

@@ -46,7 +46,7 @@ const char* to_string(BreakMode m);
 // last evaluation let the law report the dissipation of the next increment and move the
 // shear traction incrementally. The normal traction and the shear secant of the last
 // evaluation are functions of these (last_tractions() in cohesive_law.hpp recomputes
-// them, bit for bit), so they are not stored (issue 7: memory per element).
+// them, bit for bit), so they are not stored (memory per element).
 struct JointPointState {
   double dn_max = 0.0;  // largest opening reached (>= 0), m
   double s_max = 0.0;   // largest |slip| reached (>= 0), m
@@ -86,7 +86,7 @@ struct Joints {
   std::vector<std::uint8_t> broken;
   static constexpr std::uint8_t kBreakPending = 2;
   // The broken joints in the order they broke (ties: by joint index): a list, not a
-  // time and a position per joint (issue 7: memory per element).
+  // time and a position per joint (memory per element).
   std::vector<BreakRecord> breaks;
   // The joint's kn (and ks, unless given) is its property's times this factor:
   // penalty_h / local element size for penalty stiffnesses, 1 otherwise (DESIGN.md §3).

@@ -140,8 +140,8 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
   };
 
   Joints& J = out.joints;
-  // At most one joint per two edge sides: reserved, the ten arrays do not grow by doubling
-  // (1.49 M joints of the 10^6-element box: 21 reallocations each, issue 7 memory).
+  // At most one joint per two edge sides: reserved, so the ten arrays do not grow by
+  // doubling (peak memory of large models).
   J.reserve(edges.size() / 2);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t e = i + 1;

@@ -333,9 +333,9 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
       throw io::ScenarioError({e.what()});
     }
     // Nodes numbered in the order the triangles use them (mesh/node_order.hpp): the same
-    // motion, the node data of a thread's triangles next to each other (issue 7). Written
-    // in place: a renumbered copy of the node arrays, freed at once, kept ~7 % more of the
-    // 10^5-element box's pages (glibc then serves later large blocks from its heap).
+    // motion, the node data of a thread's triangles next to each other. Written in place:
+    // a renumbered copy of the node arrays, freed at once, would keep its pages resident
+    // (glibc then serves later large blocks from its heap).
     const std::vector<Index> new_id = node_order_by_first_use(ins.triangles, ins.nodes.size());
     model.nodes.resize(ins.nodes.size());
     for (std::size_t i = 0; i < ins.nodes.size(); ++i) {

@@ -1,11 +1,11 @@
 #pragma once
-// Node numbering for locality (issue 7, DESIGN.md §9): nodes numbered in the order the
+// Node numbering for locality (DESIGN.md §9): nodes numbered in the order the
 // triangles first use them, so that the nodes of nearby triangle indices are nearby in
 // memory and every contiguous share of the triangles (a thread's) works on a contiguous
 // share of the nodes. Gmsh numbers a mesh's corner and curve nodes first and its surface
 // nodes after, and joint insertion appends the split copies: a triangle's three nodes
-// could lie thousands of entries apart, and on 2 threads half the node data a thread read
-// had last been written by the other core (Dr2, issue 7 profile).
+// could lie thousands of entries apart, and a thread would read node data last written
+// by another core.
 //
 // Only the numbering changes: each node's force is still summed in element, joint and
 // contact-pair order (they are numbered by triangle and joint), so the motion is the same

@@ -1,10 +1,10 @@
 #pragma once
-// Triangle numbering for locality (issue 7, DESIGN.md §9): triangles numbered along a
+// Triangle numbering for locality (DESIGN.md §9): triangles numbered along a
 // Hilbert curve through their centroids, so that triangles near in space are near in
 // number. Gmsh numbers a surface's triangles in the order its mesher made them, not by
-// place: late in Dr2, 29 % of the contact pairs one thread examined reached a triangle in
-// the other thread's run, and each such pair read data the other core had just written
-// (bench/profile_notes.md Round 17). Nodes then follow the triangles (node_order.hpp).
+// place: a thread's contact pairs would then often reach a triangle in another thread's
+// run and read data the other core had just written. Nodes then follow the triangles
+// (node_order.hpp).
 //
 // Unlike the node numbering, this one changes the order of the sums (element, joint and
 // contact forces are added in triangle order), so a run differs from one on the file's

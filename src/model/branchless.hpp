@@ -3,10 +3,9 @@
 // same value for every input, NaN and signed zeros included, as (a < b) ? b : a and
 // (b < a) ? b : a (the instructions return their second operand on equal or unordered
 // inputs). GCC 12 compiles many std::max / std::min of the joint law as branches, and
-// the damaged joints' mixed states mispredict them (callgrind of the 968-element box:
-// 6.2 M of its 16.7 M mispredicted branches, issue 7). Used where the data decide at
-// random: the joint law's general branch (box -9 %); not its elastic fast path, where the
-// branches predict well and MAXSD's latency cost the disc 2 %.
+// the damaged joints' mixed states mispredict them. Used where the data decide at
+// random: the joint law's general branch; not its elastic fast path, where the
+// branches predict well and MAXSD's latency would cost more than it saves.
 #include <algorithm>
 
 #if defined(__SSE2__)

@@ -23,7 +23,7 @@ struct Nodes {
   // first half-kick). During a step the solver sums the nodal forces in this same array
   // (N, per unit thickness in plane strain) and finish_velocities() divides them by the
   // masses in place: the force of a step is dead once its acceleration exists, so one
-  // array holds both (issue 7: 16 B per node).
+  // array holds both (16 B per node).
   std::vector<Vec2> a;
   std::vector<double> m;  // lumped mass, kg
   std::vector<Index> origin;       // the mesh node this node was split from (joint insertion)
@@ -48,14 +48,14 @@ struct Triangles {
   std::vector<Zone> zone;
   std::vector<Mat2> Dm_inv;   // inverse of the reference edge matrix [X1-X0, X2-X0]
   std::vector<double> area0;  // reference area, m^2
-  // Output buffers of the current state, empty unless filled (issue 7: 48 B per
+  // Output buffers of the current state, empty unless filled (48 B per
   // triangle): Solver::update_stress() fills them for a field frame and
   // release_stress() empties them again; a solver whose stress is not on demand (the
   // default, used by tests) keeps them sized and writes them every step.
   std::vector<Vec3> stress;   // Cauchy stress (xx, yy, xy), Pa
   std::vector<Vec3> strain;   // Green-Lagrange strain (xx, yy, 2*xy engineering shear)
   // Initial (in-situ) stress kept from an earlier stage, Pa; empty = zero everywhere (the
-  // usual case: 24 B per triangle saved, issue 7). Read it through initial_stress().
+  // usual case: 24 B per triangle saved). Read it through initial_stress().
   std::vector<Vec3> stress0;
 
   std::size_t size() const { return conn.size(); }

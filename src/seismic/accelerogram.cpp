@@ -266,9 +266,8 @@ Accelerogram read_accelerogram_csv(std::istream& in, const std::string& name, Ac
   }
   if (max_dev <= 1e-4 * mean_dt) return integrate(mean_dt, std::move(a), baseline);
   // Irregular steps are resampled at the smallest one. A record whose smallest step is
-  // tiny against its length would become hundreds of millions of samples (a fuzz find:
-  // minutes of work, gigabytes; 4 million samples still took > 10 s under the fuzzer with
-  // its baseline correction): refuse it with the numbers.
+  // tiny against its length would become hundreds of millions of samples (minutes of
+  // work, gigabytes, with its baseline correction): refuse it with the numbers.
   constexpr double kMaxResampled = 1e6;  // e.g. 83 min at 0.005 s; real records are minutes long
   const double resampled = (t.back() - t.front()) / min_dt + 1.0;
   if (!(resampled <= kMaxResampled))

@@ -208,8 +208,8 @@ double dot(const double* a, const double* b, std::size_t n) {
 }
 
 // a . b[c] for four columns c, each summed in index order as dot() sums (the same bits):
-// one chain of adds waits on itself, four independent chains do not (the wave's set-up
-// spent 37 % of its time in dot(), issue 7 profile).
+// one chain of adds waits on itself, four independent chains do not (dot() dominates
+// the wave's set-up).
 void dot4(const double* a, const double* const b[4], std::size_t n, double out[4]) {
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -234,8 +234,8 @@ Eigen::VectorXd regularised_solve(const std::vector<std::vector<double>>& A, con
   Eigen::MatrixXd N = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
   Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
   // Column i of the lower triangle (contiguous in column-major N; the upper triangle
-  // along row i strode by m: 14 % of the wave's set-up) gets the rows' terms in row
-  // order: each column whole on one thread, so any thread count gives the same bits.
+  // along row i would stride by m) gets the rows' terms in row order: each column whole
+  // on one thread, so any thread count gives the same bits.
   const auto ms = static_cast<std::ptrdiff_t>(m);
 #pragma omp parallel for schedule(dynamic, 4)
   for (std::ptrdiff_t ci = 0; ci < ms; ++ci) {

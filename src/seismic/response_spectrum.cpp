@@ -106,7 +106,7 @@ ResponseSpectrum response_spectrum(std::span<const double> ag, double dt, std::s
   s.Sv.resize(periods.size());
   s.Sd.resize(periods.size());
   // Each period on its own, on any thread: the same bits (the artificial wave's set-up
-  // judges every attempt on 600 periods, issue 7).
+  // judges every attempt on 600 periods).
   const auto np = static_cast<std::ptrdiff_t>(periods.size());
 #pragma omp parallel for schedule(dynamic, 8)
   for (std::ptrdiff_t jj = 0; jj < np; ++jj) {

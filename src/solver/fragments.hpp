@@ -1,6 +1,6 @@
 #pragma once
 // Fragments: pieces of the model connected through shared nodes (continuous mesh) or
-// intact joints (issue 3). Union-find, O(N).
+// intact joints (DESIGN.md §7, the pieces of a broken beam). Union-find, O(N).
 #include <vector>
 
 #include "model/model.hpp"

@@ -1,5 +1,5 @@
 // Saving and restoring the solver's state: everything a step reads, so a restarted run
-// continues bit-identically (issue 8).
+// continues bit-identically (DESIGN.md §1 step 9, §10).
 #include <fmt/format.h>
 
 #include "solver/solver.hpp"
