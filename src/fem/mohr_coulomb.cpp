@@ -74,7 +74,7 @@ MohrCoulombModel make_mohr_coulomb(const MohrCoulombParameters& p, const Elastic
   mc.inv_2mu = 1.0 / (2.0 * elastic.mu);
   mc.inv_vol = elastic.lambda / (2.0 * elastic.mu * (3.0 * elastic.lambda + 2.0 * elastic.mu));
   // Shear planes of the sector s1 >= s2 >= s3 and of its two neighbours (the edges), with
-  // the potential g = m s_max - s_min (Clausen et al. 2007, eq. 2 with tension positive).
+  // the potential g = m s_max - s_min (Clausen et al. 2007, with tension positive).
   const double k = mc.k, m = mc.m;
   const P3 a_shear[3] = {{k, 0.0, -1.0}, {0.0, k, -1.0}, {k, -1.0, 0.0}};
   const P3 b_shear[3] = {{m, 0.0, -1.0}, {0.0, m, -1.0}, {m, -1.0, 0.0}};
@@ -114,7 +114,7 @@ struct Candidate {
 
 // Faces first, then lines, then points. Without a cut-off the apex takes what the plane
 // and the two edges do not: with psi < phi its return direction is not in the cone of the
-// potential gradients (Clausen et al. 2007, §4: the apex region is bounded by the planes
+// potential gradients (Clausen et al. 2007: the apex region is bounded by the planes
 // through the apex spanned by the edges' return directions, and lies beyond the apex in
 // mean stress, so the dissipation there stays >= 0). The shear-tension compression corner
 // is where four planes meet (k s1 - s3, k s2 - s3, s1, s2); the trial returns there when
@@ -171,9 +171,9 @@ struct Trial {
   double violation;     // largest violation of the return's conditions, Pa
 };
 
-// Return of sB to the planes of `cand` (Clausen et al. 2006, eqs. 10-14 for one to three
-// planes): s = sB - sum dl_j r_j with a_i . s = rhs_i; valid when every dl_j >= 0, the
-// order s1 >= s2 >= s3 holds and s is admissible.
+// Return of sB to the planes of `cand` (one plane, a line of two, a point of three;
+// Clausen et al. 2006): s = sB - sum dl_j r_j with a_i . s = rhs_i; valid when every
+// dl_j >= 0, the order s1 >= s2 >= s3 holds and s is admissible.
 Trial try_return(const MohrCoulombModel& mc, const P3& sB, const Candidate& cand) {
   double G[3][3], f[3], dl[3] = {0.0, 0.0, 0.0};
   for (int i = 0; i < cand.n; ++i) {
@@ -189,7 +189,7 @@ Trial try_return(const MohrCoulombModel& mc, const P3& sB, const Candidate& cand
     for (int q = 0; q < 3; ++q) t.s[q] -= dl[j] * r[q];
     v = std::max(v, -dl[j] * G[j][j]);
   }
-  // Coordinates the active planes fix exactly: the cut-off values and the cone's apex.
+  // The cut-off planes fix their principal stress exactly.
   for (int j = 0; j < cand.n; ++j)
     if (cand.planes[j] >= 3) t.s[cand.planes[j] - 3] = mc.ft;
   v = std::max({v, t.s[1] - t.s[0], t.s[2] - t.s[1], mc.k * t.s[0] - t.s[2] - mc.sc});
@@ -225,7 +225,8 @@ MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E,
   sB[pos_b] = sb;
   sB[pos_z] = S_zz;
 
-  // The first candidate whose conditions hold to round-off; else the least violating one.
+  // The first candidate whose conditions hold to round-off (1e-13 of the stress scale, some
+  // hundred ulps); the regions tile the plastic domain, so one does up to that round-off.
   const double tol = 1e-13 * (std::abs(sB[0]) + std::abs(sB[2]) + mc.sc + (mc.cutoff ? std::abs(mc.ft) : 0.0));
   const Candidate* begin = mc.cutoff ? std::begin(kWithCutoff) : std::begin(kShearOnly);
   const Candidate* stop = mc.cutoff ? std::end(kWithCutoff) : std::end(kShearOnly);

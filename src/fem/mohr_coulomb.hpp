@@ -7,7 +7,7 @@
 // the return mapping. Tension positive.
 //
 // Return mapping in principal stresses for linear yield planes (Clausen, Damkilde &
-// Andersen 2006, Comput. Struct. 84; Clausen, Damkilde & Andersen 2007, IJNME 70): the
+// Andersen 2006, IJNME 66, associated; 2007, Comput. Struct. 85, non-associated): the
 // trial stress returns to a plane, a line or a point of the yield surface along the
 // elastic image D b of the plastic potential gradients, with multipliers >= 0.
 #include <algorithm>

@@ -572,6 +572,78 @@ TEST(MohrCoulomb, RandomTrialStressesReturnToTheNamedFeature) {
   EXPECT_EQ(seen.size(), 10u) << list;  // all but the cut-off apex
 }
 
+// 3. The energy ledger closes: in each step the work of the midpoint stress on the strain
+// increment equals the change of the stored energy plus the booked dissipation, to an
+// error 0.5 dS : dEp of second order in the step (the dissipation is booked at the
+// returned stress), so the summed error falls tenfold for ten times smaller steps. The
+// stored energy is S0 : Ee + Ee : D : Ee / 2 of the state.
+TEST(MohrCoulomb, EnergyBalanceClosesAsTheStepShrinks) {
+  const auto el = constants(80e6, 0.28);
+  const auto mc = fem::make_mohr_coulomb(params(50e3, 30, 10, 20e3), el);
+  auto error = [&](int n) {
+    Point pt(mc);
+    pt.S0 = Vec3(-300e3, -200e3, 20e3);
+    pt.S0_zz = -250e3;
+    double work = 0.0, error_sum = 0.0, psi_prev = 0.0;
+    Vec3 S_prev = pt.S0;
+    for (int i = 1; i <= n; ++i) {
+      // A curved path through shear, extension and compression.
+      const double t = double(i) / n;
+      const Vec3 E(4e-3 * std::sin(3 * t), -3e-3 * t + 2e-3 * std::sin(5 * t), 6e-3 * t * t);
+      const Vec3 dE = E - pt.E;
+      const auto& r = pt.go(E);
+      const double w = 0.5 * (S_prev + r.S).dot(dE);  // no work on the zero E_zz
+      work += w;
+      error_sum += std::abs(w - (r.strain_energy - psi_prev) - r.dissipation);
+      S_prev = r.S;
+      psi_prev = r.strain_energy;
+      // Stored energy of the state, independently.
+      const double exx = E[0] - pt.state.ep_xx, eyy = E[1] - pt.state.ep_yy, g = E[2] - pt.state.ep_xy;
+      const double ezz = -pt.state.ep_zz, tr = exx + eyy + ezz;
+      const double psi = pt.S0.dot(Vec3(exx, eyy, g)) + pt.S0_zz * ezz +
+                         0.5 * (el.lambda * tr * tr + 2 * el.mu * (exx * exx + eyy * eyy + ezz * ezz) + el.mu * g * g);
+      EXPECT_NEAR(r.strain_energy, psi, 1e-9 * (std::abs(psi) + 1.0));
+    }
+    EXPECT_GT(pt.state.plastic_work, 0.01 * work);
+    EXPECT_NEAR(std::abs(work - pt.last.strain_energy - pt.state.plastic_work), 0.0, error_sum + 1e-12 * work);
+    return error_sum / std::abs(work);
+  };
+  const double e1 = error(200), e2 = error(2000), e3 = error(20000);
+  EXPECT_LT(e2, 0.2 * e1) << e1 << " " << e2;
+  EXPECT_LT(e3, 0.2 * e2) << e2 << " " << e3;
+  EXPECT_LT(e3, 1e-6) << e1 << " " << e2 << " " << e3;
+}
+
+// Evaluating again from the end state with the same strain (stress on demand, a repeated
+// evaluation) gives the same stress and no further plastic flow, up to round-off.
+TEST(MohrCoulomb, ReturnedStateIsAFixedPoint) {
+  const auto el = constants(80e6, 0.28);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const auto& p : {params(50e3, 30, 10), params(50e3, 30, 10, 20e3), params(80e3, 0, 0, 40e3)}) {
+    const auto mc = fem::make_mohr_coulomb(p, el);
+    int plastic = 0;
+    for (int i = 0; i < 5000; ++i) {
+      const Vec3 E(2e-3 * u(rng), 2e-3 * u(rng), 2e-3 * u(rng));
+      const Vec3 S0(-200e3 * (1 + u(rng)), -200e3 * (1 + u(rng)), 50e3 * u(rng));
+      const double S0_zz = 200e3 * u(rng);
+      fem::MohrCoulombState st, again;
+      const auto r = fem::mohr_coulomb_update(mc, E, S0, S0_zz, st, st);
+      const auto r2 = fem::mohr_coulomb_update(mc, E, S0, S0_zz, st, again);
+      plastic += r.yielded();
+      const double scale = 1e-12 * (r.S.norm() + std::abs(r.S_zz) + p.c + 400e3);
+      EXPECT_NEAR(r2.S[0], r.S[0], scale);
+      EXPECT_NEAR(r2.S[1], r.S[1], scale);
+      EXPECT_NEAR(r2.S[2], r.S[2], scale);
+      EXPECT_NEAR(r2.S_zz, r.S_zz, scale);
+      EXPECT_NEAR(again.ep_xx, st.ep_xx, 1e-15);
+      EXPECT_NEAR(again.ep_zz, st.ep_zz, 1e-15);
+      EXPECT_LE(r2.dissipation, 1e-12 * p.c * 1e-3);
+    }
+    EXPECT_GT(plastic, 1000);
+  }
+}
+
 // The law is objective in the plane: rotating E, S0 and the plastic strain rotates S.
 TEST(MohrCoulomb, RotatedInputsGiveTheRotatedStress) {
   const auto el = constants(80e6, 0.28);
