@@ -78,13 +78,14 @@ MohrCoulombModel make_mohr_coulomb(const MohrCoulombParameters& p, const Elastic
   const double k = mc.k, m = mc.m;
   const P3 a_shear[3] = {{k, 0.0, -1.0}, {0.0, k, -1.0}, {k, -1.0, 0.0}};
   const P3 b_shear[3] = {{m, 0.0, -1.0}, {0.0, m, -1.0}, {m, -1.0, 0.0}};
-  for (int i = 0; i < 3; ++i) mc.plane[i] = {a_shear[i], elastic_image(elastic, b_shear[i]), mc.sc};
+  for (int i = 0; i < 3; ++i) mc.plane[i] = {a_shear[i], elastic_image(elastic, b_shear[i]), mc.sc, 0.0};
   // Rankine cut-off s_i <= ft, associated.
   for (int i = 0; i < 3; ++i) {
     P3 e{0.0, 0.0, 0.0};
     e[i] = 1.0;
-    mc.plane[3 + i] = {e, elastic_image(elastic, e), mc.ft};
+    mc.plane[3 + i] = {e, elastic_image(elastic, e), mc.ft, 0.0};
   }
+  for (PrincipalPlane& pl : mc.plane) pl.inv_ar = 1.0 / dot(pl.a, pl.r);
   return mc;
 }
 
@@ -207,51 +208,67 @@ MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E,
                                       MohrCoulombState& end) {
   const ElasticConstants& c = mc.elastic;
   // Principal stresses of the trial: in-plane pair sa >= sb along the angle 2theta with
-  // cos = c2, sin = s2, and S_zz; pos_* is where each sits in the sorted triple.
+  // cos = c2, sin = s2, and S_zz; `zpos` is where S_zz sits in the sorted triple (scalars
+  // rather than an indexed store, which the loads after it would stall on).
   const double C = 0.5 * (S[0] + S[1]);
   const double d = 0.5 * (S[0] - S[1]);
   const double R = std::sqrt(d * d + S[2] * S[2]);
   const double c2 = R > 0.0 ? d / R : 1.0;
   const double s2 = R > 0.0 ? S[2] / R : 0.0;
   const double sa = C + R, sb = C - R;
-  int pos_a = 0, pos_b = 1, pos_z = 2;
-  if (S_zz > sa) {
-    pos_z = 0, pos_a = 1, pos_b = 2;
-  } else if (S_zz > sb) {
-    pos_z = 1, pos_b = 2;
-  }
-  P3 sB;
-  sB[pos_a] = sa;
-  sB[pos_b] = sb;
-  sB[pos_z] = S_zz;
+  const int zpos = S_zz > sa ? 0 : (S_zz > sb ? 1 : 2);
+  const P3 sB = zpos == 0 ? P3{S_zz, sa, sb} : (zpos == 1 ? P3{sa, S_zz, sb} : P3{sa, sb, S_zz});
 
-  // The first candidate whose conditions hold to round-off (1e-13 of the stress scale, some
-  // hundred ulps); the regions tile the plastic domain, so one does up to that round-off.
-  const double tol = 1e-13 * (std::abs(sB[0]) + std::abs(sB[2]) + mc.sc + (mc.cutoff ? std::abs(mc.ft) : 0.0));
-  const Candidate* begin = mc.cutoff ? std::begin(kWithCutoff) : std::begin(kShearOnly);
-  const Candidate* stop = mc.cutoff ? std::end(kWithCutoff) : std::end(kShearOnly);
   Trial best{sB, std::numeric_limits<double>::infinity()};
   MohrCoulombRegion region = MohrCoulombRegion::ShearPlane;
-  for (const Candidate* cand = begin; cand != stop; ++cand) {
-    const Trial t = try_return(mc, sB, *cand);
-    if (t.violation < best.violation) {
-      best = t;
-      region = cand->region;
-    }
-    if (t.violation <= tol) break;
+  // The two plane returns first, in closed form: the common cases, and their conditions
+  // hold strictly, so the candidate search below would return the same.
+  const PrincipalPlane& shear = mc.plane[0];
+  const double f_shear = mc.k * sB[0] - sB[2] - mc.sc;
+  if (f_shear > 0.0) {
+    const double dl = f_shear * shear.inv_ar;
+    best.s = {sB[0] - dl * shear.r[0], sB[1] - dl * shear.r[1], sB[2] - dl * shear.r[2]};
+    best.violation = best.s[0] >= best.s[1] && best.s[1] >= best.s[2] && best.s[0] <= mc.ft ? 0.0 : 1.0;
   }
-  if (best.violation > tol && !mc.cutoff && mc.k > 1.0) {
-    best.s = {mc.apex, mc.apex, mc.apex};
-    region = MohrCoulombRegion::ShearApex;
+  if (best.violation > 0.0 && mc.cutoff && sB[0] > mc.ft) {
+    const PrincipalPlane& tension = mc.plane[3];
+    const double dl = (sB[0] - mc.ft) * tension.inv_ar;
+    best.s = {mc.ft, sB[1] - dl * tension.r[1], sB[2] - dl * tension.r[2]};
+    best.violation = best.s[1] <= mc.ft && mc.k * best.s[0] - best.s[2] - mc.sc <= 0.0 ? 0.0 : 1.0;
+    region = MohrCoulombRegion::TensionPlane;
+  }
+  if (best.violation > 0.0) {
+    // The first candidate whose conditions hold to round-off (1e-13 of the stress scale,
+    // some hundred ulps); the regions tile the plastic domain, so one does up to that
+    // round-off.
+    const double tol =
+        1e-13 * (std::abs(sB[0]) + std::abs(sB[2]) + mc.sc + (mc.cutoff ? std::abs(mc.ft) : 0.0));
+    const Candidate* begin = mc.cutoff ? std::begin(kWithCutoff) : std::begin(kShearOnly);
+    const Candidate* stop = mc.cutoff ? std::end(kWithCutoff) : std::end(kShearOnly);
+    best = Trial{sB, std::numeric_limits<double>::infinity()};
+    for (const Candidate* cand = begin; cand != stop; ++cand) {
+      const Trial t = try_return(mc, sB, *cand);
+      if (t.violation < best.violation) {
+        best = t;
+        region = cand->region;
+      }
+      if (t.violation <= tol) break;
+    }
+    if (best.violation > tol && !mc.cutoff && mc.k > 1.0) {
+      best.s = {mc.apex, mc.apex, mc.apex};
+      region = MohrCoulombRegion::ShearApex;
+    }
   }
   const P3& s = best.s;
 
   // Rotate back: the return keeps the principal directions (isotropic D).
-  const double Cn = 0.5 * (s[pos_a] + s[pos_b]);
-  const double Rn = 0.5 * (s[pos_a] - s[pos_b]);
+  const double ra = zpos == 0 ? s[1] : s[0];
+  const double rb = zpos == 2 ? s[1] : s[2];
+  const double Cn = 0.5 * (ra + rb);
+  const double Rn = 0.5 * (ra - rb);
   MohrCoulombResult out;
   out.S = Vec3(Cn + Rn * c2, Cn - Rn * c2, Rn * s2);
-  out.S_zz = s[pos_z];
+  out.S_zz = s[zpos];
   out.region = region;
 
   // dEp = D^-1 (S_trial - S), engineering shear.

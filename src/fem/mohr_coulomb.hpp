@@ -85,6 +85,7 @@ struct PrincipalPlane {
   std::array<double, 3> a;
   std::array<double, 3> r;
   double rhs;
+  double inv_ar;  // 1 / (a . r): the multiplier of a return to this plane alone is f / (a . r)
 };
 
 // Parameters and elastic constants turned into what the return needs; build once per
