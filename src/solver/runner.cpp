@@ -3,6 +3,7 @@
 #include "mesh/node_order.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <omp.h>
 #include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/sinks/ringbuffer_sink.h>
@@ -23,7 +24,7 @@
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/history_writer.hpp"
-#include "io/json_writer.hpp"
+#include "io/json_file.hpp"
 #include "io/pvd.hpp"
 #include "io/vtu_writer.hpp"
 #include "io/crack_output.hpp"
@@ -859,11 +860,11 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     const std::string entity = e.kind == "inverted_element" ? "element"
                                : e.id == kNoIndex           ? "model"
                                                             : "node";
-    io::Json diag = io::Json::object({{"kind", e.kind},
+    nlohmann::ordered_json diag = nlohmann::ordered_json::object({{"kind", e.kind},
                                       {"message", std::string(e.what())},
                                       {"entity", entity},
                                       {"id", e.id},
-                                      {"position_m", io::Json::array({e.position.x(), e.position.y()})},
+                                      {"position_m", nlohmann::ordered_json::array({e.position.x(), e.position.y()})},
                                       {"step", e.step},
                                       {"time_s", e.time},
                                       {"dt_s", solver.settings().dt},
@@ -898,7 +899,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   const double max_balance_error = std::max(state.max_balance_error, solver.energy().balance_error());
 
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  io::Json summary = io::Json::object();
+  nlohmann::ordered_json summary = nlohmann::ordered_json::object();
   summary["title"] = sc.title;
   summary["scenario"] = sc.file;
   summary["dsdem_version"] = std::string(DSDEM_VERSION) + " (" + DSDEM_GIT_COMMIT + ")";
@@ -931,7 +932,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   summary["completed"] = completed;
   if (stopped_by) summary["stopped_by"] = signal_name(stopped_by);
   if (stopped_at_step) summary["stopped_at_step"] = solver.step_count();
-  io::Json energies = io::Json::object();
+  nlohmann::ordered_json energies = nlohmann::ordered_json::object();
   const auto& e = solver.energy();
   energies["unit"] = energy_unit;
   energies["kinetic"] = e.kinetic;
@@ -944,14 +945,14 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   energies["contact_elastic"] = e.contact_elastic;
   energies["friction_dissipated"] = e.friction_dissipated;
   summary["final_energies"] = energies;
-  io::Json gauges = io::Json::array();
+  nlohmann::ordered_json gauges = nlohmann::ordered_json::array();
   for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
     const Vec2 u = gauge_value(model, prepared.gauges[gi], model.nodes.u);
-    gauges.push_back(io::Json::object({{"name", prepared.gauges[gi].name},
+    gauges.push_back(nlohmann::ordered_json::object({{"name", prepared.gauges[gi].name},
                                        {"max_displacement_m", gauge_stats[gi].max_disp},
                                        {"peak_velocity_mps", gauge_stats[gi].max_speed},
                                        {"time_of_peak_velocity_s", gauge_stats[gi].time_of_max_speed},
-                                       {"final_displacement_m", io::Json::array({u.x(), u.y()})}}));
+                                       {"final_displacement_m", nlohmann::ordered_json::array({u.x(), u.y()})}}));
   }
   summary["gauges"] = gauges;
   if (has_joints) io::write_crack_log_csv(out / "cracks.csv", model);
