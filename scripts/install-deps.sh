@@ -9,6 +9,7 @@ PACKAGES=(
   libvtk9-dev
   libyaml-cpp-dev
   libcli11-dev
+  nlohmann-json3-dev
   libfmt-dev libspdlog-dev
   libhdf5-dev
   libgtest-dev libgmock-dev googletest

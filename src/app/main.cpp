@@ -13,7 +13,8 @@
 #include "dsdem_version.hpp"
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
-#include "solver/runner.hpp"
+#include "run/runner.hpp"
+#include "solver/solver.hpp"
 
 namespace {
 
@@ -117,12 +118,12 @@ int main(int argc, char** argv) {
         std::filesystem::path p;
         ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
       } cleanup{work};
-      auto prepared = dsdem::solver::prepare_run(sc, work.string());
+      auto prepared = dsdem::run::prepare_run(sc, work.string());
       // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
       // run killed outright later on.
       std::error_code ec;
       std::filesystem::remove_all(work, ec);
-      dsdem::solver::RunOptions options;
+      dsdem::run::RunOptions options;
       options.output_dir = out_dir;
       options.threads = threads;
       options.quiet = quiet;
@@ -134,7 +135,7 @@ int main(int argc, char** argv) {
         options.output_dir = out_dir = std::filesystem::path(restart_path).parent_path().string();
       if (options.output_dir.empty()) options.output_dir = out_dir = ".";
       if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
-      const auto result = dsdem::solver::run(prepared, options);
+      const auto result = dsdem::run::run(prepared, options);
       if (result.stopped_by_signal) {
         fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with --restart {}\n",
                    result.stopped_by_signal, out_dir, result.checkpoint_path);
@@ -160,8 +161,8 @@ int main(int argc, char** argv) {
         std::filesystem::path p;
         ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
       } cleanup{work};
-      auto prepared = dsdem::solver::prepare_run(sc, work.string());
-      fmt::print("{}", dsdem::solver::check_report(prepared));
+      auto prepared = dsdem::run::prepare_run(sc, work.string());
+      fmt::print("{}", dsdem::run::check_report(prepared));
       fmt::print("scenario OK\n");
       return 0;
     });

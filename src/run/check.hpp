@@ -1,0 +1,27 @@
+#pragma once
+// `dsdem check`: the model, its time step and estimates of run time, memory and output.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "run/prepare.hpp"
+
+namespace dsdem::run {
+
+// Prints the model summary, dt and its control, and an estimate of the run time
+// measured on a few steps. Returns the text.
+std::string check_report(PreparedRun& run);
+
+// Bytes of memory a run of this model needs (data structures per node, element, joint,
+// plus contact buffers), and the bytes of output it will write. Estimates, for `check`.
+std::size_t estimate_memory_bytes(const PreparedRun& run);
+std::size_t estimate_output_bytes(const PreparedRun& run, bool write_fields = true);
+
+// Warnings `check` prints when the run needs more memory than the machine has available
+// (MemAvailable in /proc/meminfo) or longer than 24 h of wall time. Empty when fine.
+std::vector<std::string> resource_warnings(std::size_t memory_bytes, std::size_t available_bytes,
+                                           double wall_seconds);
+// MemAvailable from /proc/meminfo in bytes; 0 when unknown.
+std::size_t available_memory_bytes();
+
+}  // namespace dsdem::run

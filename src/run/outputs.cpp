@@ -1,0 +1,196 @@
+#include "run/outputs.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "io/crack_output.hpp"
+#include "io/vtu_writer.hpp"
+#include "solver/fragments.hpp"
+
+namespace dsdem::run {
+
+namespace fs = std::filesystem;
+
+ReactionGroups reaction_groups(const io::Scenario& sc, const Model& model) {
+  ReactionGroups groups;
+  for (const auto& stage : sc.stages)
+    for (const auto& b : stage.boundaries) {
+      if (b.type == io::BoundaryType::Free) continue;
+      if (std::any_of(groups.begin(), groups.end(), [&](const auto& r) { return r.first == b.group; })) continue;
+      groups.emplace_back(b.group, &model.groups[model.find_group(b.group)].nodes);
+    }
+  return groups;
+}
+
+std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, const ReactionGroups& reactions) {
+  const bool plane_strain = !prepared.model.plane_stress;
+  const std::string energy_unit = plane_strain ? "J_per_m" : "J";
+  std::vector<io::HistoryColumn> columns{{"time", "s"},
+                                         {"step", ""},
+                                         {"stage", ""},
+                                         {"kinetic", energy_unit},
+                                         {"strain", energy_unit},
+                                         {"gravity_potential", energy_unit},
+                                         {"external_work", energy_unit},
+                                         {"damping_dissipated", energy_unit},
+                                         {"joint_elastic", energy_unit},
+                                         {"fracture_dissipated", energy_unit},
+                                         {"energy_balance_error", ""},
+                                         {"contact_elastic", energy_unit},
+                                         {"friction_dissipated", energy_unit},
+                                         {"broken_joints", ""},
+                                         {"fragments", ""},
+                                         {"contacts", ""}};
+  const std::string force_unit = plane_strain ? "N_per_m" : "N";
+  for (const auto& [name, nodes] : reactions)
+    for (const char* c : {"x", "y"}) columns.push_back({fmt::format("{}_reaction_{}", name, c), force_unit});
+  for (const auto& g : prepared.gauges)
+    for (const auto& [q, unit] : std::vector<std::pair<std::string, std::string>>{
+             {"displacement", "m"}, {"velocity", "m_per_s"}, {"acceleration", "m_per_s2"}})
+      for (const char* c : {"x", "y"}) columns.push_back({fmt::format("{}_{}_{}", g.name, q, c), unit});
+  return columns;
+}
+
+namespace {
+
+// Frames after the checkpoint (in time or in number) are written again by the resumed run.
+io::PvdSeries open_series(const fs::path& out, const std::string& name, const RunnerState* resume_from,
+                          std::size_t frames) {
+  return resume_from ? io::PvdSeries::resume(out / name, resume_from->time, frames) : io::PvdSeries(out / name);
+}
+
+}  // namespace
+
+RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, const fs::path& out, bool write_fields,
+                       const RunnerState* resume_from)
+    : prepared_(prepared),
+      model_(prepared.model),
+      solver_(solver),
+      out_(out),
+      write_fields_(write_fields),
+      has_joints_(prepared.model.joints.size() > 0),
+      energy_unit_(prepared.model.plane_stress ? "J" : "J_per_m"),
+      force_unit_(prepared.model.plane_stress ? "N" : "N_per_m"),
+      reactions_(reaction_groups(prepared.scenario, prepared.model)) {
+  auto columns = history_columns(prepared, reactions_);
+  row_.resize(columns.size());
+  if (resume_from)
+    history_.emplace(out / "history.csv", std::move(columns), io::HistoryWriter::Resume{resume_from->history_rows});
+  else
+    history_.emplace(out / "history.csv", std::move(columns));
+  fields_.emplace(open_series(out, "fields.pvd", resume_from, resume_from ? resume_from->fields_frames : 0));
+  if (has_joints_) cracks_.emplace(open_series(out, "cracks.pvd", resume_from, resume_from ? resume_from->cracks_frames : 0));
+  if (model_.contact.enabled && model_.contact.output)
+    contacts_.emplace(open_series(out, "contacts.pvd", resume_from, resume_from ? resume_from->contacts_frames : 0));
+}
+
+void RunOutputs::write_history(int stage_index) {
+  const auto& e = solver_.energy();
+  std::size_t k = 0;
+  row_[k++] = solver_.time();
+  row_[k++] = static_cast<double>(solver_.step_count());
+  row_[k++] = stage_index;
+  row_[k++] = e.kinetic;
+  row_[k++] = e.strain;
+  row_[k++] = e.gravity_potential;
+  row_[k++] = e.external_work;
+  row_[k++] = e.damping_dissipated;
+  row_[k++] = e.joint_elastic;
+  row_[k++] = e.fracture_dissipated;
+  row_[k++] = e.balance_error();
+  row_[k++] = e.contact_elastic;
+  row_[k++] = e.friction_dissipated;
+  row_[k++] = static_cast<double>(solver_.broken_joints());
+  row_[k++] = solver::count_fragments(model_, fragment_label_);
+  row_[k++] = static_cast<double>(solver_.active_contacts());
+  for (const auto& [name, nodes] : reactions_) {
+    const Vec2 r = solver_.reaction_on(*nodes);
+    row_[k++] = r.x();
+    row_[k++] = r.y();
+  }
+  for (const auto& g : prepared_.gauges) {
+    const Vec2 u = solver::gauge_value(model_, g, model_.nodes.u), v = solver::gauge_value(model_, g, model_.nodes.v),
+               a = solver::gauge_value(model_, g, model_.nodes.a);
+    for (const Vec2& q : {u, v, a}) {
+      row_[k++] = q.x();
+      row_[k++] = q.y();
+    }
+  }
+  history_->append(row_);
+}
+
+void RunOutputs::update_gauge_stats(std::vector<GaugeStats>& stats) const {
+  for (std::size_t gi = 0; gi < prepared_.gauges.size(); ++gi) {
+    const auto& g = prepared_.gauges[gi];
+    const double d = solver::gauge_value(model_, g, model_.nodes.u).norm();
+    const double s = solver::gauge_value(model_, g, model_.nodes.v).norm();
+    stats[gi].max_disp = std::max(stats[gi].max_disp, d);
+    if (s > stats[gi].max_speed) {
+      stats[gi].max_speed = s;
+      stats[gi].time_of_max_speed = solver_.time();
+    }
+  }
+}
+
+void RunOutputs::write_fields() {
+  if (!write_fields_) return;
+  solver_.update_stress();  // on demand: computed for this frame, released after it
+  const fs::path file = fields_->frame_path(fields_->size());
+  io::VtuOptions vo;
+  vo.time_s = solver_.time();
+  // The fragment each triangle belongs to (as counted in the history), so that piece
+  // sizes can be measured from the frames.
+  io::FieldSet cell_extra;
+  if (has_joints_) {
+    solver::count_fragments(model_, fragment_label_);
+    cell_extra.push_back(io::scalar_field("fragment", "", std::span<const std::int32_t>(fragment_label_)));
+  }
+  io::write_triangles_vtu(file, model_.nodes, model_.triangles, model_.materials, {}, cell_extra, vo);
+  solver_.release_stress();  // not held between frames: 48 B per triangle
+  fields_->add(solver_.time(), file);
+  if (cracks_) {
+    const fs::path cfile = cracks_->frame_path(cracks_->size());
+    io::write_cracks_vtu(cfile, model_, solver_.time());
+    cracks_->add(solver_.time(), cfile);
+  }
+  if (contacts_ && solver_.contact()) write_contact_frame();
+}
+
+void RunOutputs::write_contact_frame() {
+  contact_points_.clear();
+  contact_forces_.clear();
+  contact_normal_force_.clear();
+  contact_overlap_.clear();
+  solver_.contact()->for_each_contact([&](const contact::ContactRecord& c) {
+    contact_points_.push_back(c.point);
+    contact_forces_.push_back(c.force);
+    contact_normal_force_.push_back(c.fn);
+    contact_overlap_.push_back(c.overlap);
+  });
+  const fs::path pfile = contacts_->frame_path(contacts_->size());
+  io::VtuOptions po;
+  po.time_s = solver_.time();
+  io::write_points_vtu(pfile, contact_points_,
+                       {io::vector_field("contact_force", force_unit_, contact_forces_),
+                        io::scalar_field("normal_force", force_unit_, std::span<const double>(contact_normal_force_)),
+                        io::scalar_field("overlap", "m", std::span<const double>(contact_overlap_))},
+                       po);
+  contacts_->add(solver_.time(), pfile);
+}
+
+int RunOutputs::fragments() { return solver::count_fragments(model_, fragment_label_); }
+
+void RunOutputs::write_crack_log() const {
+  if (has_joints_) io::write_crack_log_csv(out_ / "cracks.csv", model_);
+}
+
+void RunOutputs::record_counts(RunnerState& s) {
+  history_->flush();
+  s.history_rows = history_->rows_written();
+  s.fields_frames = fields_->size();
+  s.cracks_frames = cracks_ ? cracks_->size() : 0;
+  s.contacts_frames = contacts_ ? contacts_->size() : 0;
+}
+
+}  // namespace dsdem::run

@@ -1,0 +1,70 @@
+#pragma once
+// What a run writes as it goes (DESIGN.md §10): history.csv rows (time, energies, counts,
+// reactions on driven groups, gauges), the field, crack and contact frame series, and the
+// gauges' peaks for the summary.
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/history_writer.hpp"
+#include "io/pvd.hpp"
+#include "run/prepare.hpp"
+#include "run/restart.hpp"
+#include "solver/solver.hpp"
+
+namespace dsdem::run {
+
+// Groups that carry a prescribed motion in some stage (loading plates, supports), each
+// once, in the order the stages name them: their reactions go into the history.
+using ReactionGroups = std::vector<std::pair<std::string, const std::vector<Index>*>>;
+ReactionGroups reaction_groups(const io::Scenario& sc, const Model& model);
+
+// history.csv's columns, in the order RunOutputs::write_history fills them.
+std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, const ReactionGroups& reactions);
+
+class RunOutputs {
+ public:
+  // Opens history.csv and the frame series in `out`. With `resume_from` (a restart in the
+  // checkpoint's own folder) the files keep the rows and frames up to the checkpoint.
+  RunOutputs(const PreparedRun& prepared, solver::Solver& solver, const std::filesystem::path& out,
+             bool write_fields, const RunnerState* resume_from);
+
+  void write_history(int stage_index);
+  // A field frame (with the fragment of each triangle), a crack frame and a contact frame.
+  void write_fields();
+  // Gauge peaks after a step.
+  void update_gauge_stats(std::vector<GaugeStats>& stats) const;
+  // cracks.csv, the log of every broken joint, when the model has joints.
+  void write_crack_log() const;
+  // Rows and frames so far into `s` (the history flushed first), for a checkpoint.
+  void record_counts(RunnerState& s);
+  void close_history() { history_->close(); }
+
+  std::size_t history_rows() const { return history_->rows_written(); }
+  std::size_t field_frames() const { return fields_->size(); }
+  int fragments();  // solver::count_fragments with this object's scratch
+  const std::string& energy_unit() const { return energy_unit_; }
+
+ private:
+  void write_contact_frame();
+
+  const PreparedRun& prepared_;
+  const Model& model_;
+  solver::Solver& solver_;
+  std::filesystem::path out_;
+  bool write_fields_ = true;
+  bool has_joints_ = false;
+  std::string energy_unit_, force_unit_;
+  ReactionGroups reactions_;
+  std::optional<io::HistoryWriter> history_;
+  std::optional<io::PvdSeries> fields_, cracks_, contacts_;
+  std::vector<double> row_;
+  std::vector<Index> fragment_label_;
+  std::vector<Vec2> contact_points_, contact_forces_;
+  std::vector<double> contact_normal_force_, contact_overlap_;
+};
+
+}  // namespace dsdem::run

@@ -1,0 +1,155 @@
+#include "run/prepare.hpp"
+
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "boundary/boundary_setup.hpp"
+#include "mesh/model_builder.hpp"
+#include "run/time_step.hpp"
+#include "seismic/artificial_wave.hpp"
+
+namespace dsdem::run {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Routes the default logger into a buffer while it lives (restored on any exit).
+class BuildLogCapture {
+ public:
+  BuildLogCapture()
+      : previous_(spdlog::default_logger()), sink_(std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(100000)) {
+    auto logger = std::make_shared<spdlog::logger>("dsdem-build", sink_);
+    logger->set_level(spdlog::level::info);
+    spdlog::set_default_logger(logger);
+  }
+  ~BuildLogCapture() { spdlog::set_default_logger(previous_); }
+  BuildLogCapture(const BuildLogCapture&) = delete;
+  BuildLogCapture& operator=(const BuildLogCapture&) = delete;
+  std::vector<PreparedRun::LogLine> lines() const {
+    std::vector<PreparedRun::LogLine> out;
+    for (const auto& m : sink_->last_raw())
+      out.push_back({static_cast<int>(m.level), std::string(m.payload.begin(), m.payload.end())});
+    return out;
+  }
+
+ private:
+  std::shared_ptr<spdlog::logger> previous_;
+  std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> sink_;
+};
+
+// The mesh and the model built on it, with what building logged; the .msh's bytes when it
+// was meshed into work_dir.
+void load_model(PreparedRun& run, const std::string& work_dir) {
+  RawMesh raw;
+  {
+    BuildLogCapture capture;
+    raw = mesh::load_mesh(run.scenario, work_dir);
+    run.model = mesh::build_model(run.scenario, raw);
+    run.build_log = capture.lines();
+  }
+  run.mesh_file = raw.msh_file;
+  if (work_dir.empty() || run.mesh_file.empty()) return;
+  std::error_code ec_mesh, ec_work;
+  const fs::path mesh = fs::weakly_canonical(run.mesh_file, ec_mesh), work = fs::weakly_canonical(work_dir, ec_work);
+  if (!ec_mesh && !ec_work && mesh.parent_path() == work) {  // meshed here from the .geo: keep its bytes
+    std::ifstream in(mesh, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (in) run.mesh_text = std::move(bytes).str();
+  }
+}
+
+// Gauges must sit in (or within half an element of) the model.
+void locate_gauges(PreparedRun& run) {
+  std::vector<std::string> errors;
+  double mean_size = 0.0;
+  for (double a : run.model.triangles.area0) mean_size += std::sqrt(2.0 * a);
+  mean_size /= std::max<std::size_t>(1, run.model.triangles.size());
+  for (const auto& g : run.scenario.output.gauges) {
+    auto located = solver::locate_gauge(run.model, g.name, g.at, 0.5 * mean_size);
+    if (!located)
+      errors.push_back(g.where.describe(
+          fmt::format("gauge '{}' at ({}, {}) m lies outside the mesh", g.name, g.at.x(), g.at.y())));
+    else
+      run.gauges.push_back(*located);
+  }
+  if (!errors.empty()) throw io::ScenarioError(errors);
+}
+
+// Earthquake: records, and stages that can carry it.
+void load_earthquake(PreparedRun& run) {
+  const io::Scenario& scenario = run.scenario;
+  const io::EarthquakeSpec& q = scenario.earthquake;
+  try {
+    if (q.horizontal.present) run.quake_horizontal = load_motion(q.horizontal, run.dt);
+    if (q.vertical.present) run.quake_vertical = load_motion(q.vertical, run.dt);
+  } catch (const io::ScenarioError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({fmt::format("{}: earthquake: {}", scenario.file, e.what())});
+  }
+  std::vector<std::string> errors;
+  for (const auto& st : scenario.stages) {
+    if (!st.earthquake) continue;
+    if (!run.quake_horizontal && !run.quake_vertical)
+      errors.push_back(fmt::format("{}: stage '{}' has earthquake: true but the scenario has no earthquake section",
+                                   scenario.file, st.name));
+    const bool input = std::any_of(st.boundaries.begin(), st.boundaries.end(), [](const io::BoundarySpec& b) {
+      return b.type == io::BoundaryType::ViscousSpring && b.free_field;
+    });
+    if (!input)
+      errors.push_back(fmt::format("{}: stage '{}' has earthquake: true but no viscous_spring boundary with free_field "
+                                   "to bring it in",
+                                   scenario.file, st.name));
+    // The boundary must be buildable (curves on the outline).
+    boundary::build_viscous_boundary(run.model, st.boundaries);
+  }
+  if (!errors.empty()) throw io::ScenarioError(errors);
+}
+
+}  // namespace
+
+PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_dir) {
+  PreparedRun run;
+  run.scenario = scenario;
+  load_model(run, work_dir);
+  locate_gauges(run);
+  choose_time_step(run);
+  run.estimated_steps = static_cast<long>(std::ceil(scenario.end_time() / run.dt));
+  load_earthquake(run);
+  return run;
+}
+
+seismic::Accelerogram load_motion(const io::MotionSpec& spec, double dt) {
+  seismic::Accelerogram rec;
+  if (spec.generate) {
+    seismic::ArtificialWaveParams p;
+    p.spectrum.kind = seismic::parse_design_spectrum_kind(spec.spectrum);
+    p.spectrum.pga = spec.pga_g * kStandardGravity;
+    p.spectrum.Tg = spec.Tg;
+    p.spectrum.beta_max = spec.beta_max;
+    p.spectrum.damping = spec.damping;
+    p.dt = spec.dt;
+    p.duration = spec.duration;
+    p.t1 = spec.t1;
+    p.t2 = spec.t2;
+    p.c = spec.c;
+    p.seed = spec.seed;
+    rec = seismic::generate_artificial_wave(p).wave;
+  } else {
+    rec = seismic::read_accelerogram(spec.file, seismic::parse_accel_units(spec.units));
+  }
+  if (spec.scale != 1.0) seismic::scale(rec, spec.scale);
+  return seismic::resample(rec, dt);
+}
+
+}  // namespace dsdem::run

@@ -1,0 +1,36 @@
+#pragma once
+// The runner's part of a checkpoint: what it carries from step to step besides the
+// solver's state, so that a restarted run writes what the uninterrupted one would.
+#include <cstddef>
+#include <vector>
+
+#include "io/checkpoint.hpp"
+#include "run/prepare.hpp"
+
+namespace dsdem::run {
+
+// Peaks of one gauge for the summary.
+struct GaugeStats {
+  double max_disp = 0.0, max_speed = 0.0, time_of_max_speed = 0.0;
+};
+
+struct RunnerState {
+  double time = 0.0;                  // s, of the checkpoint
+  std::size_t stage = 0;              // stage running; stages.size() once all are done
+  std::vector<double> stage_starts;   // s, start of each stage entered
+  double stage_end = 0.0;             // s, end of the current stage
+  double peak_kinetic = 0.0;          // in the current stage (stop_kinetic_ratio)
+  double next_field = 0.0, next_history = 0.0;  // s
+  double max_balance_error = 0.0;
+  std::size_t history_rows = 0, fields_frames = 0, cracks_frames = 0, contacts_frames = 0;
+  double wall_time_before = 0.0;      // s of wall time of the run's earlier parts
+  std::vector<GaugeStats> gauges;
+};
+
+void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const PreparedRun& run);
+
+// Reads the runner's part of a checkpoint and checks that it belongs to this model, time
+// step and scenario (messages say what differs). Throws std::runtime_error.
+RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun& run);
+
+}  // namespace dsdem::run

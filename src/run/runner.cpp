@@ -1,0 +1,469 @@
+#include "run/runner.hpp"
+
+#include <omp.h>
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "dsdem_version.hpp"
+#include "io/atomic_file.hpp"
+#include "io/checkpoint.hpp"
+#include "io/json_file.hpp"
+#include "run/outputs.hpp"
+#include "run/restart.hpp"
+#include "run/stage.hpp"
+#include "run/summary.hpp"
+#include "run/text.hpp"
+#include "run/time_step.hpp"
+
+namespace dsdem::run {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Before step 0: the output directory must exist or be creatable, be writable and have
+// room for the results. Bad output settings are bad input (exit code 2); nothing is written.
+void check_output_dir(const fs::path& out, const PreparedRun& prepared, bool write_fields) {
+  try {
+    io::ensure_writable_directory(out);
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({fmt::format("--output {}: {}", out.string(), e.what())});
+  }
+  struct statvfs fs_info {};
+  if (::statvfs(out.c_str(), &fs_info) != 0) return;
+  const double free_bytes = static_cast<double>(fs_info.f_bavail) * static_cast<double>(fs_info.f_frsize);
+  const double need = static_cast<double>(estimate_output_bytes(prepared, write_fields));
+  if (free_bytes < need)
+    throw io::ScenarioError({fmt::format(
+        "--output {}: the file system has {} free but this run will write about {} (fields, history, log): "
+        "free some space, choose another directory or write fewer frames (output.field_interval, --no-fields)",
+        out.string(), human_bytes(free_bytes), human_bytes(need))});
+}
+
+// Keeps the mesh the run used next to its results. Best effort: a mesh that cannot be
+// copied does not stop the run.
+void keep_mesh(const fs::path& out, const PreparedRun& prepared) {
+  if (prepared.mesh_file.empty()) return;
+  const fs::path copy = out / fs::path(prepared.mesh_file).filename();
+  if (!prepared.mesh_text.empty()) {
+    try {
+      io::write_file_atomically(copy, prepared.mesh_text);
+    } catch (const std::exception&) {
+    }
+  } else {
+    std::error_code ec;
+    fs::copy_file(prepared.mesh_file, copy, fs::copy_options::overwrite_existing, ec);
+  }
+}
+
+// One run: its solver, outputs, log and the state a checkpoint keeps, from the set-up
+// through the stage loop to the summary.
+class Runner {
+ public:
+  Runner(PreparedRun& prepared, const RunOptions& options);
+  RunResult run();
+
+ private:
+  void open_restart();
+  void open_log();
+  void start_solver();
+  void resume();
+  void run_stages();
+  void enter_stage(std::size_t si);
+  void run_stage(std::size_t si);
+  bool step(const io::StageSpec& stage, std::size_t si);
+  void write_due_outputs(std::size_t si, double t);
+  bool at_rest(const io::StageSpec& stage, double t) const;
+  bool checkpoint_due(Clock::time_point now) const;
+  void report_progress(const io::StageSpec& stage, double t, Clock::time_point now);
+  bool stopped_early(const io::StageSpec& stage);
+  void save_checkpoint();
+  void on_instability(const solver::InstabilityError& e);
+  RunResult finish();
+  void write_last_state();
+  void log_end(bool completed, double wall, double max_balance_error);
+
+  PreparedRun& prepared_;
+  const RunOptions& options_;
+  const io::Scenario& sc_;
+  const Clock::time_point wall_start_;
+  int threads_ = 1;
+  const fs::path out_;
+  const fs::path checkpoint_path_;
+  std::optional<io::CheckpointReader> checkpoint_;
+  RunnerState state_;
+  bool continue_files_ = false;
+  bool resumed_ = false;
+  std::size_t resume_stage_ = 0;
+  // false: the checkpoint is a complete run's end state and resume_stage_ a stage added
+  // to the scenario since, entered as a run going on would enter it.
+  bool resume_inside_stage_ = false;
+  std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink_;
+  std::shared_ptr<spdlog::logger> log_;
+  std::optional<solver::Solver> solver_;
+  std::optional<RunOutputs> outputs_;
+  bool tty_ = false;
+  Clock::time_point loop_start_, last_progress_, last_checkpoint_;
+  long steps_at_last_progress_ = 0, first_step_ = 0;
+  double wall_before_ = 0.0;
+  int stopped_by_ = 0;
+  bool stopped_at_step_ = false;
+};
+
+Runner::Runner(PreparedRun& prepared, const RunOptions& options)
+    : prepared_(prepared),
+      options_(options),
+      sc_(prepared.scenario),
+      wall_start_(Clock::now()),
+      out_(options.output_dir),
+      checkpoint_path_(out_ / "checkpoint.h5") {
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  threads_ = omp_get_max_threads();
+}
+
+RunResult Runner::run() {
+  check_output_dir(out_, prepared_, options_.write_fields);
+  keep_mesh(out_, prepared_);
+  open_restart();
+  open_log();
+  start_solver();
+  try {
+    if (resumed_) resume();
+    first_step_ = steps_at_last_progress_ = solver_->step_count();
+    run_stages();
+  } catch (const solver::InstabilityError& e) {
+    on_instability(e);
+    throw;
+  }
+  return finish();
+}
+
+// The checkpoint must come from this model and time step. Resuming in the checkpoint's
+// own directory continues its files; elsewhere new files start at the checkpoint's time.
+void Runner::open_restart() {
+  if (options_.restart_from.empty()) return;
+  const fs::path ckpt(options_.restart_from);
+  try {
+    checkpoint_.emplace(ckpt);
+    state_ = read_runner_state(*checkpoint_, prepared_);
+  } catch (const io::ScenarioError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({fmt::format("--restart {}: {}", ckpt.string(), e.what())});
+  }
+  std::error_code ec;
+  continue_files_ = fs::equivalent(fs::absolute(ckpt).parent_path(), out_, ec);
+}
+
+// Log: file always, terminal unless quiet.
+void Runner::open_log() {
+  file_sink_ = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out_ / "dsdem.log").string(), !continue_files_);
+  std::vector<spdlog::sink_ptr> sinks{file_sink_};
+  if (!options_.quiet) sinks.push_back(std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
+  log_ = std::make_shared<spdlog::logger>("dsdem", sinks.begin(), sinks.end());
+  log_->set_pattern("[%H:%M:%S] %v");
+  log_->flush_on(spdlog::level::info);
+
+  const Model& model = prepared_.model;
+  log_->info("dsdem {} ({}), {} threads", DSDEM_VERSION, DSDEM_GIT_COMMIT, threads_);
+  for (const auto& line : prepared_.build_log)
+    log_->log(static_cast<spdlog::level::level_enum>(line.level), "{}", line.text);
+  log_->info("scenario {}: {} nodes, {} triangles, {} joints", sc_.file, model.nodes.size(), model.triangles.size(),
+             model.joints.size());
+  log_->info("{}", time_step_log_line(prepared_));
+}
+
+void Runner::start_solver() {
+  solver_.emplace(prepared_.model);
+  install_time_step_rule(*solver_, prepared_);
+  // Stress and strain are needed by the field frames and the checkpoint only: computed
+  // there (write_fields; Solver::save) instead of every step, and not kept in between.
+  solver_->set_stress_on_demand(true);
+  outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr);
+  state_.gauges.resize(prepared_.gauges.size());
+  tty_ = !options_.quiet && isatty(STDERR_FILENO);
+  loop_start_ = last_progress_ = last_checkpoint_ = Clock::now();
+  wall_before_ = state_.wall_time_before;
+  resumed_ = checkpoint_.has_value();
+  resume_stage_ = state_.stage;
+  resume_inside_stage_ = resumed_ && state_.stage_starts.size() > resume_stage_;
+}
+
+// Each stage's supports, viscous boundary and earthquake as the original run set them (at
+// their own start times), then the saved state over them.
+void Runner::resume() {
+  solver::Solver& solver = *solver_;
+  for (std::size_t si = 0; si < state_.stage_starts.size(); ++si) {
+    apply_stage(solver, sc_.stages[si], sc_, prepared_.dt, state_.stage_starts[si], &prepared_);
+    if (si == 0) solver.initialise();
+  }
+  solver.restore(*checkpoint_);
+  checkpoint_.reset();
+  log_->info("restarted from {} at step {}, t = {:.6g} s, {} stage {} '{}'", options_.restart_from, solver.step_count(),
+             solver.time(), resume_inside_stage_ ? "in" : "at the start of", resume_stage_ + 1,
+             sc_.stages[resume_stage_].name);
+  if (!continue_files_) {
+    outputs_->write_fields();
+    outputs_->write_history(static_cast<int>(resume_stage_));
+  }
+}
+
+void Runner::run_stages() {
+  for (std::size_t si = state_.stage; si < sc_.stages.size(); ++si) {
+    run_stage(si);
+    if (stopped_early(sc_.stages[si])) break;
+  }
+}
+
+void Runner::enter_stage(std::size_t si) {
+  solver::Solver& solver = *solver_;
+  const io::StageSpec& stage = sc_.stages[si];
+  apply_stage(solver, stage, sc_, prepared_.dt, solver.time(), &prepared_);
+  state_.stage = si;
+  state_.stage_starts.push_back(solver.time());
+  if (si == 0) {
+    solver.initialise();
+    outputs_->write_fields();
+    outputs_->write_history(0);
+    state_.next_field = sc_.output.field_interval;
+    state_.next_history = sc_.output.history_interval;
+  }
+  state_.stage_end += stage.duration;
+  state_.peak_kinetic = 0.0;
+  log_->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s, joints {}", si + 1, stage.name,
+             stage.duration, state_.stage_end, stage.damping.alpha, stage.damping.beta,
+             stage.failure ? "may break" : "elastic (no failure)");
+}
+
+void Runner::run_stage(std::size_t si) {
+  if (!(resume_inside_stage_ && si == resume_stage_)) enter_stage(si);
+  const io::StageSpec& stage = sc_.stages[si];
+  // Stop within half a step of the stage end.
+  while (solver_->time() < state_.stage_end - 0.5 * solver_->settings().dt) {
+    if (options_.stop_signal && *options_.stop_signal) break;
+    if (!step(stage, si)) break;
+  }
+}
+
+// One step and what follows it. False: the stage ends here (at rest, or --stop-at-step).
+bool Runner::step(const io::StageSpec& stage, std::size_t si) {
+  solver::Solver& solver = *solver_;
+  solver.step();
+  outputs_->update_gauge_stats(state_.gauges);
+  const double t = solver.time();
+  write_due_outputs(si, t);
+  state_.peak_kinetic = std::max(state_.peak_kinetic, solver.energy().kinetic);
+  if (at_rest(stage, t)) {
+    log_->info("stage '{}' at rest at t = {:.4g} s (kinetic energy below {} of its peak)", stage.name, t,
+               stage.stop_kinetic_ratio);
+    return false;
+  }
+  const auto now = Clock::now();
+  // Checkpoints after this step's output, so that the files and the checkpoint agree.
+  if (checkpoint_due(now)) save_checkpoint();
+  if (options_.stop_at_step > 0 && solver.step_count() >= options_.stop_at_step) {
+    stopped_at_step_ = true;
+    return false;
+  }
+  if (std::chrono::duration<double>(now - last_progress_).count() >= sc_.output.progress_interval)
+    report_progress(stage, t, now);
+  return true;
+}
+
+void Runner::write_due_outputs(std::size_t si, double t) {
+  const solver::Solver& solver = *solver_;
+  if (t >= state_.next_history - 0.5 * solver.settings().dt) {
+    outputs_->write_history(static_cast<int>(si));
+    state_.next_history += sc_.output.history_interval;
+    state_.max_balance_error = std::max(state_.max_balance_error, solver.energy().balance_error());
+  }
+  if (t >= state_.next_field - 0.5 * solver.settings().dt) {
+    outputs_->write_fields();
+    state_.next_field += sc_.output.field_interval;
+  }
+}
+
+// The stage's kinetic energy fell below stop_kinetic_ratio of its peak (after its first 5 %).
+bool Runner::at_rest(const io::StageSpec& stage, double t) const {
+  return stage.stop_kinetic_ratio > 0 && solver_->energy().kinetic < stage.stop_kinetic_ratio * state_.peak_kinetic &&
+         t > 0.05 * stage.duration + (state_.stage_end - stage.duration);
+}
+
+bool Runner::checkpoint_due(Clock::time_point now) const {
+  const auto& o = sc_.output;
+  return (o.checkpoint_steps > 0 && solver_->step_count() % o.checkpoint_steps == 0) ||
+         (o.checkpoint_interval > 0 &&
+          std::chrono::duration<double>(now - last_checkpoint_).count() >= o.checkpoint_interval);
+}
+
+void Runner::report_progress(const io::StageSpec& stage, double t, Clock::time_point now) {
+  const solver::Solver& solver = *solver_;
+  const double rate =
+      (solver.step_count() - steps_at_last_progress_) / std::chrono::duration<double>(now - last_progress_).count();
+  const double eta = (sc_.end_time() - t) / solver.settings().dt / rate;
+  const std::string line = fmt::format(
+      "[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  dt {:.4g} s  broken joints {}  contacts {}  energy "
+      "balance {:.2e}",
+      stage.name, t, sc_.end_time(), rate, human_time(eta), solver.settings().dt, solver.broken_joints(),
+      solver.active_contacts(), solver.energy().balance_error());
+  if (tty_)
+    fmt::print(stderr, "\r{:<100}", line);
+  else if (!options_.quiet)
+    fmt::print(stderr, "{}\n", line);
+  file_sink_->log(spdlog::details::log_msg("dsdem", spdlog::level::info, line));
+  file_sink_->flush();  // a direct sink call skips the logger's flush_on: `tail -f` must see it
+  last_progress_ = now;
+  steps_at_last_progress_ = solver.step_count();
+}
+
+// A signal or --stop-at-step ended the stage: a checkpoint to continue from.
+bool Runner::stopped_early(const io::StageSpec& stage) {
+  const solver::Solver& solver = *solver_;
+  if (options_.stop_signal && *options_.stop_signal) {
+    stopped_by_ = static_cast<int>(*options_.stop_signal);
+    if (tty_) fmt::print(stderr, "\n");
+    log_->warn("run stopped by {} at step {}, t = {:.6g} s in stage '{}': writing a checkpoint and the last fields, "
+               "history and summary",
+               signal_name(stopped_by_), solver.step_count(), solver.time(), stage.name);
+    save_checkpoint();
+    return true;
+  }
+  if (stopped_at_step_) {
+    if (tty_) fmt::print(stderr, "\n");
+    log_->info("stopped at step {} (--stop-at-step), t = {:.6g} s in stage '{}': checkpoint written",
+               solver.step_count(), solver.time(), stage.name);
+    save_checkpoint();
+    return true;
+  }
+  return false;
+}
+
+// The history on disk holds exactly the rows counted in the checkpoint: a resumed run
+// keeps that many rows and appends after them. (Solver::save computes the stress it writes.)
+void Runner::save_checkpoint() {
+  outputs_->record_counts(state_);
+  state_.time = solver_->time();
+  state_.wall_time_before = wall_before_ + seconds_since(wall_start_);
+  io::CheckpointWriter w(checkpoint_path_);
+  solver_->save(w);
+  write_runner_state(w, state_, prepared_);
+  w.commit();
+  last_checkpoint_ = Clock::now();
+}
+
+// The diagnosis first (it must survive whatever follows), then the last state.
+void Runner::on_instability(const solver::InstabilityError& e) {
+  if (tty_) fmt::print(stderr, "\n");
+  log_->error("run stopped: {}", e.what());
+  io::write_json_file(out_ / "diagnosis.json", make_diagnosis(e, *solver_, prepared_));
+  try {
+    outputs_->write_fields();
+    outputs_->write_history(-1);
+    outputs_->close_history();
+    outputs_->write_crack_log();
+  } catch (const std::exception& w) {
+    log_->error("could not write the last state: {}", w.what());
+  }
+  log_->error("diagnosis in {}", (out_ / "diagnosis.json").string());
+}
+
+// The last state, unless just written.
+void Runner::write_last_state() {
+  const solver::Solver& solver = *solver_;
+  const double half_step = 0.5 * solver.settings().dt;
+  if (outputs_->field_frames() == 0 ||
+      std::abs(state_.next_field - sc_.output.field_interval - solver.time()) > half_step)
+    outputs_->write_fields();
+  if (outputs_->history_rows() == 0 ||
+      std::abs(state_.next_history - sc_.output.history_interval - solver.time()) > half_step)
+    outputs_->write_history(static_cast<int>(std::min(state_.stage, sc_.stages.size() - 1)));
+}
+
+RunResult Runner::finish() {
+  const solver::Solver& solver = *solver_;
+  if (tty_) fmt::print(stderr, "\n");
+  write_last_state();
+  const bool completed = stopped_by_ == 0 && !stopped_at_step_;
+  if (completed) {
+    // The end state, for a later continuation with added stages.
+    state_.stage = sc_.stages.size();
+    save_checkpoint();
+  }
+  outputs_->close_history();
+  const double max_balance_error = std::max(state_.max_balance_error, solver.energy().balance_error());
+
+  const double wall = seconds_since(wall_start_);
+  RunFacts facts;
+  facts.threads = threads_;
+  facts.wall_time_s = wall;
+  facts.loop_time_s = seconds_since(loop_start_);
+  facts.wall_time_before_s = wall_before_;
+  facts.first_step = first_step_;
+  if (resumed_) facts.restarted_from = options_.restart_from;
+  facts.checkpoint = checkpoint_path_.string();
+  facts.fragments = outputs_->fragments();
+  facts.energy_unit = outputs_->energy_unit();
+  facts.max_balance_error = max_balance_error;
+  facts.completed = completed;
+  facts.stopped_by = stopped_by_;
+  facts.stopped_at_step = stopped_at_step_;
+  const nlohmann::ordered_json summary = make_summary(prepared_, solver, state_.gauges, facts);
+  outputs_->write_crack_log();
+  io::write_json_file(out_ / "summary.json", summary);
+  log_end(completed, wall, max_balance_error);
+  spdlog::drop("dsdem");
+
+  RunResult result;
+  result.steps = solver.step_count();
+  result.wall_time_s = wall;
+  result.energy_balance_error = max_balance_error;
+  result.summary_path = (out_ / "summary.json").string();
+  result.stopped_by_signal = stopped_by_;
+  result.stopped_at_step = stopped_at_step_;
+  result.checkpoint_path = checkpoint_path_.string();
+  return result;
+}
+
+void Runner::log_end(bool completed, double wall, double max_balance_error) {
+  const solver::Solver& solver = *solver_;
+  if (!completed)
+    log_->warn("stopped{}: {} steps in {}; last fields, history and summary in {}; continue with "
+               "`dsdem run {} --restart {}`",
+               stopped_by_ ? " by " + signal_name(stopped_by_) : " at step " + std::to_string(solver.step_count()),
+               solver.step_count(), human_time(wall), out_.string(), sc_.file, checkpoint_path_.string());
+  else
+    log_->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(),
+               human_time(wall), max_balance_error, out_.string());
+  if (solver.has_time_step_rule() && solver.settings().dt != prepared_.dt)
+    log_->info("time step grew from {:.4g} s to {:.4g} s as joints broke; now set by {}", prepared_.dt,
+               solver.settings().dt, step_control(solver, prepared_).controlled_by);
+  // The timed thread choice (Solver::probe_parallel) fell back to one thread for a large
+  // part of the run: say so, or a slow run on a busy machine is a mystery.
+  const long steps_run = solver.step_count() - first_step_;
+  if (threads_ > 1 && steps_run > 0 && solver.serial_steps_chosen() > steps_run / 10)
+    log_->info("{} of the {} steps ({:.0f} %) ran on one thread: timing found the {} threads slower then "
+               "(other busy processes on the machine?)",
+               solver.serial_steps_chosen(), steps_run, 100.0 * solver.serial_steps_chosen() / steps_run, threads_);
+}
+
+}  // namespace
+
+RunResult run(PreparedRun& prepared, const RunOptions& options) { return Runner(prepared, options).run(); }
+
+}  // namespace dsdem::run

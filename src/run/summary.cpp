@@ -1,0 +1,108 @@
+#include "run/summary.hpp"
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+#include "dsdem_version.hpp"
+#include "io/json_file.hpp"
+#include "run/text.hpp"
+#include "run/time_step.hpp"
+
+namespace dsdem::run {
+
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
+  Json energies = Json::object();
+  energies["unit"] = unit;
+  energies["kinetic"] = e.kinetic;
+  energies["strain"] = e.strain;
+  energies["gravity_potential"] = e.gravity_potential;
+  energies["external_work"] = e.external_work;
+  energies["damping_dissipated"] = e.damping_dissipated;
+  energies["joint_elastic"] = e.joint_elastic;
+  energies["fracture_dissipated"] = e.fracture_dissipated;
+  energies["contact_elastic"] = e.contact_elastic;
+  energies["friction_dissipated"] = e.friction_dissipated;
+  return energies;
+}
+
+Json gauge_summaries(const PreparedRun& prepared, const std::vector<GaugeStats>& stats) {
+  Json gauges = Json::array();
+  for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
+    const Vec2 u = solver::gauge_value(prepared.model, prepared.gauges[gi], prepared.model.nodes.u);
+    gauges.push_back(Json::object({{"name", prepared.gauges[gi].name},
+                                   {"max_displacement_m", stats[gi].max_disp},
+                                   {"peak_velocity_mps", stats[gi].max_speed},
+                                   {"time_of_peak_velocity_s", stats[gi].time_of_max_speed},
+                                   {"final_displacement_m", Json::array({u.x(), u.y()})}}));
+  }
+  return gauges;
+}
+
+}  // namespace
+
+Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, const std::vector<GaugeStats>& gauges,
+                  const RunFacts& f) {
+  const io::Scenario& sc = prepared.scenario;
+  const Model& model = prepared.model;
+  Json s = Json::object();
+  s["title"] = sc.title;
+  s["scenario"] = sc.file;
+  s["dsdem_version"] = std::string(DSDEM_VERSION) + " (" + DSDEM_GIT_COMMIT + ")";
+  s["elements"] = static_cast<long>(model.triangles.size());
+  s["nodes"] = static_cast<long>(model.nodes.size());
+  s["joints"] = static_cast<long>(model.joints.size());
+  s["broken_joints"] = solver.broken_joints();
+  s["fragments"] = f.fragments;
+  s["steps"] = solver.step_count();
+  s["dt_s"] = prepared.dt;
+  s["dt_controlled_by"] = prepared.stable.controlled_by;
+  s["dt_adaptive"] = sc.adaptive_dt;
+  s["triangle_order"] = std::string(io::Scenario::triangle_order_name(sc.spatial_triangle_order));  // to rerun it bit for bit
+  s["dt_last_s"] = solver.settings().dt;
+  s["dt_last_controlled_by"] = step_control(solver, prepared).controlled_by;
+  s["end_time_s"] = solver.time();
+  s["threads"] = f.threads;
+  if (f.threads > 1) s["steps_on_one_thread"] = solver.serial_steps_chosen();
+  s["wall_time_s"] = f.wall_time_s;
+  if (!f.restarted_from.empty()) {
+    s["restarted_from"] = f.restarted_from;
+    s["restart_step"] = f.first_step;
+    s["wall_time_total_s"] = f.wall_time_before_s + f.wall_time_s;
+  }
+  s["checkpoint"] = f.checkpoint;
+  s["element_steps_per_s"] =
+      model.triangles.size() * static_cast<double>(solver.step_count() - f.first_step) / std::max(1e-9, f.loop_time_s);
+  s["energy_balance_error"] = f.max_balance_error;
+  s["completed"] = f.completed;
+  if (f.stopped_by) s["stopped_by"] = signal_name(f.stopped_by);
+  if (f.stopped_at_step) s["stopped_at_step"] = solver.step_count();
+  s["final_energies"] = final_energies(solver.energy(), f.energy_unit);
+  s["gauges"] = gauge_summaries(prepared, gauges);
+  return s;
+}
+
+Json make_diagnosis(const solver::InstabilityError& e, const solver::Solver& solver, const PreparedRun& prepared) {
+  const std::string entity = e.kind == "inverted_element" ? "element"
+                             : e.id == kNoIndex           ? "model"
+                                                          : "node";
+  const solver::StableStep control = step_control(solver, prepared);
+  return Json::object({{"kind", e.kind},
+                       {"message", std::string(e.what())},
+                       {"entity", entity},
+                       {"id", e.id},
+                       {"position_m", Json::array({e.position.x(), e.position.y()})},
+                       {"step", e.step},
+                       {"time_s", e.time},
+                       {"dt_s", solver.settings().dt},
+                       {"stable_dt_s", control.dt},
+                       {"stable_dt_controlled_by", control.controlled_by}});
+}
+
+Json read_summary(const std::filesystem::path& out_dir) { return io::read_json_file(out_dir / "summary.json"); }
+
+}  // namespace dsdem::run
