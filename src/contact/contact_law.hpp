@@ -3,17 +3,12 @@
 // normal spring with an optional dashpot, incremental tangential spring with the
 // Coulomb cap, no tension. A pure function of the contact's geometry, the relative
 // velocity at the contact point, dt, the stored tangential force and parameters.
+#include "model/contact_properties.hpp"
 #include "model/types.hpp"
 
 namespace dsdem::contact {
 
-// What the user gives per pair of groups (2D: per unit thickness).
-struct ContactProperties {
-  double kn = 0.0;           // normal stiffness, Pa (N/m per m of thickness)
-  double ks = 0.0;           // tangential stiffness, Pa
-  double mu = 0.0;           // Coulomb friction coefficient
-  double restitution = 1.0;  // normal coefficient of restitution e in (0, 1]; 1 = no dashpot
-};
+using dsdem::ContactProperties;  // what the user gives per pair of groups
 
 // What the law uses: restitution turned into a damping ratio once, at set-up.
 struct ContactLawParams {

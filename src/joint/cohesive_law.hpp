@@ -33,7 +33,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "joint/joints.hpp"
+#include "model/joints.hpp"
 #include "model/branchless.hpp"
 
 namespace dsdem {

@@ -21,7 +21,7 @@
 #include <set>
 #include <vector>
 
-#include "joint/joints.hpp"
+#include "model/joints.hpp"
 #include "mesh/raw_mesh.hpp"
 
 namespace dsdem {

@@ -234,7 +234,7 @@ void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string
   double E_min = std::numeric_limits<double>::infinity();
   for (Index g : active_groups) E_min = std::min(E_min, group_E(g));
   auto props = [&](double E, std::optional<double> kn, std::optional<double> mu, std::optional<double> e) {
-    contact::ContactProperties p;
+    ContactProperties p;
     p.kn = kn.value_or(cs.kn.value_or(cs.penalty * E)) * model.thickness;
     p.ks = cs.ks_ratio * p.kn;
     p.mu = mu.value_or(cs.friction);

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "contact/contact_law.hpp"
-#include "joint/joints.hpp"
+#include "model/contact_properties.hpp"
+#include "model/joints.hpp"
 #include "model/types.hpp"
 
 namespace dsdem {
@@ -113,10 +113,10 @@ struct ContactSetup {
   std::vector<std::uint8_t> active;  // per triangle: zones A and C
   std::vector<double> radius;        // per triangle: rounding radius, m
   std::vector<Index> body;           // per triangle: continuous body id (zone C), -1 for discrete
-  contact::ContactProperties defaults;  // kn, ks already times the thickness
+  ContactProperties defaults;  // kn, ks already times the thickness
   struct Pair {
     Index group_a, group_b;
-    contact::ContactProperties props;
+    ContactProperties props;
   };
   std::vector<Pair> pairs;
   double max_kn = 0.0;  // stiffest pair, for the stable time step

@@ -1,4 +1,4 @@
-#include "joint/joints.hpp"
+#include "model/joints.hpp"
 
 #include <cmath>
 #include <sstream>
