@@ -581,6 +581,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
                                          {"energy_balance_error", ""},
                                          {"contact_elastic", energy_unit},
                                          {"friction_dissipated", energy_unit},
+                                         {"contact_damping_dissipated", energy_unit},
                                          {"broken_joints", ""},
                                          {"fragments", ""},
                                          {"contacts", ""}};
@@ -639,6 +640,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
     row[k++] = e.balance_error();
     row[k++] = e.contact_elastic;
     row[k++] = e.friction_dissipated;
+    row[k++] = e.contact_damping_dissipated;
     row[k++] = static_cast<double>(solver.broken_joints());
     row[k++] = count_fragments(model, fragment_label);
     row[k++] = static_cast<double>(solver.active_contacts());
@@ -943,6 +945,7 @@ RunResult run(PreparedRun& prepared, const RunOptions& options) {
   energies["fracture_dissipated"] = e.fracture_dissipated;
   energies["contact_elastic"] = e.contact_elastic;
   energies["friction_dissipated"] = e.friction_dissipated;
+  energies["contact_damping_dissipated"] = e.contact_damping_dissipated;
   summary["final_energies"] = energies;
   io::Json gauges = io::Json::array();
   for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
