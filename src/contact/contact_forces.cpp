@@ -37,6 +37,29 @@ void ContactParamTable::set(Index g1, Index g2, const ContactProperties& p) {
 
 namespace {
 
+// The second halves of the dashpot work of records (see settle_previous), summed per
+// block of key.i / block_size in record order into blocks (one entry per block with a
+// dashpot force). A record without one adds nothing (+0) and is passed over.
+template <class Record>
+void settle_records(std::span<const Record> records, const ContactInput& in, double dt, Index block_size,
+                    std::vector<double>& blocks) {
+  blocks.clear();
+  Index block = -1;
+  double sum = 0.0;
+  for (const Record& r : records) {
+    if (r.dashpot_force == 0.0) continue;
+    if (r.key.i / block_size != block) {
+      if (block >= 0) blocks.push_back(sum);
+      sum = 0.0;
+      block = r.key.i / block_size;
+    }
+    const Vec2 v_rel =
+        point_velocity(r.Ni, in.conn[r.key.i], in.v) - point_velocity(r.Nj, in.conn[r.key.j], in.v);
+    sum += -0.5 * dt * r.dashpot_force * r.normal.dot(v_rel);
+  }
+  if (block >= 0) blocks.push_back(sum);
+}
+
 bool shares_node(const std::array<Index, 3>& a, const std::array<Index, 3>& b) {
   for (Index p : a)
     for (Index q : b)
@@ -266,9 +289,28 @@ int ContactForces::begin_pairs(std::size_t n_pairs) {
   return nt;
 }
 
+void ContactForces::settle_previous(const ContactInput& in, double dt, int t, int T) {
+  if (late_pending_) {
+    if (t == 0) settle_records(std::span<const DashpotRecord>(pending_), in, dt, kSumBlock, late_blocks_[0]);
+    return;
+  }
+  for (int u = t; u < late_sources_; u += T)
+    settle_records(std::span<const ContactRecord>(buffers_[u]), in, dt, kSumBlock, late_blocks_[u]);
+}
+
+std::vector<DashpotRecord> ContactForces::dashpot_records() const {
+  if (!pending_.empty()) return pending_;
+  std::vector<DashpotRecord> out;
+  for_each_contact([&out](const ContactRecord& c) {
+    if (c.dashpot_force != 0.0) out.push_back({c.key, c.Ni, c.Nj, c.normal, c.dashpot_force});
+  });
+  return out;
+}
+
 void ContactForces::ensure_thread_lists(int nt) {
   const auto n = static_cast<std::size_t>(nt);
   if (buffers_.size() < n) buffers_.resize(n);
+  if (late_blocks_.size() < n) late_blocks_.resize(n);
   if (todo_.size() < n) todo_.resize(n);
   if (todo_weight_.size() < n) todo_weight_.resize(n);
   if (touching_.size() < n * n) touching_.resize(n * n);
@@ -328,7 +370,8 @@ double ContactForces::process_pair(Index i, Index j, const CoreEdgeScales& scale
     r.force = law.force;
     r.elastic_energy = law.elastic_energy;
     r.friction_dissipation = law.friction_dissipation;
-    r.damping_dissipation = law.damping_dissipation;
+    r.dashpot_force = law.dashpot_force;
+    r.damping_dissipation = 0.5 * law.damping_dissipation;  // the first half (settle_previous)
     if (f_now.size() == in.x.size()) {
       add_point_force(r.Ni, ci, r.force, f_now);
       add_point_force(r.Nj, cj, -r.force, f_now);
@@ -444,6 +487,12 @@ ContactStepStats ContactForces::finish() {
       st.friction_dissipation += b.friction_dissipation;
       st.damping_dissipation += b.damping_dissipation;
     }
+  // The last call's dashpots' second halves, after this call's first halves.
+  double late = 0.0;
+  for (int u = 0; u < late_sources_; ++u)
+    for (const double b : late_blocks_[u]) late += b;
+  st.damping_dissipation += late;
+  if (late_pending_) std::vector<DashpotRecord>().swap(pending_);  // settled: not needed again
   for (int t = 0; t < used_threads_; ++t) {
     st.active_contacts += thread_counts_[t].active;
     st.sliding_contacts += thread_counts_[t].sliding;
@@ -465,6 +514,7 @@ ContactStepStats ContactForces::finish() {
   for (int t = 0; t < used_threads_; ++t) {
     reserve_with_headroom(buffers_[t], room(records));
     reserve_with_headroom(block_sums_[t], room(blocks) + 4);
+    reserve_with_headroom(late_blocks_[t], room(blocks) + 4);  // settle_previous() of buffer t next call
     if (used_threads_ > 1) {
       reserve_with_headroom(todo_[t], room(examined));
       reserve_with_headroom(todo_weight_[t], room(examined));

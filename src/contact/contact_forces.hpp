@@ -122,9 +122,21 @@ struct ContactRecord {
   Vec2 ft;                       // tangential force on i, N/m
   double elastic_energy;         // J/m
   double friction_dissipation;   // J/m this step
-  double damping_dissipation;    // J/m this step
+  // The dashpot's part of fn (ContactLawResult::dashpot_force), N/m, and the half of its
+  // work booked at this step; the other half is booked at the next call (settle_previous).
+  double damping_dissipation;    // J/m
+  double dashpot_force;
 };
 static_assert(sizeof(ContactRecord) <= 176, "keep the contact record compact (memory per contact)");
+
+// What a contact's dashpot force needs for the second half of its work (a checkpoint keeps
+// these between a run and its restart; see ContactForces::settle_previous).
+struct DashpotRecord {
+  ContactKey key;
+  Vec3 Ni, Nj;
+  Vec2 normal;
+  double dashpot_force = 0.0;
+};
 
 
 struct ContactStepStats {
@@ -139,7 +151,9 @@ struct ContactStepStats {
   double elastic_energy = 0.0;           // stored in all contacts now, J/m
   double elastic_energy_increment = 0.0; // change since the previous call, J/m
   double friction_dissipation = 0.0;     // Coulomb sliding this step, J/m
-  double damping_dissipation = 0.0;      // normal dashpots this step, J/m
+  // Normal dashpots' work this step, J/m: half of this call's forces' (at the half-step
+  // velocity they were computed with) and half of the last call's (at this call's).
+  double damping_dissipation = 0.0;
 };
 
 class ContactForces {
@@ -185,8 +199,13 @@ class ContactForces {
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
   // Restart from a checkpoint: the stored tangential forces, the elastic-energy
-  // reference and the skin of the interrupted run; the broad phase is rebuilt.
-  void restore(const std::vector<ContactHistory::Entry>& entries, double last_elastic_energy, double skin) {
+  // reference, the skin and the last call's dashpot records (dashpot_records()) of the
+  // interrupted run; the broad phase is rebuilt.
+  void restore(const std::vector<ContactHistory::Entry>& entries, double last_elastic_energy, double skin,
+               std::vector<DashpotRecord> dashpots = {}) {
+    pending_ = std::move(dashpots);
+    if (late_blocks_.empty()) late_blocks_.resize(1);
+    reserve_with_headroom(late_blocks_[0], pending_.size() + 4);
     history_.clear();
     history_.begin_step();
     for (const auto& e : entries) history_.record(e.key, e.ft);
@@ -196,6 +215,9 @@ class ContactForces {
     invalidated_ = true;
   }
   double last_elastic_energy() const { return last_elastic_energy_; }
+  // The last call's contacts with a dashpot force, in key order: the second half of their
+  // work is still to be booked (by the next call).
+  std::vector<DashpotRecord> dashpot_records() const;
   // Forgets the tangential history and the elastic-energy reference.
   void reset_history() {
     history_.clear();
@@ -300,6 +322,15 @@ class ContactForces {
                      const ContactInput& in, const ContactParamTable& params, double dt, PairRun& run);
   // The run's last block sums and its counts.
   void end_pair_run(const PairRun& run);
+  // The second half of the work of the last call's dashpot forces (DESIGN.md §1 steps 1
+  // and 8, §6): velocity Verlet applies a force of step n half into v(n) and half into
+  // v(n+1/2), so its exact (trapezoidal) work is 0.5 dt f . (v_rel(n-1/2) + v_rel(n+1/2)),
+  // each at the contact's own shape functions. The first half is booked with the force
+  // (ContactRecord::damping_dissipation); this books the second with in.v = v(n+1/2),
+  // also for contacts that have ended. Thread t of T takes the last call's buffers t,
+  // t + T, ... (before it clears its own), or thread 0 the restored records; the sums per
+  // block of records (as block_sums_) keep them independent of the thread counts.
+  void settle_previous(const ContactInput& in, double dt, int t, int T);
   // Makes sure nt threads have their buffers and lists.
   void ensure_thread_lists(int nt);
   // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
@@ -408,6 +439,15 @@ class ContactForces {
   // any order).
   static constexpr Index kSumBlock = 32;
   std::vector<ThreadVector<BlockSums>> block_sums_;
+  // The last call's records whose dashpot work settle_previous() completes this call:
+  // buffers_[0, late_sources_), or pending_ (restored from a checkpoint) when late_pending_;
+  // late_blocks_[u]: the sums per block of source u, in record order. late_due_: this
+  // call has not settled them yet.
+  std::vector<ThreadVector<double>> late_blocks_;
+  std::vector<DashpotRecord> pending_;
+  int late_sources_ = 0;
+  bool late_pending_ = false;
+  bool late_due_ = false;
   struct alignas(64) ThreadCounts {
     Index active = 0, sliding = 0;
   };
@@ -444,6 +484,9 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     skip_epoch_ = skip_epoch;
   }
   cache_skip_ = skip_epoch >= 0;
+  late_pending_ = !pending_.empty();
+  late_sources_ = late_pending_ ? 1 : used_threads_;
+  late_due_ = true;
   Index skipped = 0;
   if (partition < 2 || !compute_partitioned(in, params, dt, skip, f, partition, skipped)) {
     if (partition >= 2) {  // a node left its box: the shapes are up to date, build on them
@@ -608,6 +651,7 @@ bool ContactForces::compute_partitioned(const ContactInput& in, const ContactPar
                    });
       if (!seen && t == 0) see_later_shapes();
       const bool left = t == 0 && shapes_left_.load(std::memory_order_relaxed) != 0;
+      settle_previous(in, dt, t, T);
       buffers_[t].clear();
       block_sums_[t].clear();
       for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
@@ -637,6 +681,7 @@ bool ContactForces::compute_partitioned(const ContactInput& in, const ContactPar
       if (shapes_left_.load(std::memory_order_relaxed) == 0) scatter_forces(in, f, t, T);
     }
   }
+  late_due_ = false;
   if (used_threads_ == 1) equal_node_ranges(nn, 1);
   if (shapes_left_.load(std::memory_order_relaxed) != 0) return false;
   if (tuned_team) part_split_.rebalance();
@@ -656,6 +701,7 @@ void ContactForces::compute_split(const ContactInput& in, const ContactParamTabl
   // Each thread writes its contacts' history to a segment of its own, and its blocks' sums.
   history_.begin_step(nt);
   const bool cache_skip = cache_skip_;
+  const bool settle = late_due_;
   equal_node_ranges(f.size(), nt);
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
   {
@@ -713,6 +759,7 @@ void ContactForces::compute_split(const ContactInput& in, const ContactParamTabl
     // ...), are split into T contiguous runs of equal expected cost (todo_weight_),
     // whatever share of them each thread's filter found. Concatenating the buffers in
     // thread order still gives pair order.
+    if (settle) settle_previous(in, dt, t, T);
     buffers_[t].clear();
     block_sums_[t].clear();
     // Forces added at once, while the records are in cache: by one thread (or the first
@@ -784,6 +831,7 @@ void ContactForces::compute_split(const ContactInput& in, const ContactParamTabl
       scatter_forces(in, f, t, T);
     }
   }
+  late_due_ = false;
   if (used_threads_ > 1 && used_threads_ == nt) {
     if (pairs_split_) pair_split_.rebalance();
     filter_split_.rebalance();

@@ -69,8 +69,9 @@ ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_r
                        : 0.0;
   const double fe = p.kn * overlap;
   r.fn = std::max(0.0, fe - c * vn);  // no tensile normal force
-  // Work of the dashpot part actually applied: -(fn - fe) * vn * dt >= 0.
-  r.damping_dissipation = -(r.fn - fe) * vn * dt;
+  // Work of the dashpot part actually applied, at the half-step vn: -(fn - fe) * vn * dt >= 0.
+  r.dashpot_force = r.fn - fe;
+  r.damping_dissipation = -r.dashpot_force * vn * dt;
 
   const Vec2 vt = v_rel - vn * normal;
   const Vec2 prev = rotate_into_frame(ft_prev, normal);

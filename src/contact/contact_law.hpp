@@ -49,7 +49,12 @@ struct ContactLawResult {
   bool sliding = false;        // the Coulomb cap was active
   double elastic_energy = 0.0;        // kn delta^2/2 + |ft|^2/(2 ks), J/m
   double friction_dissipation = 0.0;  // this step, J/m
-  double damping_dissipation = 0.0;   // this step, J/m
+  // The dashpot's part of fn (fn - kn delta, N/m along +normal; <= 0 while separating) and
+  // its power over dt at the given v_rel, -(fn - kn delta) vn dt >= 0, J/m. Velocity Verlet
+  // applies the force half before and half after v_rel's half step: ContactForces books
+  // half of this now and half with the next half-step velocity (DESIGN.md §1, §6).
+  double dashpot_force = 0.0;
+  double damping_dissipation = 0.0;
 };
 
 // overlap delta (> 0 for a contact), normal n from j to i, v_rel = velocity of i minus

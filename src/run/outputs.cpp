@@ -39,6 +39,7 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
                                          {"energy_balance_error", ""},
                                          {"contact_elastic", energy_unit},
                                          {"friction_dissipated", energy_unit},
+                                         {"contact_damping_dissipated", energy_unit},
                                          {"broken_joints", ""},
                                          {"fragments", ""},
                                          {"contacts", ""}};
@@ -101,6 +102,7 @@ void RunOutputs::write_history(int stage_index) {
   row_[k++] = e.balance_error();
   row_[k++] = e.contact_elastic;
   row_[k++] = e.friction_dissipated;
+  row_[k++] = e.contact_damping_dissipated;
   row_[k++] = static_cast<double>(solver_.broken_joints());
   row_[k++] = solver::count_fragments(model_, fragment_label_);
   row_[k++] = static_cast<double>(solver_.active_contacts());

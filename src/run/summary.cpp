@@ -27,6 +27,7 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   energies["fracture_dissipated"] = e.fracture_dissipated;
   energies["contact_elastic"] = e.contact_elastic;
   energies["friction_dissipated"] = e.friction_dissipated;
+  energies["contact_damping_dissipated"] = e.contact_damping_dissipated;
   return energies;
 }
 

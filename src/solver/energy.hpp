@@ -13,11 +13,17 @@ struct EnergyLedger {
   double external_work = 0.0;         // work done on the model by prescribed motions and boundary loads
   double damping_dissipated = 0.0;    // Rayleigh damping (and boundary dashpots)
   double fracture_dissipated = 0.0;   // cohesive softening
-  double friction_dissipated = 0.0;   // contact friction and contact damping
+  double friction_dissipated = 0.0;   // contact friction (Coulomb sliding)
   double initial_total = 0.0;         // mechanical energy at the start of the run
+  // Normal contact dashpots (contact restitution < 1), booked as velocity Verlet applies
+  // them: half of each force's work at the step it is computed, half at the next
+  // (DESIGN.md §1, §6; ContactForces::settle_previous).
+  double contact_damping_dissipated = 0.0;
 
   double mechanical() const { return kinetic + strain + gravity_potential + joint_elastic + contact_elastic; }
-  double dissipated() const { return damping_dissipated + fracture_dissipated + friction_dissipated; }
+  double dissipated() const {
+    return damping_dissipated + fracture_dissipated + friction_dissipated + contact_damping_dissipated;
+  }
   // Relative balance error: |E - E0 + D - W| over the largest energy in play.
   double balance_error() const;
 };

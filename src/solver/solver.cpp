@@ -190,7 +190,8 @@ void Solver::add_contact_forces() {
                                      [this](Index i, Index j) { return bonded(i, j); }, n.a,
                                      broken_joints_);  // bonded() changes only when a joint breaks
   energy_.contact_elastic = contact_stats_.elastic_energy;
-  energy_.friction_dissipated += contact_stats_.friction_dissipation + contact_stats_.damping_dissipation;
+  energy_.friction_dissipated += contact_stats_.friction_dissipation;
+  energy_.contact_damping_dissipated += contact_stats_.damping_dissipation;
 }
 
 void Solver::set_viscous_boundary(std::vector<boundary::BoundaryNode> nodes,

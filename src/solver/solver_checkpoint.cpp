@@ -60,7 +60,7 @@ void Solver::save(io::CheckpointWriter& out) const {
   const EnergyLedger& e = energy_;
   const std::vector<double> energies{e.kinetic, e.strain, e.gravity_potential, e.joint_elastic, e.contact_elastic,
                                      e.external_work, e.damping_dissipated, e.fracture_dissipated,
-                                     e.friction_dissipated, e.initial_total};
+                                     e.friction_dissipated, e.initial_total, e.contact_damping_dissipated};
   out.put("energy", energies);
   out.put("nodes/u", vec2s(n.u));
   out.put("nodes/v", vec2s(n.v));
@@ -140,6 +140,20 @@ void Solver::save(io::CheckpointWriter& out) const {
     out.put("contact/ft", ft);
     out.put("contact/last_elastic_energy", contact_->last_elastic_energy());
     out.put("contact/skin", contact_->skin());
+    // The last step's dashpot forces: the next step books the second half of their work.
+    const std::vector<contact::DashpotRecord> dashpots = contact_->dashpot_records();
+    std::vector<std::int64_t> dkeys(dashpots.size() * 3);
+    std::vector<double> dvals(dashpots.size() * 9);
+    for (std::size_t k = 0; k < dashpots.size(); ++k) {
+      const contact::DashpotRecord& r = dashpots[k];
+      dkeys[3 * k] = r.key.i;
+      dkeys[3 * k + 1] = r.key.j;
+      dkeys[3 * k + 2] = r.key.feature;
+      const double vals[9] = {r.Ni[0], r.Ni[1], r.Ni[2], r.Nj[0], r.Nj[1], r.Nj[2], r.normal.x(), r.normal.y(), r.dashpot_force};
+      std::copy(vals, vals + 9, dvals.begin() + static_cast<std::ptrdiff_t>(9 * k));
+    }
+    out.put("contact/dashpot_keys", dkeys);
+    out.put("contact/dashpot_records", dvals);
   }
 }
 
@@ -151,8 +165,9 @@ void Solver::restore(const io::CheckpointReader& in) {
   step_ = in.integer("step");
   broken_joints_ = in.integer("broken_joints");
   const auto e = in.doubles("energy");
-  check_size("energy", e.size(), 10);
-  energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9]};
+  // 10 values before contact damping had a term of its own (it was in friction then).
+  if (e.size() != 10) check_size("energy", e.size(), 11);
+  energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9], e.size() > 10 ? e[10] : 0.0};
   read_vec2s(in, "nodes/u", n.u);
   read_vec2s(in, "nodes/v", n.v);
   read_vec2s(in, "nodes/a", n.a);
@@ -238,7 +253,27 @@ void Solver::restore(const io::CheckpointReader& in) {
                         static_cast<std::uint8_t>(keys[3 * k + 2])};
       entries[k].ft = Vec2(ft[2 * k], ft[2 * k + 1]);
     }
-    contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"));
+    std::vector<contact::DashpotRecord> dashpots;
+    if (in.has("contact/dashpot_keys")) {
+      const auto dkeys = in.integers("contact/dashpot_keys");
+      const auto dvals = in.doubles("contact/dashpot_records");
+      check_size("contact/dashpot_records", dvals.size(), 3 * dkeys.size());
+      dashpots.resize(dkeys.size() / 3);
+      for (std::size_t k = 0; k < dashpots.size(); ++k) {
+        contact::DashpotRecord& r = dashpots[k];
+        const auto i = dkeys[3 * k], j = dkeys[3 * k + 1];
+        if (i < 0 || j < 0 || static_cast<std::size_t>(std::max(i, j)) >= tri.size())
+          throw std::runtime_error(fmt::format("checkpoint 'contact/dashpot_keys' names triangles {} and {}, the model has "
+                                               "{}: it belongs to another model", i, j, tri.size()));
+        r.key = {static_cast<Index>(i), static_cast<Index>(j), static_cast<std::uint8_t>(dkeys[3 * k + 2])};
+        const double* v = &dvals[9 * k];
+        r.Ni = Vec3(v[0], v[1], v[2]);
+        r.Nj = Vec3(v[3], v[4], v[5]);
+        r.normal = Vec2(v[6], v[7]);
+        r.dashpot_force = v[8];
+      }
+    }
+    contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"), std::move(dashpots));
   }
   // The restored joints set the step (the rule's walk starts over: a checkpoint of an
   // earlier state may have fewer joints broken than this solver has seen).

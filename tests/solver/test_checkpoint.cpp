@@ -84,6 +84,10 @@ TEST(Checkpoint, RestartContinuesBitIdentically) {
   EXPECT_TRUE(test::same_motion(a, sa.time(), b, sb.time()));
   EXPECT_EQ(sa.energy().friction_dissipated, sb.energy().friction_dissipated);
   EXPECT_EQ(sa.energy().fracture_dissipated, sb.energy().fracture_dissipated);
+  // The dashpot work of the step before the checkpoint is completed after the restart.
+  EXPECT_GT(sa.energy().contact_damping_dissipated, 0.0);
+  EXPECT_EQ(sa.energy().contact_damping_dissipated, sb.energy().contact_damping_dissipated);
+  EXPECT_EQ(sa.energy().balance_error(), sb.energy().balance_error());
   // The joint state (checkpoint version 2): histories, end modes, break records.
   const Joints &ja = a.joints, &jb = b.joints;
   for (std::size_t j = 0; j < ja.size(); ++j) {

@@ -27,6 +27,7 @@ struct RunResult {
   long broken = 0;
   long contacts = 0;
   double kinetic = 0.0;
+  double contact_damping = 0.0, friction = 0.0;  // J/m
   long steps_on_partition_chunks = 0;  // node loops split where the contact partition put its threads
 };
 
@@ -57,6 +58,8 @@ RunResult run(int threads, int steps, int nx = 24, int ny = 12, int parallel = 1
   r.v = model.nodes.v;
   r.broken = s.broken_joints();
   r.kinetic = s.energy().kinetic;
+  r.contact_damping = s.energy().contact_damping_dissipated;
+  r.friction = s.energy().friction_dissipated;
 #ifdef _OPENMP
   omp_set_num_threads(1);
 #endif
@@ -86,6 +89,9 @@ TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
   EXPECT_TRUE(bitwise_equal(one.u, two.u)) << "node displacements differ between 1 and 2 threads";
   EXPECT_TRUE(bitwise_equal(one.v, two.v)) << "node velocities differ between 1 and 2 threads";
   EXPECT_EQ(std::memcmp(&one.kinetic, &two.kinetic, sizeof(double)), 0);
+  EXPECT_GT(one.contact_damping, 0.0);
+  EXPECT_EQ(std::memcmp(&one.contact_damping, &two.contact_damping, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&one.friction, &two.friction, sizeof(double)), 0);
 }
 
 // Prescribed velocities and displacements are applied by each thread to the nodes of its
