@@ -6,6 +6,7 @@
 
 #include "fem/cst.hpp"
 #include "io/schema.hpp"
+#include "law/registry.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "contact/spheropolygon.hpp"
 #include "mesh/joint_insertion.hpp"
@@ -418,6 +419,7 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
   set_local_penalty_scales(model.joints, model.joint_properties, model.triangles.area0);
   log_penalty_stiffness(model);
   compute_lumped_masses(model);
+  setup_law_state(model);
   setup_contact(sc, model, errors);
   if (!errors.empty()) throw io::ScenarioError(errors);
   return model;
@@ -429,6 +431,23 @@ void compute_lumped_masses(Model& model) {
     const Material& mat = model.materials[model.triangles.material[t]];
     const double m3 = mat.rho * model.triangles.area0[t] * model.thickness / 3.0;
     for (Index n : model.triangles.conn[t]) model.nodes.m[n] += m3;
+  }
+}
+
+void setup_law_state(Model& model) {
+  const auto& laws = law::material_laws();
+  std::vector<std::uint8_t> used(model.materials.size(), 0);
+  for (const Index m : model.triangles.material) used[static_cast<std::size_t>(m)] = 1;
+  StateArrays& state = model.triangles.state;
+  state = {};
+  // Columns in material order, then declaration order: the same model gives the same layout.
+  for (std::size_t m = 0; m < model.materials.size(); ++m) {
+    Material& mat = model.materials[m];
+    const law::LawDecl& decl = laws.get(mat.model);
+    mat.law = static_cast<Index>(laws.index(mat.model));
+    mat.state_columns.clear();
+    if (!used[m]) continue;
+    for (const auto& var : decl.state) mat.state_columns.push_back(state.add(var.name, var.unit, model.triangles.size()));
   }
 }
 
