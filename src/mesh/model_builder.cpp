@@ -88,6 +88,7 @@ JointProperties make_joint_property(const std::string& name, const io::JointSpec
                                     std::vector<std::string>& errors) {
   JointProperties p;
   p.name = name;
+  p.law = static_cast<Index>(law::joint_laws().index(spec.law.value_or(std::string(law::kDefaultJointLaw))));
   if (spec.kn) {
     p.kn = *spec.kn;
   } else {
@@ -449,6 +450,14 @@ void setup_law_state(Model& model) {
     if (!used[m]) continue;
     for (const auto& var : decl.state) mat.state_columns.push_back(state.add(var.name, var.unit, model.triangles.size()));
   }
+  // Joints: the state the laws of the joint properties in use declare.
+  Joints& J = model.joints;
+  J.law_state = {};
+  std::vector<std::uint8_t> law_used(law::joint_laws().size(), 0);
+  for (const Index p : J.property) law_used[static_cast<std::size_t>(model.joint_properties[p].law)] = 1;
+  for (std::size_t l = 0; l < law_used.size(); ++l)
+    if (law_used[l])
+      for (const auto& var : law::joint_laws().at(l).state) J.law_state.add(var.name, var.unit, J.size());
 }
 
 }  // namespace dsdem::mesh

@@ -31,7 +31,8 @@ void compute_lumped_masses(Model& model);
 
 // Each material's law index from its model name, and Triangles::state: one zeroed column
 // per state variable that the laws of the materials in use declare (law/registry.hpp),
-// none for a purely elastic model. Throws law::UnknownLaw for an unregistered model.
+// none for a purely elastic model; the same for Joints::law_state from the joint laws.
+// Throws law::UnknownLaw for an unregistered model.
 void setup_law_state(Model& model);
 
 }  // namespace dsdem::mesh

@@ -135,6 +135,7 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("joints/broken", broken);
   out.put("joints/breaks/joint", break_joint);
   out.put("joints/breaks/data", break_data);
+  save_state(out, "joints/law_state/", J.law_state);
   std::vector<double> reactions(constraints_.size());
   for (std::size_t k = 0; k < constraints_.size(); ++k) reactions[k] = constraints_[k].reaction_prev;
   out.put("constraints/reaction_prev", reactions);
@@ -231,6 +232,7 @@ void Solver::restore(const io::CheckpointReader& in) {
     // A broken joint's force slot is never written again: it must hold zeros.
     if (J.broken[j]) joint_buf_.force[j] = {Vec2::Zero(), Vec2::Zero()};
   }
+  restore_state(in, "joints/law_state/", J.law_state);
   J.breaks.clear();  // keeps the capacity reserved for every joint
   for (std::size_t b = 0; b < break_joint.size(); ++b) {
     if (break_joint[b] < 0 || static_cast<std::size_t>(break_joint[b]) >= J.size())

@@ -175,3 +175,46 @@ TEST(LawState, CheckpointRestoresStateBitForBit) {
   std::filesystem::remove(path);
   std::filesystem::remove(elastic_path);
 }
+
+// Joints carry the state their laws declare the same way; the cohesive law declares none
+// (its history is Joints::state), so a jointed model writes nothing new either.
+TEST(LawState, JointsOfTheCohesiveLawHoldNoLawState) {
+  io::Scenario sc;
+  sc.file = "(test)";
+  Material rock;
+  rock.name = "rock";
+  rock.E = 1e9;
+  rock.nu = 0.25;
+  rock.rho = 2500;
+  sc.materials["rock"] = rock;
+  sc.regions = {io::RegionSpec{"block", "rock", Zone::Discrete, {}, {}}};
+  sc.joints.present = true;
+  sc.joints.defaults.ft = 2e4;
+  sc.joints.defaults.c = 5e4;
+  sc.joints.defaults.phi_deg = 30;
+  sc.joints.defaults.GI = 1;
+  sc.joints.defaults.GII = 5;
+  sc.stages.push_back(io::StageSpec{});
+  Model m = mesh::build_model(sc, mesh::rectangle_mesh(3, 3, 0.3, 0.3, mesh::Diagonal::Alternate, 0.0, 0.0, "block"));
+  ASSERT_GT(m.joints.size(), 0u);
+  EXPECT_TRUE(m.joints.law_state.empty());
+  for (const auto& p : m.joint_properties) EXPECT_EQ(p.law, law::joint_laws().index("cohesive"));
+  solver::Solver s(m);
+  io::BoundarySpec fixed;
+  fixed.group = "bottom";
+  fixed.type = io::BoundaryType::Fixed;
+  s.set_constraints(solver::build_constraints(m, {fixed}, 0.0));
+  s.set_settings({Vec2(0, -9.81), 0.0, 0.0, 0.3 * solver::stable_time_step(m, 0.0).dt, true});
+  s.initialise();
+  const auto path = temp_file("dsdem_law_state_joints");
+  {
+    io::CheckpointWriter w(path);
+    s.save(w);
+    w.commit();
+  }
+  const io::CheckpointReader r(path);
+  EXPECT_FALSE(r.has("joints/law_state/count"));
+  EXPECT_TRUE(r.has("joints/state"));
+  s.restore(r);
+  std::filesystem::remove(path);
+}
