@@ -360,6 +360,9 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
       if (const law::LawDecl* decl = law::material_laws().find(mat.model)) {
         mat.law = static_cast<Index>(law::material_laws().index(mat.model));
         mat.params = read_law_params(r, m, mp, *decl, law::material_laws(), "model");
+        if (sc.plane_stress && !decl->plane_stress)
+          r.error(m["model"], mp.child("model").actual,
+                  fmt::format("{} is plane strain only; remove mesh.plane: stress", mat.model));
         auto or_zero = [](double v) { return std::isnan(v) ? 0.0 : v; };
         mat.E = or_zero(decl->value(mat.params, "E"));
         mat.nu = or_zero(decl->value(mat.params, "nu"));

@@ -49,7 +49,11 @@ LawDecl mohr_coulomb_decl() {
   LawDecl d;
   d.category = Category::Material;
   d.name = "mohr_coulomb";
-  d.doc = "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (DESIGN.md §12).";
+  d.doc = "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (DESIGN.md §12); "
+          "plane strain only.";
+  // The out-of-plane stress is a principal stress the return mapping moves: plane
+  // stress (sigma_zz = 0) would be a constraint on the return instead.
+  d.plane_stress = false;
   d.params = elastic_params();
   d.params.push_back(param("cohesion", "Pa", "required", 0, kInf, "Cohesion c of the Mohr-Coulomb envelope."));
   d.params.push_back(param("friction_angle", "deg", "required", 0, 90, "Friction angle phi of the envelope.", false, true));

@@ -58,6 +58,8 @@ struct LawDecl {
   // State the law's own module keeps in arrays of its own shape (e.g. two points per
   // joint), named for the reference only; "" when there is none or all is in `state`.
   std::string module_state;
+  // Whether the law admits plane stress (mesh.plane: stress); else plane strain only.
+  bool plane_stress = true;
   // Checks that involve several parameters (e.g. dilation <= friction angle), run on the
   // values in declaration order once all are read; empty when there are none.
   std::function<std::vector<ParamProblem>(const LawDecl&, std::span<const double>)> check;

@@ -188,3 +188,9 @@ TEST(MaterialLaws, JointAndContactLawKeys) {
                                   "    GI: 10\n    GII: 50\n");
   EXPECT_TRUE(has_error(errors, "joints.default.law: 'czm' is not one of: cohesive"));
 }
+
+TEST(MaterialLaws, MohrCoulombIsPlaneStrainOnly) {
+  const auto errors = errors_of(scenario("  element_size: 0.25\n", "  element_size: 0.25\n  plane: stress\n"));
+  EXPECT_TRUE(has_error(errors, "case.yaml:7:12: materials.soil.model: mohr_coulomb is plane strain only"));
+  EXPECT_EQ(errors.size(), 1u);
+}
