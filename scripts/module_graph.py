@@ -19,7 +19,8 @@ import sys
 # (and, within a layer, none of its neighbours).
 LAYERS = [
     ["model"],                      # data: nodes, triangles, joints, groups, materials
-    ["exec", "io"],                 # execution layer; file formats and the scenario
+    ["exec", "law"],                # execution layer; law registries (parameters, state)
+    ["io"],                         # file formats and the scenario
     ["fem", "joint", "contact", "seismic"],  # physics kernels and their phases
     ["boundary", "mesh"],           # boundary set-up, meshing and model building
     ["solver"],                     # the time step

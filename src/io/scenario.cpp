@@ -4,12 +4,15 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "io/input_file.hpp"
 #include "io/schema.hpp"
+#include "law/registry.hpp"
 
 namespace dsdem::io {
 
@@ -103,7 +106,46 @@ DampingSpec read_damping(SchemaReader& r, const YAML::Node& map, const KeyPath& 
   return d;
 }
 
-JointSpec read_joint_spec(SchemaReader& r, const YAML::Node& m, const KeyPath& p) {
+// Reports each key of `m` that is a parameter of another law of `reg` but not of `decl`,
+// the law chosen by the key `law_key`.
+void check_law_keys(SchemaReader& r, const YAML::Node& m, const KeyPath& p, const law::LawDecl& decl,
+                    const law::Registry& reg, const std::string& law_key) {
+  for (auto it = m.begin(); it != m.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    if (decl.has_param(key)) continue;
+    std::vector<std::string> owners;
+    for (const auto& l : reg.laws())
+      if (l.has_param(key)) owners.push_back(l.name);
+    if (!owners.empty())
+      r.error(it->first, p.child(key).actual,
+              fmt::format("'{}' belongs to {} {}, not to {} {} chosen here (set {}: {} or remove the key)", key,
+                          law_key, fmt::join(owners, " or "), law_key, decl.name, law_key, owners.front()));
+  }
+}
+
+// The parameters `decl` declares, read from `m` in declaration order: given values,
+// numeric defaults, rule defaults (e.g. c / tan(phi)); NaN when absent with none. Runs
+// the law's cross-checks once every value is valid.
+std::vector<double> read_law_params(SchemaReader& r, const YAML::Node& m, const KeyPath& p, const law::LawDecl& decl,
+                                    const law::Registry& reg, const std::string& law_key) {
+  check_law_keys(r, m, p, decl, reg, law_key);
+  const std::size_t errors_before = r.errors().size();
+  std::vector<double> values;
+  values.reserve(decl.params.size());
+  for (const auto& param : decl.params) {
+    std::optional<double> v = r.number(m, p, param.name);
+    if (!v && param.rule && !m[param.name].IsDefined()) v = param.rule(decl, values);
+    values.push_back(v.value_or(std::numeric_limits<double>::quiet_NaN()));
+  }
+  if (decl.check && r.errors().size() == errors_before)
+    for (const auto& problem : decl.check(decl, values)) {
+      const YAML::Node at = m[problem.param];
+      r.error(at.IsDefined() ? at : m, p.child(problem.param).actual, problem.message);
+    }
+  return values;
+}
+
+JointSpec read_joint_spec(SchemaReader& r, const YAML::Node& m, const KeyPath& p, const std::string& inherited_law) {
   JointSpec j;
   j.where = location(r, m, p.actual);
   if (!m.IsMap()) {
@@ -111,6 +153,9 @@ JointSpec read_joint_spec(SchemaReader& r, const YAML::Node& m, const KeyPath& p
     return j;
   }
   r.check_keys(m, p);
+  if (m["law"].IsDefined()) j.law = r.string(m, p, "law");
+  if (const law::LawDecl* decl = law::joint_laws().find(j.law.value_or(inherited_law)))
+    check_law_keys(r, m, p, *decl, law::joint_laws(), "law");
   j.kn = r.number(m, p, "kn");
   j.ks = r.number(m, p, "ks");
   j.penalty = m["penalty"].IsDefined() ? r.number(m, p, "penalty") : std::nullopt;
@@ -130,6 +175,7 @@ JointSpec JointSpec::merged(const JointSpec& over) const {
   auto take = [](auto& mine, const auto& theirs) {
     if (theirs) mine = theirs;
   };
+  take(j.law, over.law);
   take(j.kn, over.kn);
   take(j.ks, over.ks);
   take(j.penalty, over.penalty);
@@ -309,10 +355,19 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
       r.check_keys(m, mp);
       Material mat;
       mat.name = name;
-      mat.model = r.string(m, mp, "model").value_or("linear_elastic");
-      mat.E = r.number(m, mp, "E").value_or(0.0);
-      mat.nu = r.number(m, mp, "nu").value_or(0.0);
-      mat.rho = r.number(m, mp, "rho").value_or(0.0);
+      mat.model = r.string(m, mp, "model").value_or(std::string(law::kDefaultMaterialLaw));
+      // The law's parameters as it declares them (law/laws.cpp); E, nu, rho among them.
+      if (const law::LawDecl* decl = law::material_laws().find(mat.model)) {
+        mat.law = static_cast<Index>(law::material_laws().index(mat.model));
+        mat.params = read_law_params(r, m, mp, *decl, law::material_laws(), "model");
+        if (sc.plane_stress && !decl->plane_stress)
+          r.error(m["model"], mp.child("model").actual,
+                  fmt::format("{} is plane strain only; remove mesh.plane: stress", mat.model));
+        auto or_zero = [](double v) { return std::isnan(v) ? 0.0 : v; };
+        mat.E = or_zero(decl->value(mat.params, "E"));
+        mat.nu = or_zero(decl->value(mat.params, "nu"));
+        mat.rho = or_zero(decl->value(mat.params, "rho"));
+      }
       sc.materials[name] = mat;
     }
     if (mats.size() == 0) r.error(mats, "materials", "at least one material is needed");
@@ -419,23 +474,31 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
     r.check_keys(j, p);
     sc.joints.present = true;
     sc.joints.where = location(r, j, "joints");
+    const std::string default_law(law::kDefaultJointLaw);
     if (YAML::Node d = r.section(j, p, "default", YAML::NodeType::Map); d.IsDefined())
-      sc.joints.defaults = read_joint_spec(r, d, p.child("default"));
+      sc.joints.defaults = read_joint_spec(r, d, p.child("default"), default_law);
     else
       r.error(j, "joints.default", "missing section (the properties of every joint)");
+    if (!sc.joints.defaults.law) sc.joints.defaults.law = default_law;
+    const std::string base_law = *sc.joints.defaults.law;
     if (YAML::Node g = r.section(j, p, "groups", YAML::NodeType::Map); g.IsDefined())
       for (auto it = g.begin(); it != g.end(); ++it)
-        sc.joints.groups[it->first.Scalar()] = read_joint_spec(r, it->second, p.child("groups").item(it->first.Scalar()));
+        sc.joints.groups[it->first.Scalar()] =
+            read_joint_spec(r, it->second, p.child("groups").item(it->first.Scalar()), base_law);
     if (YAML::Node i = r.section(j, p, "interface", YAML::NodeType::Map); i.IsDefined())
-      sc.joints.interface = read_joint_spec(r, i, p.child("interface"));
+      sc.joints.interface = read_joint_spec(r, i, p.child("interface"), base_law);
     if (YAML::Node c = r.section(j, p, "curves", YAML::NodeType::Map); c.IsDefined())
       for (auto it = c.begin(); it != c.end(); ++it)
-        sc.joints.curves[it->first.Scalar()] = read_joint_spec(r, it->second, p.child("curves").item(it->first.Scalar()));
+        sc.joints.curves[it->first.Scalar()] =
+            read_joint_spec(r, it->second, p.child("curves").item(it->first.Scalar()), base_law);
   }
   if (YAML::Node c = r.section(root, top, "contact", YAML::NodeType::Map); c.IsDefined()) {
     const KeyPath p = top.child("contact");
     r.check_keys(c, p);
     ContactSpec& cs = sc.contact;
+    cs.law = r.string(c, p, "law").value_or(std::string(law::kDefaultContactLaw));
+    if (const law::LawDecl* decl = law::contact_laws().find(cs.law))
+      check_law_keys(r, c, p, *decl, law::contact_laws(), "law");
     cs.penalty = r.number(c, p, "penalty").value_or(1.0);
     cs.kn = c["kn"].IsDefined() ? r.number(c, p, "kn") : std::nullopt;
     cs.ks_ratio = r.number(c, p, "ks_ratio").value_or(1.0);

@@ -88,6 +88,7 @@ struct DampingSpec {
 
 // Joint properties as given; absent values fall back to joints.default (DESIGN.md §3).
 struct JointSpec {
+  std::optional<std::string> law;  // joint law by name (law/registry); joints.default's when absent
   std::optional<double> kn, ks, penalty, ft, c, phi_deg, GI, GII;
   std::optional<bool> broken;
   SourceLocation where;
@@ -111,6 +112,7 @@ struct ContactPairSpec {
 };
 
 struct ContactSpec {
+  std::string law = "spring_dashpot_coulomb";  // contact law by name (law/registry)
   double penalty = 1.0;
   std::optional<double> kn;
   double ks_ratio = 1.0;

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "law/registry.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -42,6 +44,40 @@ KeySpec choice(std::string pattern, std::vector<std::string> choices, std::strin
   return s;
 }
 
+// One key per parameter of the laws of a registry, under `prefix`, in registration and
+// declaration order; a parameter several laws declare is one key (declared alike). Its
+// doc names the laws that use it unless all do. Without `keep_required` a required
+// parameter has no default here (a set of overrides).
+void add_law_params(std::vector<KeySpec>& s, const law::Registry& reg, const std::string& prefix, bool keep_required) {
+  std::vector<const law::ParamDecl*> params;
+  for (const auto& l : reg.laws())
+    for (const auto& p : l.params) {
+      const auto same = std::find_if(params.begin(), params.end(), [&](const law::ParamDecl* q) { return q->name == p.name; });
+      if (same == params.end()) {
+        params.push_back(&p);
+        continue;
+      }
+      const law::ParamDecl& q = **same;
+      if (q.unit != p.unit || q.default_text != p.default_text || q.min != p.min || q.max != p.max ||
+          q.min_exclusive != p.min_exclusive || q.max_exclusive != p.max_exclusive || q.doc != p.doc)
+        throw std::logic_error(fmt::format("{} law '{}' declares parameter '{}' unlike an earlier law",
+                                           law::category_name(reg.category()), l.name, p.name));
+    }
+  for (const law::ParamDecl* p : params) {
+    std::string users;
+    std::size_t n_users = 0;
+    for (const auto& l : reg.laws())
+      if (l.has_param(p->name)) {
+        users += (users.empty() ? "" : ", ") + l.name;
+        ++n_users;
+      }
+    std::string doc = n_users == reg.size() ? p->doc : users + ": " + p->doc;
+    const std::string def = p->required() && !keep_required ? "" : p->default_text;
+    s.push_back(num(prefix + "." + p->name, p->unit, def, p->min, p->max, std::move(doc), p->min_exclusive,
+                    p->max_exclusive));
+  }
+}
+
 std::vector<KeySpec> build_schema() {
   std::vector<KeySpec> s;
   // Top level.
@@ -61,10 +97,9 @@ std::vector<KeySpec> build_schema() {
 
   s.push_back(of("materials", KeyType::Map, "required", "Materials by name."));
   s.push_back(of("materials.*", KeyType::Map, "", "One material."));
-  s.push_back(choice("materials.*.model", {"linear_elastic"}, "linear_elastic", "Constitutive model of the bulk."));
-  s.push_back(num("materials.*.E", "Pa", "required", 0, kInf, "Young's modulus.", true));
-  s.push_back(num("materials.*.nu", "", "required", -1, 0.5, "Poisson's ratio.", true, true));
-  s.push_back(num("materials.*.rho", "kg/m^3", "required", 0, kInf, "Density.", true));
+  s.push_back(choice("materials.*.model", law::material_laws().names(), std::string(law::kDefaultMaterialLaw),
+                     "Constitutive model of the bulk."));
+  add_law_params(s, law::material_laws(), "materials.*", true);
 
   s.push_back(of("regions", KeyType::List, "required", "Assigns a material and a zone to each physical surface group."));
   s.push_back(of("regions[]", KeyType::Map, "", "One region."));
@@ -137,24 +172,20 @@ std::vector<KeySpec> build_schema() {
   s.push_back(of("joints.groups", KeyType::Map, "", "Per discrete group overrides, by group name."));
   s.push_back(of("joints.curves", KeyType::Map, "", "Per curve overrides, by curve group name."));
   for (const auto& [prefix, doc] : joint_sets) {
+    const bool base = prefix == "joints.default";
     s.push_back(of(prefix, KeyType::Map, "", doc));
-    s.push_back(num(prefix + ".kn", "Pa/m", "p*E/h", 0, kInf, "Normal stiffness (default: penalty p*E/h with h the local element size, logged).", true));
-    s.push_back(num(prefix + ".ks", "Pa/m", "kn", 0, kInf, "Shear stiffness (default: kn).", true));
-    s.push_back(num(prefix + ".penalty", "", "10", 0, kInf, "p in the penalty rule kn = p*E/h when kn is absent; h is each joint's local element size (mean sqrt(2A) of its two triangles).", true));
-    s.push_back(num(prefix + ".ft", "Pa", prefix == "joints.default" ? "required" : "", 0, kInf, "Tensile strength.", true));
-    s.push_back(num(prefix + ".c", "Pa", prefix == "joints.default" ? "required" : "", 0, kInf, "Cohesion.", true));
-    s.push_back(num(prefix + ".phi", "deg", prefix == "joints.default" ? "required" : "", 0, 90, "Friction angle.", false, true));
-    s.push_back(num(prefix + ".GI", "N/m", prefix == "joints.default" ? "required" : "", 0, kInf, "Mode I fracture energy.", true));
-    s.push_back(num(prefix + ".GII", "N/m", prefix == "joints.default" ? "required" : "", 0, kInf, "Mode II fracture energy.", true));
+    s.push_back(choice(prefix + ".law", law::joint_laws().names(), base ? std::string(law::kDefaultJointLaw) : "",
+                       base ? "Joint law (its parameters follow)."
+                            : "Joint law of these joints (default: the one of joints.default)."));
+    // Required values are required once, in joints.default; the other sets override.
+    add_law_params(s, law::joint_laws(), prefix, base);
     s.push_back(of(prefix + ".broken", KeyType::Boolean, "false", "Start broken (a pre-existing crack: contact only)."));
   }
   // Spheropolygon contact (DESIGN.md §4; paper eqs. 1-5).
   s.push_back(of("contact", KeyType::Map, "", "Contact between spheropolygons of the discrete and contact zones."));
-  s.push_back(num("contact.penalty", "", "1", 0, kInf, "p_c in kn = p_c * E (E of the softer side) when kn is absent.", true));
-  s.push_back(num("contact.kn", "Pa", "p_c*E", 0, kInf, "Normal contact stiffness, force per unit thickness per unit overlap.", true));
-  s.push_back(num("contact.ks_ratio", "", "1", 0, kInf, "Tangential stiffness as a fraction of kn.", true));
-  s.push_back(num("contact.friction", "", "0.5", 0, kInf, "Coulomb friction coefficient mu (default for every pair of groups)."));
-  s.push_back(num("contact.restitution", "", "1", 0, 1, "Normal coefficient of restitution e of each contact's dashpot (1: no contact damping). The dashpot is sized on the reduced mass of the two touching triangles, not of the bodies, so meshed blocks rebound livelier than e: two blocks of 4 x 4 cells meeting face to face with the default kn rebound with an effective e of about 0.8 for e = 0.5.", true));
+  s.push_back(choice("contact.law", law::contact_laws().names(), std::string(law::kDefaultContactLaw),
+                     "Contact law (its parameters follow)."));
+  add_law_params(s, law::contact_laws(), "contact", true);
   s.push_back(num("contact.rounding", "", "0.05", 0, 0.5, "Rounding radius as a fraction of each triangle's inscribed radius.", true, true));
   s.push_back(num("contact.skin", "m", "auto", 0, kInf, "Broad-phase skin (default: half the mean inscribed radius).", true));
   s.push_back(of("contact.output", KeyType::Boolean, "false", "Write contact points and forces as a VTU series (contacts.pvd)."));
@@ -281,6 +312,23 @@ std::string schema_markdown() {
     md += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", s.pattern, type_name(s.type), s.unit,
                       s.default_text.empty() ? "" : s.default_text, allowed, s.doc);
   }
+  // The laws as they declare themselves: their parameters are the keys above, their state
+  // variables the cell fields of the VTU frames and arrays of the checkpoint.
+  md += "\n## Laws\n\nEach law's parameters are keys above (`materials.*.model`, `joints.*.law`, `contact.law` "
+        "choose the law). Its named state variables are one value per item (triangle), zero at the start, written as "
+        "cell fields of the VTU frames (named with their unit) and kept in checkpoints; state described in words is "
+        "kept in the law's own module.\n\n"
+        "| kind | law | parameters | state variables | meaning |\n|---|---|---|---|---|\n";
+  for (const law::Category c : {law::Category::Material, law::Category::Joint, law::Category::Contact})
+    for (const auto& l : law::registry(c).laws()) {
+      std::string params, state;
+      for (const auto& p : l.params) params += (params.empty() ? "" : ", ") + ("`" + p.name + "`");
+      for (const auto& v : l.state)
+        state += (state.empty() ? "" : ", ") + fmt::format("`{}`{}", v.name, v.unit.empty() ? "" : " (" + v.unit + ")");
+      if (!l.module_state.empty()) state += (state.empty() ? "" : "; ") + l.module_state;
+      md += fmt::format("| {} | `{}` | {} | {} | {} |\n", law::category_name(c), l.name, params,
+                        state.empty() ? "none" : state, l.doc);
+    }
   return md;
 }
 

@@ -185,6 +185,17 @@ StressInvariants stress_invariants(const Vec3& s, double sigma_zz) {
   return {centre + radius, centre - radius, vm};
 }
 
+// A unit as written in declarations ("J/m^3", "m/s^2") as an array-name token
+// ("J_per_m3", "m_per_s2"), the convention of the built-in fields.
+std::string unit_token(const std::string& unit) {
+  std::string out;
+  for (const char ch : unit) {
+    if (ch == '/') out += "_per_";
+    else if (ch != '^' && ch != ' ') out += ch;
+  }
+  return out;
+}
+
 void check_triangles(const Nodes& nodes, const Triangles& t, std::size_t n_materials) {
   const std::size_t n = t.size();
   if (t.group.size() != n || t.material.size() != n || t.zone.size() != n ||
@@ -271,10 +282,17 @@ void write_triangles_vtu(const fs::path& path, const Nodes& nodes, const Triangl
       scalar_field("zone", "", zone),
   };
 
+  // The laws' state variables, each under its declared name and unit (law/registry.hpp).
+  FieldSet state_fields;
+  for (std::size_t k = 0; k < triangles.state.columns(); ++k)
+    state_fields.push_back(scalar_field(triangles.state.names[k], unit_token(triangles.state.units[k]),
+                                        std::span<const double>(triangles.state.values[k])));
+
   std::vector<std::string> point_names, cell_names;
   add_fields(grid->GetPointData(), point_fields, n_nodes, "point", point_names);
   add_fields(grid->GetPointData(), extra_point_fields, n_nodes, "point", point_names);
   add_fields(grid->GetCellData(), cell_fields, n_tri, "cell", cell_names);
+  add_fields(grid->GetCellData(), state_fields, n_tri, "cell", cell_names);
   add_fields(grid->GetCellData(), extra_cell_fields, n_tri, "cell", cell_names);
   write_grid(path, grid, options);
 }

@@ -71,7 +71,9 @@ Field vector_field(std::string quantity, std::string unit, std::span<const Vec2>
 //   Cell data: stress_Pa (xx, yy, xy), von_mises_stress_Pa, max_principal_stress_Pa,
 //          min_principal_stress_Pa (in-plane, tension positive), strain (Green-Lagrange
 //          xx, yy, engineering gamma_xy), group_id, material_id, zone (0 = A discrete,
-//          1 = B bedrock, 2 = C contact bedrock).
+//          1 = B bedrock, 2 = C contact bedrock); and one scalar per state variable the
+//          material laws declare (Triangles::state), named after it with its unit
+//          ("plastic_strain_xx", "plastic_dissipation_J_per_m3").
 //   Von Mises uses sigma_zz = 0 in plane stress and sigma_zz = nu (sigma_xx + sigma_yy)
 //   in plane strain (exact for small-strain linear elasticity, an estimate otherwise).
 // Extra fields must have nodes.size() (point) or triangles.size() (cell) entries and

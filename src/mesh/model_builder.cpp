@@ -6,6 +6,7 @@
 
 #include "fem/cst.hpp"
 #include "io/schema.hpp"
+#include "law/registry.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "contact/spheropolygon.hpp"
 #include "mesh/joint_insertion.hpp"
@@ -87,6 +88,7 @@ JointProperties make_joint_property(const std::string& name, const io::JointSpec
                                     std::vector<std::string>& errors) {
   JointProperties p;
   p.name = name;
+  p.law = static_cast<Index>(law::joint_laws().index(spec.law.value_or(std::string(law::kDefaultJointLaw))));
   if (spec.kn) {
     p.kn = *spec.kn;
   } else {
@@ -418,6 +420,7 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
   set_local_penalty_scales(model.joints, model.joint_properties, model.triangles.area0);
   log_penalty_stiffness(model);
   compute_lumped_masses(model);
+  setup_law_state(model);
   setup_contact(sc, model, errors);
   if (!errors.empty()) throw io::ScenarioError(errors);
   return model;
@@ -430,6 +433,31 @@ void compute_lumped_masses(Model& model) {
     const double m3 = mat.rho * model.triangles.area0[t] * model.thickness / 3.0;
     for (Index n : model.triangles.conn[t]) model.nodes.m[n] += m3;
   }
+}
+
+void setup_law_state(Model& model) {
+  const auto& laws = law::material_laws();
+  std::vector<std::uint8_t> used(model.materials.size(), 0);
+  for (const Index m : model.triangles.material) used[static_cast<std::size_t>(m)] = 1;
+  StateArrays& state = model.triangles.state;
+  state = {};
+  // Columns in material order, then declaration order: the same model gives the same layout.
+  for (std::size_t m = 0; m < model.materials.size(); ++m) {
+    Material& mat = model.materials[m];
+    const law::LawDecl& decl = laws.get(mat.model);
+    mat.law = static_cast<Index>(laws.index(mat.model));
+    mat.state_columns.clear();
+    if (!used[m]) continue;
+    for (const auto& var : decl.state) mat.state_columns.push_back(state.add(var.name, var.unit, model.triangles.size()));
+  }
+  // Joints: the state the laws of the joint properties in use declare.
+  Joints& J = model.joints;
+  J.law_state = {};
+  std::vector<std::uint8_t> law_used(law::joint_laws().size(), 0);
+  for (const Index p : J.property) law_used[static_cast<std::size_t>(model.joint_properties[p].law)] = 1;
+  for (std::size_t l = 0; l < law_used.size(); ++l)
+    if (law_used[l])
+      for (const auto& var : law::joint_laws().at(l).state) J.law_state.add(var.name, var.unit, J.size());
 }
 
 }  // namespace dsdem::mesh

@@ -29,6 +29,12 @@ void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string
 // Lumped masses rho * A * t / 3 to each node (DESIGN.md §2).
 void compute_lumped_masses(Model& model);
 
+// Each material's law index from its model name, and Triangles::state: one zeroed column
+// per state variable that the laws of the materials in use declare (law/registry.hpp),
+// none for a purely elastic model; the same for Joints::law_state from the joint laws.
+// Throws law::UnknownLaw for an unregistered model.
+void setup_law_state(Model& model);
+
 }  // namespace dsdem::mesh
 
 namespace dsdem::mesh {

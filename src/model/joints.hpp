@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "model/state_arrays.hpp"
 #include "model/types.hpp"
 
 namespace dsdem {
@@ -30,6 +31,7 @@ struct JointProperties {
   // fraction of their elements' (Joints::stiffness_scale).
   double penalty_h = 0.0;
   bool ks_given = false;  // ks was given by the scenario: never rescaled
+  Index law = 0;          // index in law::joint_laws() (0: the cohesive law above)
 };
 
 // Empty when p is admissible, else a message naming the offending fields. Besides
@@ -91,6 +93,10 @@ struct Joints {
   // The joint's kn (and ks, unless given) is its property's times this factor:
   // penalty_h / local element size for penalty stiffnesses, 1 otherwise (DESIGN.md §3).
   std::vector<double> stiffness_scale;
+  // State variables that the joint laws in use declare (law/registry.hpp), one column
+  // each, sized by the model builder; empty while none does (the cohesive law keeps its
+  // history in `state` above).
+  StateArrays law_state;
 
   std::size_t size() const { return nodes.size(); }
   // Room for n joints in every array (joint insertion adds them one at a time).

@@ -7,6 +7,7 @@
 
 #include "model/contact_properties.hpp"
 #include "model/joints.hpp"
+#include "model/state_arrays.hpp"
 #include "model/types.hpp"
 
 namespace dsdem {
@@ -57,6 +58,9 @@ struct Triangles {
   // Initial (in-situ) stress kept from an earlier stage, Pa; empty = zero everywhere (the
   // usual case: 24 B per triangle saved). Read it through initial_stress().
   std::vector<Vec3> stress0;
+  // State variables of the material laws in use (plastic strains, ...), one column per
+  // declared variable, zeros at first; empty for a purely elastic model.
+  StateArrays state;
 
   std::size_t size() const { return conn.size(); }
   Vec3 initial_stress(std::size_t t) const { return stress0.empty() ? Vec3(Vec3::Zero()) : stress0[t]; }
@@ -84,7 +88,8 @@ struct Group {
   std::vector<std::array<Index, 2>> mesh_edges;
 };
 
-// Linear elastic material (the interface admits plastic laws later, DESIGN.md §2).
+// A bulk material: its law (by name, from law/registry) and the law's parameters. The
+// elastic constants are also held by name, for the elastic kernel and the time step.
 struct Material {
   std::string name;
   std::string model = "linear_elastic";
@@ -93,6 +98,13 @@ struct Material {
   double rho = 0.0;     // density, kg/m^3
   bool plane_stress = false;
   double thickness = 1.0;  // m (plane strain: unit thickness)
+  Index law = 0;  // index of `model` in law::material_laws() (0: linear_elastic)
+  // The law's parameters in its declaration order, in the declared units (angles in
+  // degrees); E, nu, rho are among them. Empty for a material made in code (tests).
+  std::vector<double> params;
+  // Columns of Triangles::state holding the law's declared state variables, in
+  // declaration order; set by the model builder, empty when the law declares none.
+  std::vector<Index> state_columns;
   double lambda() const {
     return plane_stress ? E * nu / (1.0 - nu * nu) : E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
   }

@@ -48,6 +48,30 @@ void read_vec3s(const io::CheckpointReader& in, const std::string& name, std::ve
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
 }
 
+// Law state (law/registry.hpp): one array per declared variable, under its own name, and
+// their count. Nothing at all without state, so such files keep their old layout.
+void save_state(io::CheckpointWriter& out, const std::string& prefix, const StateArrays& state) {
+  if (state.empty()) return;
+  out.put_int(prefix + "count", static_cast<std::int64_t>(state.columns()));
+  for (std::size_t k = 0; k < state.columns(); ++k) out.put(prefix + state.names[k], state.values[k]);
+}
+
+void restore_state(const io::CheckpointReader& in, const std::string& prefix, StateArrays& state) {
+  const std::int64_t saved = in.has(prefix + "count") ? in.integer(prefix + "count") : 0;
+  if (saved != static_cast<std::int64_t>(state.columns()))
+    throw std::runtime_error(fmt::format("checkpoint has {} law state arrays under '{}', the model's laws declare {}: "
+                                         "it belongs to another model",
+                                         saved, prefix, state.columns()));
+  for (std::size_t k = 0; k < state.columns(); ++k) {
+    const std::string name = prefix + state.names[k];
+    if (!in.has(name))
+      throw std::runtime_error(fmt::format("checkpoint has no '{}': it belongs to a model with other laws", name));
+    const auto values = in.doubles(name);
+    check_size(name, values.size(), state.values[k].size());
+    std::copy(values.begin(), values.end(), state.values[k].begin());  // the arrays stay where they are
+  }
+}
+
 }  // namespace
 
 void Solver::save(io::CheckpointWriter& out) const {
@@ -83,6 +107,7 @@ void Solver::save(io::CheckpointWriter& out) const {
   }
   // Initial stresses: zeros when the model holds none (the file layout stays the same).
   out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
+  save_state(out, "triangles/state/", tri.state);
   // Joints (checkpoint version 2): per end point dn_max, s_max, damage, dn, ds, ss and
   // the mode it failed in; per joint broken; the break records.
   std::vector<double> js(J.size() * 2 * kJointStateWidth);
@@ -110,6 +135,7 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("joints/broken", broken);
   out.put("joints/breaks/joint", break_joint);
   out.put("joints/breaks/data", break_data);
+  save_state(out, "joints/law_state/", J.law_state);
   std::vector<double> reactions(constraints_.size());
   for (std::size_t k = 0; k < constraints_.size(); ++k) reactions[k] = constraints_[k].reaction_prev;
   out.put("constraints/reaction_prev", reactions);
@@ -200,6 +226,7 @@ void Solver::restore(const io::CheckpointReader& in) {
     });
     if (any || !tri.stress0.empty()) tri.stress0 = std::move(s0);
   }
+  restore_state(in, "triangles/state/", tri.state);
   const auto js = in.doubles("joints/state");
   const auto modes = in.integers("joints/end_mode");
   const auto broken = in.integers("joints/broken");
@@ -220,6 +247,7 @@ void Solver::restore(const io::CheckpointReader& in) {
     // A broken joint's force slot is never written again: it must hold zeros.
     if (J.broken[j]) joint_buf_.force[j] = {Vec2::Zero(), Vec2::Zero()};
   }
+  restore_state(in, "joints/law_state/", J.law_state);
   J.breaks.clear();  // keeps the capacity reserved for every joint
   for (std::size_t b = 0; b < break_joint.size(); ++b) {
     if (break_joint[b] < 0 || static_cast<std::size_t>(break_joint[b]) >= J.size())

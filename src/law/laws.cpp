@@ -1,0 +1,139 @@
+// The declarations of the registered laws. A parameter's text here is the scenario
+// reference's text for its key (io/schema.cpp builds the keys from these).
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "law/laws.hpp"
+
+namespace dsdem::law {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+ParamDecl param(std::string name, std::string unit, std::string def, double min, double max, std::string doc,
+                bool min_excl = false, bool max_excl = false) {
+  ParamDecl p;
+  p.name = std::move(name);
+  p.unit = std::move(unit);
+  p.default_text = std::move(def);
+  p.min = min;
+  p.max = max;
+  p.min_exclusive = min_excl;
+  p.max_exclusive = max_excl;
+  p.doc = std::move(doc);
+  return p;
+}
+
+// The elastic constants every bulk law starts from (DESIGN.md §2).
+std::vector<ParamDecl> elastic_params() {
+  return {param("E", "Pa", "required", 0, kInf, "Young's modulus.", true),
+          param("nu", "", "required", -1, 0.5, "Poisson's ratio.", true, true),
+          param("rho", "kg/m^3", "required", 0, kInf, "Density.", true)};
+}
+
+}  // namespace
+
+LawDecl linear_elastic_decl() {
+  LawDecl d;
+  d.category = Category::Material;
+  d.name = "linear_elastic";
+  d.doc = "St Venant-Kirchhoff elasticity on the Green strain (DESIGN.md §2).";
+  d.params = elastic_params();
+  return d;
+}
+
+// Mohr-Coulomb plasticity with a tension cut-off, non-associated (DESIGN.md §12).
+LawDecl mohr_coulomb_decl() {
+  LawDecl d;
+  d.category = Category::Material;
+  d.name = "mohr_coulomb";
+  d.doc = "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (DESIGN.md §12); "
+          "plane strain only.";
+  // The out-of-plane stress is a principal stress the return mapping moves: plane
+  // stress (sigma_zz = 0) would be a constraint on the return instead.
+  d.plane_stress = false;
+  d.params = elastic_params();
+  d.params.push_back(param("cohesion", "Pa", "required", 0, kInf, "Cohesion c of the Mohr-Coulomb envelope."));
+  d.params.push_back(param("friction_angle", "deg", "required", 0, 90, "Friction angle phi of the envelope.", false, true));
+  d.params.push_back(param("dilation_angle", "deg", "0", 0, 90,
+                           "Dilation angle psi of the plastic flow (non-associated; at most friction_angle).", false, true));
+  ParamDecl ft = param("tensile_strength", "Pa", "c / tan(phi)", 0, kInf,
+                       "Tension cut-off on the largest principal stress (default: the apex of the envelope, no "
+                       "cut-off; none when phi = 0).");
+  // The apex of the envelope: the cut-off then removes nothing (infinite for phi = 0).
+  ft.rule = [](const LawDecl& law, std::span<const double> v) {
+    const double phi = law.value(v, "friction_angle") * 3.14159265358979323846 / 180.0;
+    return phi > 0.0 ? law.value(v, "cohesion") / std::tan(phi) : kInf;
+  };
+  d.params.push_back(std::move(ft));
+  d.state = {{"plastic_strain_xx", "", "Plastic strain xx (additive part of the Green strain)."},
+             {"plastic_strain_yy", "", "Plastic strain yy."},
+             {"plastic_strain_xy", "", "Plastic engineering shear strain (2 E_xy)."},
+             {"plastic_strain_zz", "", "Plastic strain zz (out of plane; in plane strain the total stays zero)."},
+             {"plastic_dissipation", "J/m^3", "Plastic work per unit reference volume, accumulated (never negative)."}};
+  d.check = [](const LawDecl& law, std::span<const double> v) {
+    std::vector<ParamProblem> out;
+    const double phi = law.value(v, "friction_angle"), psi = law.value(v, "dilation_angle");
+    if (psi > phi)
+      out.push_back({"dilation_angle", fmt::format("{} deg exceeds friction_angle {} deg: the plastic flow would "
+                                                   "create energy (psi <= phi)", psi, phi)});
+    if (phi > 0.0) {
+      const double apex = law.value(v, "cohesion") / std::tan(phi * 3.14159265358979323846 / 180.0);
+      if (law.value(v, "tensile_strength") > apex)
+        out.push_back({"tensile_strength", fmt::format("{} Pa is above the apex c / tan(phi) = {} Pa of the "
+                                                       "Mohr-Coulomb envelope, where no tension is left to cut off",
+                                                       law.value(v, "tensile_strength"), apex)});
+    }
+    return out;
+  };
+  return d;
+}
+
+LawDecl cohesive_joint_decl() {
+  LawDecl d;
+  d.category = Category::Joint;
+  d.name = "cohesive";
+  d.doc = "Linear softening in tension and shear, Mohr-Coulomb strength with a tension cut-off, elliptical "
+          "mixed-mode failure (paper eqs. 6-9, DESIGN.md §3).";
+  d.params = {
+      param("kn", "Pa/m", "p*E/h", 0, kInf,
+            "Normal stiffness (default: penalty p*E/h with h the local element size, logged).", true),
+      param("ks", "Pa/m", "kn", 0, kInf, "Shear stiffness (default: kn).", true),
+      param("penalty", "", "10", 0, kInf,
+            "p in the penalty rule kn = p*E/h when kn is absent; h is each joint's local element size (mean "
+            "sqrt(2A) of its two triangles).",
+            true),
+      param("ft", "Pa", "required", 0, kInf, "Tensile strength.", true),
+      param("c", "Pa", "required", 0, kInf, "Cohesion.", true),
+      param("phi", "deg", "required", 0, 90, "Friction angle.", false, true),
+      param("GI", "N/m", "required", 0, kInf, "Mode I fracture energy.", true),
+      param("GII", "N/m", "required", 0, kInf, "Mode II fracture energy.", true)};
+  d.module_state = "per end point: largest opening and slip, damage, last opening, slip and shear traction; "
+                   "per joint: broken (Joints, written as cracks)";
+  return d;
+}
+
+LawDecl spring_dashpot_coulomb_decl() {
+  LawDecl d;
+  d.category = Category::Contact;
+  d.name = "spring_dashpot_coulomb";
+  d.doc = "Linear normal spring with a restitution dashpot, incremental tangential spring capped by Coulomb "
+          "friction (paper eqs. 1-5, DESIGN.md §4).";
+  d.params = {
+      param("penalty", "", "1", 0, kInf, "p_c in kn = p_c * E (E of the softer side) when kn is absent.", true),
+      param("kn", "Pa", "p_c*E", 0, kInf, "Normal contact stiffness, force per unit thickness per unit overlap.", true),
+      param("ks_ratio", "", "1", 0, kInf, "Tangential stiffness as a fraction of kn.", true),
+      param("friction", "", "0.5", 0, kInf, "Coulomb friction coefficient mu (default for every pair of groups)."),
+      param("restitution", "", "1", 0, 1,
+            "Normal coefficient of restitution e of each contact's dashpot (1: no contact damping). The dashpot is "
+            "sized on the reduced mass of the two touching triangles, not of the bodies, so meshed blocks rebound "
+            "livelier than e: two blocks of 4 x 4 cells meeting face to face with the default kn rebound with an "
+            "effective e of about 0.8 for e = 0.5.",
+            true)};
+  d.module_state = "per touching feature pair: tangential force (the contact history)";
+  return d;
+}
+
+}  // namespace dsdem::law
