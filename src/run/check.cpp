@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "law/registry.hpp"
 #include "run/stage.hpp"
 #include "run/text.hpp"
 
@@ -48,9 +49,18 @@ std::string model_report(const PreparedRun& run) {
                        grp.nodes.size());
     }
   }
-  for (const auto& mat : m.materials)
+  for (const auto& mat : m.materials) {
     r += fmt::format("material   {:<12} E = {:.4g} Pa, nu = {}, rho = {} kg/m^3, cp = {:.5g} m/s, cs = {:.5g} m/s\n",
                      mat.name, mat.E, mat.nu, mat.rho, mat.cp(), mat.cs());
+    // The law's own parameters, by their declared names and units (law/registry.hpp).
+    if (const law::LawDecl* decl = law::material_laws().find(mat.model); decl && mat.model != law::kDefaultMaterialLaw) {
+      std::string params;
+      for (std::size_t k = 3; k < decl->params.size() && k < mat.params.size(); ++k)
+        params += fmt::format("{}{} = {:.4g}{}{}", params.empty() ? "" : ", ", decl->params[k].name, mat.params[k],
+                              decl->params[k].unit.empty() ? "" : " ", decl->params[k].unit);
+      r += fmt::format("           {:<12} {}: {}\n", "", mat.model, params);
+    }
+  }
   for (const auto& line : run.build_log)
     r += fmt::format("{}{}\n", line.level >= static_cast<int>(spdlog::level::warn) ? "warning: " : "model      ", line.text);
   return r;

@@ -40,6 +40,7 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
                                          {"contact_elastic", energy_unit},
                                          {"friction_dissipated", energy_unit},
                                          {"contact_damping_dissipated", energy_unit},
+                                         {"plastic_dissipated", energy_unit},
                                          {"broken_joints", ""},
                                          {"fragments", ""},
                                          {"contacts", ""}};
@@ -103,6 +104,7 @@ void RunOutputs::write_history(int stage_index) {
   row_[k++] = e.contact_elastic;
   row_[k++] = e.friction_dissipated;
   row_[k++] = e.contact_damping_dissipated;
+  row_[k++] = e.plastic_dissipated;
   row_[k++] = static_cast<double>(solver_.broken_joints());
   row_[k++] = solver::count_fragments(model_, fragment_label_);
   row_[k++] = static_cast<double>(solver_.active_contacts());

@@ -28,6 +28,7 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   energies["contact_elastic"] = e.contact_elastic;
   energies["friction_dissipated"] = e.friction_dissipated;
   energies["contact_damping_dissipated"] = e.contact_damping_dissipated;
+  energies["plastic_dissipated"] = e.plastic_dissipated;
   return energies;
 }
 

@@ -19,10 +19,14 @@ struct EnergyLedger {
   // them: half of each force's work at the step it is computed, half at the next
   // (DESIGN.md §1, §6; ContactForces::settle_previous).
   double contact_damping_dissipated = 0.0;
+  // Plastic work of the bulk (Mohr-Coulomb, DESIGN.md §12): a function of the state, the
+  // sum of each triangle's accumulated plastic work.
+  double plastic_dissipated = 0.0;
 
   double mechanical() const { return kinetic + strain + gravity_potential + joint_elastic + contact_elastic; }
   double dissipated() const {
-    return damping_dissipated + fracture_dissipated + friction_dissipated + contact_damping_dissipated;
+    return damping_dissipated + fracture_dissipated + friction_dissipated + contact_damping_dissipated +
+           plastic_dissipated;
   }
   // Relative balance error: |E - E0 + D - W| over the largest energy in play.
   double balance_error() const;

@@ -21,6 +21,7 @@ Solver::Solver(Model& model)
   element_strain_energy_.assign(ne, 0.0);
   set_stress_on_demand(false);  // sizes the triangles' stress and strain
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
+  setup_plasticity();
   joint_buf_.prepare(model_.joints, model_.joint_properties);
   scatter_.build(model_.triangles.conn, model_.joints.nodes, model_.joints.tri_a, model_.joints.tri_b,
                  model_.nodes.size());
@@ -108,6 +109,7 @@ void Solver::begin_step() {
   team_.begin_step();
   time_step_.update(model_, broken_joints_);
   settings_.dt = time_step_.dt();
+  if (any_plastic_) commit_plastic_state();
   const auto& n = model_.nodes;
   // The displacements before the drift that the work of the supports and of the viscous
   // boundary needs (a few nodes; the damping work needs all, then in u_prev_).
@@ -296,6 +298,7 @@ void Solver::update_energy() {
     energy_.gravity_potential = node_sums[1];
     energy_.strain = strain_sum[0];
   }
+  if (any_plastic_) energy_.plastic_dissipated = plastic_dissipation_sum();
   std::swap(damping_force_prev_, damping_force_);
   release_damping_buffers_if_unused();
 }

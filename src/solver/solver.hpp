@@ -12,6 +12,7 @@
 #include "exec/node_scatter.hpp"
 #include "exec/team.hpp"
 #include "fem/cst.hpp"
+#include "fem/mohr_coulomb.hpp"
 #include "io/checkpoint.hpp"
 #include "joint/joint_phase.hpp"
 #include "model/model.hpp"
@@ -226,6 +227,25 @@ class Solver {
   std::vector<Vec2> u_prev_;
   std::vector<double> reduction_scratch_;
   std::vector<fem::ElasticConstants> elastic_;
+
+  // Mohr-Coulomb bulk (DESIGN.md §12), per material: its return-mapping model and the
+  // columns of Triangles::state that hold its five state variables. The model's state
+  // arrays hold each triangle's state at the end of the last step; plastic_start_ the
+  // state at its start, from which the step's update is taken (so the update is a function
+  // of the step's start: stress on demand and a restart give the same bits).
+  struct PlasticMaterial {
+    bool on = false;
+    fem::MohrCoulombModel model;
+    std::array<Index, 5> columns{};
+  };
+  std::vector<PlasticMaterial> plastic_;
+  bool any_plastic_ = false;
+  std::vector<fem::MohrCoulombState> plastic_start_;
+  void setup_plasticity();
+  void commit_plastic_state();  // the last step's end state becomes this step's start
+  fem::MohrCoulombState plastic_state(std::size_t t) const;  // at the end of the last step
+  double plastic_dissipation_sum();  // J/m: the accumulated plastic work of all triangles
+  std::vector<double> plastic_scratch_;
 };
 
 }  // namespace dsdem::solver

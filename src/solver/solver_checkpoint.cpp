@@ -108,6 +108,14 @@ void Solver::save(io::CheckpointWriter& out) const {
   // Initial stresses: zeros when the model holds none (the file layout stays the same).
   out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
   save_state(out, "triangles/state/", tri.state);
+  if (any_plastic_) {  // the plastic state at the last step's start (stress on demand, the next step)
+    std::vector<double> start(5 * tri.size());
+    for (std::size_t t = 0; t < tri.size(); ++t) {
+      const fem::MohrCoulombState& p = plastic_start_[t];
+      std::copy_n(&p.ep_xx, 5, &start[5 * t]);
+    }
+    out.put("triangles/plastic_start", start);
+  }
   // Joints (checkpoint version 2): per end point dn_max, s_max, damage, dn, ds, ss and
   // the mode it failed in; per joint broken; the break records.
   std::vector<double> js(J.size() * 2 * kJointStateWidth);
@@ -227,6 +235,12 @@ void Solver::restore(const io::CheckpointReader& in) {
     if (any || !tri.stress0.empty()) tri.stress0 = std::move(s0);
   }
   restore_state(in, "triangles/state/", tri.state);
+  if (any_plastic_) {
+    const auto start = in.doubles("triangles/plastic_start");
+    check_size("triangles/plastic_start", start.size(), 5 * tri.size());
+    for (std::size_t t = 0; t < tri.size(); ++t) std::copy_n(&start[5 * t], 5, &plastic_start_[t].ep_xx);
+    energy_.plastic_dissipated = plastic_dissipation_sum();
+  }
   const auto js = in.doubles("joints/state");
   const auto modes = in.integers("joints/end_mode");
   const auto broken = in.integers("joints/broken");

@@ -1,5 +1,6 @@
 // The element and joint phases of the step (DESIGN.md §1 phases 3-4) as per-item kernels
 // for the execution layer's region (exec::ElementRegion), and the stress on demand.
+#include "fem/plastic_cst.hpp"
 #include "solver/solver.hpp"
 
 namespace dsdem::solver {
@@ -13,6 +14,7 @@ struct ElementKernels {
   Triangles& tri;
   Joints& J;
   const bool element_damping;  // the stiffness-damping forces (Rayleigh beta)
+  const bool any_plastic;      // some material is Mohr-Coulomb
   Vec2* const damping_sum;     // the nodes' damping forces, when booked
   const std::array<Vec2, 2>* const joint_force;
   Index broken_now = 0;
@@ -26,7 +28,22 @@ struct ElementKernels {
     in.beta = s.settings_.beta;
     in.cauchy = !s.stress_on_demand_;
     fem::TriangleResponse r;
-    fem::triangle_internal_force(in, s.elastic_[tri.material[t]], r, damping);
+    const Index mat = tri.material[t];
+    if (any_plastic && s.plastic_[mat].on) {
+      // Mohr-Coulomb (DESIGN.md §12): from the state at the step's start to its end.
+      const Solver::PlasticMaterial& pm = s.plastic_[mat];
+      fem::MohrCoulombState end;
+      fem::triangle_internal_force_mohr_coulomb(in, pm.model, fem::plane_strain_sigma_zz(in.S0, pm.model.elastic),
+                                                s.plastic_start_[t], end, r, damping);
+      auto& v = tri.state.values;
+      v[pm.columns[0]][t] = end.ep_xx;
+      v[pm.columns[1]][t] = end.ep_yy;
+      v[pm.columns[2]][t] = end.ep_xy;
+      v[pm.columns[3]][t] = end.ep_zz;
+      v[pm.columns[4]][t] = end.plastic_work;
+    } else {
+      fem::triangle_internal_force(in, s.elastic_[mat], r, damping);
+    }
     if (!s.stress_on_demand_) {
       tri.stress[t] = r.cauchy;
       tri.strain[t] = r.green;
@@ -62,7 +79,7 @@ struct ElementKernels {
 void Solver::add_element_and_joint_forces() {
   auto& J = model_.joints;
   const bool joints = J.size() > 0;
-  ElementKernels k{*this, model_.nodes, model_.triangles, J, settings_.beta > 0.0,
+  ElementKernels k{*this, model_.nodes, model_.triangles, J, settings_.beta > 0.0, any_plastic_,
                    damped() ? damping_force_.data() : nullptr, joint_buf_.force.empty() ? nullptr : joint_buf_.force.data()};
   const int bits =
       element_region_.run(team_, model_.nodes.size(), scatter_, joints ? joint_blocks(J.size()) : 0, k);
@@ -96,7 +113,15 @@ void Solver::compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain
     const fem::TriangleInput in = triangle_input(t);
     fem::TriangleResponse r;
     std::array<Vec2, 3> no_damping;
-    fem::triangle_internal_force(in, elastic_[tri.material[t]], r, no_damping);
+    const Index mat = tri.material[t];
+    if (any_plastic_ && plastic_[mat].on) {  // the step's update again, from the same start
+      fem::MohrCoulombState end;
+      fem::triangle_internal_force_mohr_coulomb(in, plastic_[mat].model,
+                                                fem::plane_strain_sigma_zz(in.S0, plastic_[mat].model.elastic),
+                                                plastic_start_[t], end, r, no_damping);
+    } else {
+      fem::triangle_internal_force(in, elastic_[mat], r, no_damping);
+    }
     stress[t] = r.cauchy;
     strain[t] = r.green;
   });
