@@ -60,7 +60,7 @@ inline constexpr std::array<StateVariable, 5> kMohrCoulombStateVariables{{
     {"plastic_strain_yy", "", "plastic Green strain Ep_yy"},
     {"plastic_strain_xy", "", "plastic Green strain, engineering shear 2 Ep_xy"},
     {"plastic_strain_zz", "", "out-of-plane plastic strain (plane strain: total E_zz = 0)"},
-    {"plastic_work", "J/m^3", "plastic dissipation per unit reference volume"},
+    {"plastic_dissipation", "J/m^3", "plastic dissipation per unit reference volume"},
 }};
 
 // Where the trial stress returned to. Principal stresses s1 >= s2 >= s3 (tension positive).

@@ -183,6 +183,18 @@ class Solver {
 
   void release_setup_memory();  // after the first step (see solver.cpp)
 
+  // The checkpoint's parts (solver_checkpoint.cpp).
+  void save_nodes(io::CheckpointWriter& out) const;
+  void save_triangles(io::CheckpointWriter& out) const;
+  void save_joints(io::CheckpointWriter& out) const;
+  void save_supports(io::CheckpointWriter& out) const;  // constraints, boundary, earthquake, stability watch
+  void save_contact(io::CheckpointWriter& out) const;
+  void restore_nodes(const io::CheckpointReader& in);
+  void restore_triangles(const io::CheckpointReader& in);
+  void restore_joints(const io::CheckpointReader& in);
+  void restore_supports(const io::CheckpointReader& in);
+  void restore_contact(const io::CheckpointReader& in);
+
   // Stress and strain of every triangle at the current state (update_stress, save).
   void compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const;
 

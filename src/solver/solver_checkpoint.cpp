@@ -74,10 +74,8 @@ void restore_state(const io::CheckpointReader& in, const std::string& prefix, St
 
 }  // namespace
 
+// The checkpoint in parts, each a group of the file's entries.
 void Solver::save(io::CheckpointWriter& out) const {
-  const Nodes& n = model_.nodes;
-  const Triangles& tri = model_.triangles;
-  const Joints& J = model_.joints;
   out.put("time", time_);
   out.put_int("step", step_);
   out.put_int("broken_joints", broken_joints_);
@@ -86,6 +84,15 @@ void Solver::save(io::CheckpointWriter& out) const {
                                      e.external_work, e.damping_dissipated, e.fracture_dissipated,
                                      e.friction_dissipated, e.initial_total, e.contact_damping_dissipated};
   out.put("energy", energies);
+  save_nodes(out);
+  save_triangles(out);
+  save_joints(out);
+  save_supports(out);
+  if (contact_) save_contact(out);
+}
+
+void Solver::save_nodes(io::CheckpointWriter& out) const {
+  const Nodes& n = model_.nodes;
   out.put("nodes/u", vec2s(n.u));
   out.put("nodes/v", vec2s(n.v));
   out.put("nodes/a", vec2s(n.a));
@@ -94,6 +101,10 @@ void Solver::save(io::CheckpointWriter& out) const {
   const std::vector<Vec2> zeros(damped() ? 0 : n.size(), Vec2::Zero());
   out.put("nodes/u_prev", vec2s(damped() ? u_prev_ : zeros));
   out.put("nodes/damping_force_prev", vec2s(damped() ? damping_force_prev_ : zeros));
+}
+
+void Solver::save_triangles(io::CheckpointWriter& out) const {
+  const Triangles& tri = model_.triangles;
   // Stress and strain of the current state: the steps' own when they write them, else
   // computed here (the values update_stress() gives; the model holds no arrays then).
   if (stress_on_demand_) {
@@ -116,6 +127,10 @@ void Solver::save(io::CheckpointWriter& out) const {
     }
     out.put("triangles/plastic_start", start);
   }
+}
+
+void Solver::save_joints(io::CheckpointWriter& out) const {
+  const Joints& J = model_.joints;
   // Joints (checkpoint version 2): per end point dn_max, s_max, damage, dn, ds, ss and
   // the mode it failed in; per joint broken; the break records.
   std::vector<double> js(J.size() * 2 * kJointStateWidth);
@@ -144,6 +159,9 @@ void Solver::save(io::CheckpointWriter& out) const {
   out.put("joints/breaks/joint", break_joint);
   out.put("joints/breaks/data", break_data);
   save_state(out, "joints/law_state/", J.law_state);
+}
+
+void Solver::save_supports(io::CheckpointWriter& out) const {
   std::vector<double> reactions(constraints_.size());
   for (std::size_t k = 0; k < constraints_.size(); ++k) reactions[k] = constraints_[k].reaction_prev;
   out.put("constraints/reaction_prev", reactions);
@@ -159,42 +177,40 @@ void Solver::save(io::CheckpointWriter& out) const {
   // The energy-growth watch (check_stability) so a restarted run flags the same step.
   out.put_int("stability/energy_growth_steps", energy_growth_steps_);
   out.put("stability/created_prev", created_prev_);
-  if (contact_) {
-    const auto& entries = contact_->history().entries();
-    std::vector<std::int64_t> keys(entries.size() * 3);
-    std::vector<double> ft(entries.size() * 2);
-    for (std::size_t k = 0; k < entries.size(); ++k) {
-      keys[3 * k] = entries[k].key.i;
-      keys[3 * k + 1] = entries[k].key.j;
-      keys[3 * k + 2] = entries[k].key.feature;
-      ft[2 * k] = entries[k].ft.x();
-      ft[2 * k + 1] = entries[k].ft.y();
-    }
-    out.put("contact/keys", keys);
-    out.put("contact/ft", ft);
-    out.put("contact/last_elastic_energy", contact_->last_elastic_energy());
-    out.put("contact/skin", contact_->skin());
-    // The last step's dashpot forces: the next step books the second half of their work.
-    const std::vector<contact::DashpotRecord> dashpots = contact_->dashpot_records();
-    std::vector<std::int64_t> dkeys(dashpots.size() * 3);
-    std::vector<double> dvals(dashpots.size() * 9);
-    for (std::size_t k = 0; k < dashpots.size(); ++k) {
-      const contact::DashpotRecord& r = dashpots[k];
-      dkeys[3 * k] = r.key.i;
-      dkeys[3 * k + 1] = r.key.j;
-      dkeys[3 * k + 2] = r.key.feature;
-      const double vals[9] = {r.Ni[0], r.Ni[1], r.Ni[2], r.Nj[0], r.Nj[1], r.Nj[2], r.normal.x(), r.normal.y(), r.dashpot_force};
-      std::copy(vals, vals + 9, dvals.begin() + static_cast<std::ptrdiff_t>(9 * k));
-    }
-    out.put("contact/dashpot_keys", dkeys);
-    out.put("contact/dashpot_records", dvals);
+}
+
+void Solver::save_contact(io::CheckpointWriter& out) const {
+  const auto& entries = contact_->history().entries();
+  std::vector<std::int64_t> keys(entries.size() * 3);
+  std::vector<double> ft(entries.size() * 2);
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    keys[3 * k] = entries[k].key.i;
+    keys[3 * k + 1] = entries[k].key.j;
+    keys[3 * k + 2] = entries[k].key.feature;
+    ft[2 * k] = entries[k].ft.x();
+    ft[2 * k + 1] = entries[k].ft.y();
   }
+  out.put("contact/keys", keys);
+  out.put("contact/ft", ft);
+  out.put("contact/last_elastic_energy", contact_->last_elastic_energy());
+  out.put("contact/skin", contact_->skin());
+  // The last step's dashpot forces: the next step books the second half of their work.
+  const std::vector<contact::DashpotRecord> dashpots = contact_->dashpot_records();
+  std::vector<std::int64_t> dkeys(dashpots.size() * 3);
+  std::vector<double> dvals(dashpots.size() * 9);
+  for (std::size_t k = 0; k < dashpots.size(); ++k) {
+    const contact::DashpotRecord& r = dashpots[k];
+    dkeys[3 * k] = r.key.i;
+    dkeys[3 * k + 1] = r.key.j;
+    dkeys[3 * k + 2] = r.key.feature;
+    const double vals[9] = {r.Ni[0], r.Ni[1], r.Ni[2], r.Nj[0], r.Nj[1], r.Nj[2], r.normal.x(), r.normal.y(), r.dashpot_force};
+    std::copy(vals, vals + 9, dvals.begin() + static_cast<std::ptrdiff_t>(9 * k));
+  }
+  out.put("contact/dashpot_keys", dkeys);
+  out.put("contact/dashpot_records", dvals);
 }
 
 void Solver::restore(const io::CheckpointReader& in) {
-  Nodes& n = model_.nodes;
-  Triangles& tri = model_.triangles;
-  Joints& J = model_.joints;
   time_ = in.scalar("time");
   step_ = in.integer("step");
   broken_joints_ = in.integer("broken_joints");
@@ -202,6 +218,19 @@ void Solver::restore(const io::CheckpointReader& in) {
   // 10 values before contact damping had a term of its own (it was in friction then).
   if (e.size() != 10) check_size("energy", e.size(), 11);
   energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9], e.size() > 10 ? e[10] : 0.0};
+  restore_nodes(in);
+  restore_triangles(in);
+  restore_joints(in);
+  restore_supports(in);
+  if (contact_) restore_contact(in);
+  // The restored joints set the step (the rule's walk starts over: a checkpoint of an
+  // earlier state may have fewer joints broken than this solver has seen).
+  time_step_.restart(model_, broken_joints_);
+  settings_.dt = time_step_.dt();
+}
+
+void Solver::restore_nodes(const io::CheckpointReader& in) {
+  Nodes& n = model_.nodes;
   read_vec2s(in, "nodes/u", n.u);
   read_vec2s(in, "nodes/v", n.v);
   read_vec2s(in, "nodes/a", n.a);
@@ -218,6 +247,10 @@ void Solver::restore(const io::CheckpointReader& in) {
       damping_force_prev_ = std::move(df_prev);
     }
   }
+}
+
+void Solver::restore_triangles(const io::CheckpointReader& in) {
+  Triangles& tri = model_.triangles;
   if (stress_on_demand_) {  // recomputed from the restored state when needed: only checked
     check_size("triangles/stress", in.doubles("triangles/stress").size(), 3 * tri.size());
     check_size("triangles/strain", in.doubles("triangles/strain").size(), 3 * tri.size());
@@ -241,6 +274,10 @@ void Solver::restore(const io::CheckpointReader& in) {
     for (std::size_t t = 0; t < tri.size(); ++t) std::copy_n(&start[5 * t], 5, &plastic_start_[t].ep_xx);
     energy_.plastic_dissipated = plastic_dissipation_sum();
   }
+}
+
+void Solver::restore_joints(const io::CheckpointReader& in) {
+  Joints& J = model_.joints;
   const auto js = in.doubles("joints/state");
   const auto modes = in.integers("joints/end_mode");
   const auto broken = in.integers("joints/broken");
@@ -270,6 +307,9 @@ void Solver::restore(const io::CheckpointReader& in) {
     J.breaks.push_back({static_cast<Index>(break_joint[b]), break_data[3 * b],
                         Vec2(break_data[3 * b + 1], break_data[3 * b + 2])});
   }
+}
+
+void Solver::restore_supports(const io::CheckpointReader& in) {
   const auto reactions = in.doubles("constraints/reaction_prev");
   check_size("constraints/reaction_prev", reactions.size(), constraints_.size());
   for (std::size_t k = 0; k < constraints_.size(); ++k) constraints_[k].reaction_prev = reactions[k];
@@ -286,41 +326,39 @@ void Solver::restore(const io::CheckpointReader& in) {
     energy_growth_steps_ = static_cast<int>(in.integer("stability/energy_growth_steps"));
     created_prev_ = in.scalar("stability/created_prev");
   }
-  if (contact_) {
-    const auto keys = in.integers("contact/keys");
-    const auto ft = in.doubles("contact/ft");
-    std::vector<contact::ContactHistory::Entry> entries(keys.size() / 3);
-    for (std::size_t k = 0; k < entries.size(); ++k) {
-      entries[k].key = {static_cast<Index>(keys[3 * k]), static_cast<Index>(keys[3 * k + 1]),
-                        static_cast<std::uint8_t>(keys[3 * k + 2])};
-      entries[k].ft = Vec2(ft[2 * k], ft[2 * k + 1]);
-    }
-    std::vector<contact::DashpotRecord> dashpots;
-    if (in.has("contact/dashpot_keys")) {
-      const auto dkeys = in.integers("contact/dashpot_keys");
-      const auto dvals = in.doubles("contact/dashpot_records");
-      check_size("contact/dashpot_records", dvals.size(), 3 * dkeys.size());
-      dashpots.resize(dkeys.size() / 3);
-      for (std::size_t k = 0; k < dashpots.size(); ++k) {
-        contact::DashpotRecord& r = dashpots[k];
-        const auto i = dkeys[3 * k], j = dkeys[3 * k + 1];
-        if (i < 0 || j < 0 || static_cast<std::size_t>(std::max(i, j)) >= tri.size())
-          throw std::runtime_error(fmt::format("checkpoint 'contact/dashpot_keys' names triangles {} and {}, the model has "
-                                               "{}: it belongs to another model", i, j, tri.size()));
-        r.key = {static_cast<Index>(i), static_cast<Index>(j), static_cast<std::uint8_t>(dkeys[3 * k + 2])};
-        const double* v = &dvals[9 * k];
-        r.Ni = Vec3(v[0], v[1], v[2]);
-        r.Nj = Vec3(v[3], v[4], v[5]);
-        r.normal = Vec2(v[6], v[7]);
-        r.dashpot_force = v[8];
-      }
-    }
-    contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"), std::move(dashpots));
+}
+
+void Solver::restore_contact(const io::CheckpointReader& in) {
+  const Triangles& tri = model_.triangles;
+  const auto keys = in.integers("contact/keys");
+  const auto ft = in.doubles("contact/ft");
+  std::vector<contact::ContactHistory::Entry> entries(keys.size() / 3);
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    entries[k].key = {static_cast<Index>(keys[3 * k]), static_cast<Index>(keys[3 * k + 1]),
+                      static_cast<std::uint8_t>(keys[3 * k + 2])};
+    entries[k].ft = Vec2(ft[2 * k], ft[2 * k + 1]);
   }
-  // The restored joints set the step (the rule's walk starts over: a checkpoint of an
-  // earlier state may have fewer joints broken than this solver has seen).
-  time_step_.restart(model_, broken_joints_);
-  settings_.dt = time_step_.dt();
+  std::vector<contact::DashpotRecord> dashpots;
+  if (in.has("contact/dashpot_keys")) {
+    const auto dkeys = in.integers("contact/dashpot_keys");
+    const auto dvals = in.doubles("contact/dashpot_records");
+    check_size("contact/dashpot_records", dvals.size(), 3 * dkeys.size());
+    dashpots.resize(dkeys.size() / 3);
+    for (std::size_t k = 0; k < dashpots.size(); ++k) {
+      contact::DashpotRecord& r = dashpots[k];
+      const auto i = dkeys[3 * k], j = dkeys[3 * k + 1];
+      if (i < 0 || j < 0 || static_cast<std::size_t>(std::max(i, j)) >= tri.size())
+        throw std::runtime_error(fmt::format("checkpoint 'contact/dashpot_keys' names triangles {} and {}, the model has "
+                                             "{}: it belongs to another model", i, j, tri.size()));
+      r.key = {static_cast<Index>(i), static_cast<Index>(j), static_cast<std::uint8_t>(dkeys[3 * k + 2])};
+      const double* v = &dvals[9 * k];
+      r.Ni = Vec3(v[0], v[1], v[2]);
+      r.Nj = Vec3(v[3], v[4], v[5]);
+      r.normal = Vec2(v[6], v[7]);
+      r.dashpot_force = v[8];
+    }
+  }
+  contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"), std::move(dashpots));
 }
 
 }  // namespace dsdem::solver

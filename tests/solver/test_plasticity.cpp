@@ -16,6 +16,7 @@
 
 #include "common/same_bits.hpp"
 #include "law/laws.hpp"
+#include "law/registry.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
 #include "solver/constraints.hpp"
@@ -191,4 +192,16 @@ TEST(Plasticity, CheckpointRestartContinuesBitIdenticallyWithPlasticState) {
     EXPECT_TRUE(same_bits(a.triangles.state.values[k], b.triangles.state.values[k])) << k;
   EXPECT_TRUE(test::same_bits(sa.energy().plastic_dissipated, sb.energy().plastic_dissipated));
   EXPECT_TRUE(test::same_bits(sa.energy().balance_error(), sb.energy().balance_error()));
+}
+
+// The solver reads the law's state columns in the kernel's order (MohrCoulombState): the
+// registry's declaration and the kernel's table name the same variables in that order.
+TEST(Plasticity, RegistryDeclaresTheKernelsStateInItsOrder) {
+  const law::LawDecl& decl = law::material_laws().get("mohr_coulomb");
+  ASSERT_EQ(decl.state.size(), fem::kMohrCoulombStateVariables.size());
+  ASSERT_EQ(decl.state.size(), static_cast<std::size_t>(law::mohr_coulomb::kStates));
+  for (std::size_t k = 0; k < decl.state.size(); ++k) {
+    EXPECT_EQ(decl.state[k].name, fem::kMohrCoulombStateVariables[k].name) << k;
+    EXPECT_EQ(decl.state[k].unit, fem::kMohrCoulombStateVariables[k].unit) << k;
+  }
 }
