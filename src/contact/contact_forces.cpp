@@ -147,11 +147,9 @@ void ContactForces::build(const ContactInput& in) {
 }
 
 int ContactForces::partition_threads() const {
-#ifdef _OPENMP
   if (settings_.parallel && settings_.one_partition && broad_.pairs().size() >= settings_.min_pairs_per_parallel_run &&
       static_cast<std::ptrdiff_t>(shape_slots_.size() + other_slots_.size()) > kMinParallelTriangles)
-    return omp_get_max_threads();
-#endif
+    return exec::max_threads();
   return 1;
 }
 
@@ -164,7 +162,7 @@ void ContactForces::equal_node_ranges(std::size_t nn, int T) {
 Index ContactForces::partition_begin(int u, int T) const {
   if (u <= 0) return 0;
   const std::size_t n = shape_slots_.size();
-  const std::size_t s = u >= T ? n : part_split_.begin(n, u);
+  const std::size_t s = u >= T ? n : partition_.begin(n, u);
   if (s >= n) return std::numeric_limits<Index>::max();
   const Index tri = broad_.active_triangles()[static_cast<std::size_t>(shape_slots_[s])];
   return tri - tri % kSumBlock;  // no sum block split between threads
@@ -173,38 +171,17 @@ Index ContactForces::partition_begin(int u, int T) const {
 bool ContactForces::update_shapes(const ContactInput& in, bool rebuilt) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(shape_slots_.size());
   const std::ptrdiff_t n_others = rebuilt ? 0 : static_cast<std::ptrdiff_t>(other_slots_.size());
-  int left = 0;  // a flag, so any thread count gives the same answer
   const bool parallel = settings_.parallel && n + n_others > kMinParallelTriangles;
-  int asked = 1;
-#ifdef _OPENMP
-  if (parallel) asked = omp_get_max_threads();
-#endif
-  shape_split_.prepare(asked);
-  bool tuned_team = false;
-#pragma omp parallel num_threads(asked) reduction(| : left) if (parallel)
-  {
-    int t = 0, T = 1;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-    T = omp_get_num_threads();
-#endif
-    const bool tuned = T == asked && T > 1;
-    double busy_from = 0.0;
-#ifdef _OPENMP
-    if (tuned) busy_from = omp_get_wtime();
-#endif
-    // Each thread a contiguous run of slot pairs, tuned from the threads' busy times (shape_split_).
-    const auto np2 = static_cast<std::size_t>((n + 1) / 2);
-    const auto q_begin = static_cast<std::ptrdiff_t>(tuned ? shape_split_.begin(np2, t) : np2 * t / T);
-    const auto q_end = static_cast<std::ptrdiff_t>(tuned ? shape_split_.begin(np2, t + 1) : np2 * (t + 1) / T);
-    update_shape_run(in, 2 * q_begin, std::min(2 * q_end, n), rebuilt, left);
-    if (!rebuilt) test_other_slots(in, left);
-#ifdef _OPENMP
-    if (tuned) shape_split_.set_busy(t, omp_get_wtime() - busy_from);
-#endif
-    if (t == 0) tuned_team = tuned;
-  }
-  if (tuned_team) shape_split_.rebalance();
+  // Each thread a contiguous run of slot pairs, tuned from the threads' busy times.
+  const auto np2 = static_cast<std::size_t>((n + 1) / 2);
+  const int threads = parallel ? exec::max_threads() : 1;
+  const int left = shape_region_.run(threads, np2, [&](std::size_t q_begin, std::size_t q_end) {
+    int run_left = 0;  // a flag, so any thread count gives the same answer
+    const auto s_begin = 2 * static_cast<std::ptrdiff_t>(q_begin);
+    update_shape_run(in, s_begin, std::min(2 * static_cast<std::ptrdiff_t>(q_end), n), rebuilt, run_left);
+    if (!rebuilt) test_other_slots(in, run_left);
+    return run_left;
+  });
   return left != 0;
 }
 
@@ -264,27 +241,24 @@ void ContactForces::test_other_slots(const ContactInput& in, int& left, bool sha
   const NodePositions x = in.positions();
   const std::span<const Index> tris = broad_.active_triangles();
   const std::span<const Aabb> build_box = broad_.boxes();
-  const std::ptrdiff_t n_others = static_cast<std::ptrdiff_t>(other_slots_.size());
-  auto test = [&](std::ptrdiff_t s) {
+  const std::size_t n_others = other_slots_.size();
+  auto test = [&](std::size_t s) {
     const Index slot = other_slots_[s];
     const auto& c = in.conn[tris[slot]];
     for (int k = 0; k < 3; ++k)
       if (!contains(build_box[slot], x[c[k]])) left = 1;
   };
   if (!shared) {
-    for (std::ptrdiff_t s = 0; s < n_others && !left; ++s) test(s);
+    for (std::size_t s = 0; s < n_others && !left; ++s) test(s);
     return;
   }
-#pragma omp for schedule(static) nowait
-  for (std::ptrdiff_t s = 0; s < n_others; ++s)
+  exec::shared_for_nowait(n_others, [&](std::size_t s) {
     if (!left) test(s);
+  });
 }
 
 int ContactForces::begin_pairs(std::size_t n_pairs) {
-  int nt = 1;
-#ifdef _OPENMP
-  if (settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run) nt = omp_get_max_threads();
-#endif
+  const int nt = settings_.parallel && n_pairs >= settings_.min_pairs_per_parallel_run ? exec::max_threads() : 1;
   ensure_thread_lists(nt);
   return nt;
 }

@@ -10,7 +10,6 @@
 // result does not depend on the thread count.
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -19,13 +18,6 @@
 #include <stdexcept>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-#if defined(__SSE2__)
-#include <emmintrin.h>  // _mm_pause
-#endif
-
 #include "contact/broad_phase.hpp"
 #include "contact/buffer.hpp"
 #include "contact/contact_history.hpp"
@@ -33,7 +25,7 @@
 #include "contact/narrow_phase.hpp"
 #include "contact/positions.hpp"
 #include "contact/spheropolygon.hpp"
-#include "exec/work_split.hpp"
+#include "exec/partitioned_region.hpp"
 
 namespace dsdem::contact {
 
@@ -190,12 +182,12 @@ class ContactForces {
   void pin_pair_split(std::vector<double> shares) {
     for (double s : shares)
       if (!(s > 0.0)) throw std::invalid_argument("pair split shares must be > 0");
-    part_split_.pin(shares);
-    pair_split_.pin(std::move(shares));
+    partition_.pin(shares);
+    split_region_.pin_pairs(std::move(shares));
   }
   // Each thread's share of the pair loop at the last call (empty before the first
   // parallel one).
-  std::span<const double> pair_split() const { return pair_split_.share(); }
+  std::span<const double> pair_split() const { return split_region_.pair_share(); }
   // Forces a broad-phase rebuild at the next call (e.g. after a remesh).
   void invalidate() { invalidated_ = true; }
   // Restart from a checkpoint: the stored tangential forces, the elastic-energy
@@ -408,30 +400,18 @@ class ContactForces {
   // ascending (more than one thread). Each thread reads only those in the scatter, not
   // every record.
   std::vector<ThreadVector<Index>> touching_;
-  // More than one thread: each thread's share (model/work_split.hpp, tuned from its busy
-  // time) of the examined pairs' expected cost in the pair loop (busy: its pair loop
-  // alone, see compute()), of the candidate pairs in the filter, and of the shapes to
-  // update.
-  exec::TunedSplit pair_split_, filter_split_, shape_split_;
-  // One partition: each thread's share of shape_slots_ (its run of triangles, and so of
-  // the pairs), tuned from its busy time in the shapes, filter and pair loop together.
-  exec::TunedSplit part_split_;
-  // One partition: shapes_done_[t] = calls_ once thread t has updated its shapes and set
-  // shapes_left_ if a node left its box. A thread reads another's triangles only after
-  // seeing the later threads' stamps (a pair's triangle j > i is its own or a later
-  // thread's), so no thread waits at a barrier for the others' shapes.
-  struct alignas(64) ShapeStamp {
-    std::atomic<long> call{0};
-  };
-  std::unique_ptr<ShapeStamp[]> shapes_done_;
+  // More than one thread: the threads' regions (exec/), each with its shares tuned from
+  // the threads' busy times: the shape update, the split path (filter and pair loop: see
+  // compute_split) and one partition (each thread's run of shape_slots_, and so of the
+  // pairs, tuned from its shapes, filter and pair loop together).
+  exec::TunedRegion shape_region_;
+  exec::SplitRegion split_region_;
+  exec::PartitionedRegion partition_;
   // This call's node ranges of the threads (scatter_forces), T + 1 bounds: with one
   // partition, each starts at the first node of the thread's first triangle (nodes are
   // numbered by first use), so the nodes a thread's pairs touch are mostly in its range.
   std::vector<Index> node_bound_, tri_bound_;
   bool node_split_partitioned_ = false;  // node_bound_ came from the partition
-  int n_stamps_ = 0;
-  long calls_ = 0;
-  std::atomic<int> shapes_left_{0};
   // The contact sums per block of pairs (triangle i / kSumBlock), in record order, by the
   // thread that made the records while they are in its cache; block_sums_[t]: thread t's
   // blocks in order, added in thread order by finish(). A serial sum over every record
@@ -453,7 +433,6 @@ class ContactForces {
   };
   std::vector<ThreadCounts> thread_counts_;
   int used_threads_ = 0;
-  bool pairs_split_ = false;  // this step's pair loop ran on several threads (tune pair_split_)
   bool cache_skip_ = false;  // this call's skip_epoch >= 0 (see compute())
   double last_elastic_energy_ = 0.0;
 };
@@ -562,16 +541,8 @@ template <class Skip>
 bool ContactForces::compute_partitioned(const ContactInput& in, const ContactParamTable& params, double dt,
                                         Skip& skip, std::vector<Vec2>& f, int nt, Index& skipped) {
   ensure_thread_lists(nt);
-  part_split_.prepare(nt);
+  partition_.prepare(nt);
   history_.begin_step(nt);
-  if (n_stamps_ < nt) {  // once per thread count: not in the time loop
-    shapes_done_ = std::make_unique<ShapeStamp[]>(static_cast<std::size_t>(nt));
-    n_stamps_ = nt;
-  }
-  const long call = ++calls_;
-  shapes_left_.store(0, std::memory_order_relaxed);
-  const std::span<const ContactPair> pairs = broad_.pairs();
-  const std::span<const Index> tris = broad_.active_triangles();
   const std::size_t nn = f.size();
   // The nt parts: triangles [tri_bound_[u], tri_bound_[u + 1]) and their first nodes.
   tri_bound_.resize(static_cast<std::size_t>(nt) + 1);
@@ -586,256 +557,210 @@ bool ContactForces::compute_partitioned(const ContactInput& in, const ContactPar
     node_bound_[static_cast<std::size_t>(u)] = u > 0 ? std::max(node, node_bound_[static_cast<std::size_t>(u) - 1]) : 0;
   }
   node_split_partitioned_ = true;
-  bool tuned_team = false;
-#pragma omp parallel num_threads(nt) reduction(+ : skipped)
-  {
-    int t = 0, T = 1;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-    T = omp_get_num_threads();
-#endif
-    // A smaller team than asked for (nested parallelism, a thread limit): its first
-    // thread alone does everything.
-    const int P = T == nt ? nt : 1;
-    const bool tuned = P > 1;
-    if (P == 1) T = 1;
-    // Thread t's triangles [from, to): their shapes, and the pairs whose triangle i they hold.
-    const Index from = P == 1 ? 0 : tri_bound_[static_cast<std::size_t>(t)];
-    const Index to = P == 1 ? std::numeric_limits<Index>::max() : tri_bound_[static_cast<std::size_t>(t) + 1];
-    if (t < P) {
-      const auto slot_at = [&](Index tri) {
-        return std::lower_bound(shape_slots_.begin(), shape_slots_.end(), tri,
-                                [&](Index slot, Index x) { return tris[static_cast<std::size_t>(slot)] < x; }) -
-               shape_slots_.begin();
-      };
-      const auto pair_at = [&](Index tri) {
-        return static_cast<std::size_t>(
-            std::lower_bound(pairs.begin(), pairs.end(), tri, [](const ContactPair& p, Index x) { return p.i < x; }) -
-            pairs.begin());
-      };
-      double started = 0.0;
-#ifdef _OPENMP
-      started = omp_get_wtime();
-#endif
-      // 1. The shapes of this thread's triangles; the first thread also tests the others
-      // (in no pair) for a rebuild: the other threads' shapes are then done before the
-      // first thread's filter reaches pairs that need them (once the bodies have moved,
-      // many of its pairs reach the other thread's triangles).
-      int my_left = 0;
-      update_shape_run(in, slot_at(from), slot_at(to), false, my_left);
-      if (t == 0) test_other_slots(in, my_left, false);
-      if (my_left) shapes_left_.store(1, std::memory_order_relaxed);
-      shapes_done_[t].call.store(call, std::memory_order_release);
-      // The later threads' shapes, seen once: before the first chunk of pairs that reaches
-      // their triangles (j >= to), and by the first thread before its pair loop in any case
-      // (it adds forces to nodes at once, which a rebuild could not take back).
-      bool seen = t + 1 >= T;
-      const auto see_later_shapes = [&] {
-        for (int u = t + 1; u < T; ++u)
-          while (shapes_done_[u].call.load(std::memory_order_acquire) != call) {
-#if defined(__SSE2__)
-            _mm_pause();
-#endif
-          }
-        seen = true;
-      };
-      // 2. The pairs whose triangle i is this thread's, filtered and examined at once.
-      std::vector<Index>& todo = todo_[t];
+  // The kernels of one partition (exec::PartitionedRegion): thread t of T holds the
+  // triangles [from, to) (T = 1: all), their shapes, and the pairs whose triangle i they hold.
+  struct Kernels {
+    ContactForces& cf;
+    const ContactInput& in;
+    const ContactParamTable& params;
+    const double dt;
+    Skip& skip;
+    std::vector<Vec2>& f;
+    const std::span<const ContactPair> pairs;
+    const std::span<const Index> tris;
+
+    Index from(int t, int T) const { return T == 1 ? 0 : cf.tri_bound_[static_cast<std::size_t>(t)]; }
+    Index to(int t, int T) const {
+      return T == 1 ? std::numeric_limits<Index>::max() : cf.tri_bound_[static_cast<std::size_t>(t) + 1];
+    }
+    std::ptrdiff_t slot_at(Index tri) const {
+      return std::lower_bound(cf.shape_slots_.begin(), cf.shape_slots_.end(), tri,
+                              [&](Index slot, Index x) { return tris[static_cast<std::size_t>(slot)] < x; }) -
+             cf.shape_slots_.begin();
+    }
+    std::size_t pair_at(Index tri) const {
+      return static_cast<std::size_t>(
+          std::lower_bound(pairs.begin(), pairs.end(), tri, [](const ContactPair& p, Index x) { return p.i < x; }) -
+          pairs.begin());
+    }
+    // 1. The shapes of this thread's triangles; the first thread also tests the others
+    // (in no pair) for a rebuild: the other threads' shapes are then done before the
+    // first thread's filter reaches pairs that need them (once the bodies have moved,
+    // many of its pairs reach the other thread's triangles). true: a node left its box.
+    bool first(int t, int T) {
+      int left = 0;
+      cf.update_shape_run(in, slot_at(from(t, T)), slot_at(to(t, T)), false, left);
+      if (t == 0) cf.test_other_slots(in, left, false);
+      return left != 0;
+    }
+    // 2. The pairs whose triangle i is this thread's, filtered. A pair's triangle j > i is
+    // this thread's or a later one's: the later threads' shapes are waited for before the
+    // first chunk of pairs that reaches their triangles (j >= to), so no thread waits at a
+    // barrier for the others' shapes.
+    long second(int t, int T, exec::PartitionedRegion::Later& later) {
+      Index skipped = 0;
+      const Index end = to(t, T);
+      std::vector<Index>& todo = cf.todo_[t];
       todo.clear();
-      filter_pairs(pair_at(from), pair_at(to), skip, cache_skip_, todo, nullptr, skipped,
-                   [&](std::size_t c, std::size_t c_end) {
-                     if (seen) return;
-                     Index j_max = 0;
-                     for (std::size_t p = c; p < c_end; ++p) j_max = std::max(j_max, pairs[p].j);
-                     if (j_max >= to) see_later_shapes();
-                   });
-      if (!seen && t == 0) see_later_shapes();
-      const bool left = t == 0 && shapes_left_.load(std::memory_order_relaxed) != 0;
-      settle_previous(in, dt, t, T);
-      buffers_[t].clear();
-      block_sums_[t].clear();
-      for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
+      cf.filter_pairs(pair_at(from(t, T)), pair_at(end), skip, cf.cache_skip_, todo, nullptr, skipped,
+                      [&](std::size_t c, std::size_t c_end) {
+                        if (later.seen()) return;
+                        Index j_max = 0;
+                        for (std::size_t p = c; p < c_end; ++p) j_max = std::max(j_max, pairs[p].j);
+                        if (j_max >= end) later.wait();
+                      });
+      return skipped;
+    }
+    // 3. The pairs examined, unless a node left its box (the first thread, which adds
+    // forces to nodes at once that a rebuild could not take back, is told).
+    void third(int t, int T, bool left) {
+      cf.settle_previous(in, dt, t, T);
+      cf.buffers_[t].clear();
+      cf.block_sums_[t].clear();
+      for (int c = 0; c < T; ++c) cf.touching_[t * T + c].clear();
       PairRun run;
       run.t = t;
       run.T = T;
       run.note = T > 1;
-      run.own_scales = !scales_with_shapes_;
-      run.f_now = T == 1 ? std::span<Vec2>(f) : t == 0 ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(1)))
-                                                       : std::span<Vec2>();
-      if (!left) examine_pairs(todo, 0, todo.size(), in, params, dt, run);
-      end_pair_run(run);
-      // Busy: the whole phase up to here, waits included (a thread that waits for another's
-      // shapes should get less to do).
-#ifdef _OPENMP
-      if (tuned) part_split_.set_busy(t, omp_get_wtime() - started);
-#endif
-      if (t == 0) {
-        used_threads_ = T;
-        tuned_team = tuned;
-      }
+      run.own_scales = !cf.scales_with_shapes_;
+      run.f_now = T == 1   ? std::span<Vec2>(f)
+                  : t == 0 ? std::span<Vec2>(f).first(static_cast<std::size_t>(cf.range_begin(1)))
+                           : std::span<Vec2>();
+      if (!left) cf.examine_pairs(cf.todo_[t], 0, cf.todo_[t].size(), in, params, dt, run);
+      cf.end_pair_run(run);
     }
-    // 3. The forces to each thread's node range, in record order (see compute_split),
-    // unless a node left its box (every thread sees the flag after the barrier).
-    if (P > 1) {
-#pragma omp barrier
-      if (shapes_left_.load(std::memory_order_relaxed) == 0) scatter_forces(in, f, t, T);
-    }
-  }
+    // 4. The forces to each thread's node range, in record order (see compute_split).
+    void gather(int t, int T) { cf.scatter_forces(in, f, t, T); }
+  };
+  Kernels k{*this, in, params, dt, skip, f, broad_.pairs(), broad_.active_triangles()};
+  const exec::PartitionedRegion::Result r = partition_.run(nt, k);
+  skipped += static_cast<Index>(r.count);
+  used_threads_ = r.threads;
   late_due_ = false;
   if (used_threads_ == 1) equal_node_ranges(nn, 1);
-  if (shapes_left_.load(std::memory_order_relaxed) != 0) return false;
-  if (tuned_team) part_split_.rebalance();
-  return true;
+  return !r.stopped;
 }
 
 template <class Skip>
 void ContactForces::compute_split(const ContactInput& in, const ContactParamTable& params, double dt, Skip& skip,
                                   std::vector<Vec2>& f, Index& skipped) {
-  const std::span<const ContactPair> pairs = broad_.pairs();
-  const std::size_t np = pairs.size();
+  const std::size_t np = broad_.pairs().size();
   const int nt = begin_pairs(np);
-  if (nt > 1) {
-    pair_split_.prepare(nt);
-    filter_split_.prepare(nt);
-  }
   // Each thread writes its contacts' history to a segment of its own, and its blocks' sums.
   history_.begin_step(nt);
-  const bool cache_skip = cache_skip_;
-  const bool settle = late_due_;
   equal_node_ranges(f.size(), nt);
-#pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : skipped)
-  {
-    int t = 0, T = 1;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-    T = omp_get_num_threads();
-#endif
+  // The kernels of the split path (exec::SplitRegion).
+  struct Kernels {
+    ContactForces& cf;
+    const ContactInput& in;
+    const ContactParamTable& params;
+    const double dt;
+    Skip& skip;
+    std::vector<Vec2>& f;
+    const std::span<const ContactPair> candidates;
+    const bool cache_skip, settle;
+
+    std::size_t examined(int T) const {
+      std::size_t n = 0;
+      for (int u = 0; u < T; ++u) n += cf.todo_[u].size();
+      return n;
+    }
     // 1. The pairs to examine, in pair order per contiguous chunk: rounded boxes overlap,
     // not known to be apart (see skip_below_), not skipped by the caller.
-    std::vector<Index>& todo = todo_[t];
-    std::vector<std::uint32_t>& upto = todo_weight_[t];
-    todo.clear();
-    upto.clear();
-    const bool tuned = T == nt && T > 1;
-    const std::size_t b = tuned ? filter_split_.begin(np, t) : np * t / T;
-    const std::size_t e = tuned ? filter_split_.begin(np, t + 1) : np * (t + 1) / T;
-    double busy_from = 0.0;
-#ifdef _OPENMP
-    if (tuned) busy_from = omp_get_wtime();
-#endif
-    filter_pairs(b, e, skip, cache_skip, todo, T > 1 ? &upto : nullptr, skipped, [](std::size_t, std::size_t) {});
-#ifdef _OPENMP
-    if (tuned) filter_split_.set_busy(t, omp_get_wtime() - busy_from);
-#endif
+    long filter(int t, int T, std::size_t b, std::size_t e) {
+      Index skipped = 0;
+      std::vector<Index>& todo = cf.todo_[t];
+      std::vector<std::uint32_t>& upto = cf.todo_weight_[t];
+      todo.clear();
+      upto.clear();
+      cf.filter_pairs(b, e, skip, cache_skip, todo, T > 1 ? &upto : nullptr, skipped, [](std::size_t, std::size_t) {});
+      return skipped;
+    }
+    // Few pairs: the first thread alone from here.
+    bool split(int T) const { return examined(T) >= cf.settings_.min_examined_pairs_to_split; }
     // 2. Edge data of the triangles in those pairs only (once each), unless
     // update_shapes() did it for all.
-    if (t == 0) used_threads_ = T;
-#pragma omp barrier
-    std::size_t examined = 0;
-    for (int u = 0; u < T; ++u) examined += todo_[u].size();
-    // Few pairs: the first thread alone from here (the same on every thread: worksharing
-    // constructs below are met by all threads or by none).
-    const bool split = T > 1 && examined >= settings_.min_examined_pairs_to_split;
-    if (t == 0) pairs_split_ = split;
-    if (!scales_with_shapes_) {
-      auto scales_of = [this](std::ptrdiff_t s) {
-        const Index tri = scale_tris_[s];
-        edge_scales_[tri] = core_edge_scales(sp_[tri].core);
-        in_pair_[tri] &= ~kScales;
-      };
-      if (split) {
-#pragma omp single
-        collect_scale_triangles(T);
-        const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
-#pragma omp for schedule(static)
-        for (std::ptrdiff_t s = 0; s < ns; ++s) scales_of(s);
-      } else if (t == 0) {
-        collect_scale_triangles(T);
-        const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(scale_tris_.size());
-        for (std::ptrdiff_t s = 0; s < ns; ++s) scales_of(s);
-      }
+    bool scales() const { return !cf.scales_with_shapes_; }
+    void collect(int T) { cf.collect_scale_triangles(T); }
+    std::size_t items() const { return cf.scale_tris_.size(); }
+    void item(std::size_t s) {
+      const Index tri = cf.scale_tris_[s];
+      cf.edge_scales_[tri] = core_edge_scales(cf.sp_[tri].core);
+      cf.in_pair_[tri] &= ~kScales;
+    }
+    void prepare(int t, int T, bool) {
+      if (settle) cf.settle_previous(in, dt, t, T);
+      cf.buffers_[t].clear();
+      cf.block_sums_[t].clear();
+      if (T > 1)
+        for (int c = 0; c < T; ++c) cf.touching_[t * T + c].clear();
     }
     // 3. Narrow phase and law. The pairs to examine, in pair order (todo_[0], todo_[1],
     // ...), are split into T contiguous runs of equal expected cost (todo_weight_),
     // whatever share of them each thread's filter found. Concatenating the buffers in
     // thread order still gives pair order.
-    if (settle) settle_previous(in, dt, t, T);
-    buffers_[t].clear();
-    block_sums_[t].clear();
-    // Forces added at once, while the records are in cache: by one thread (or the first
-    // alone, few pairs), to every node; by the first of several, to the nodes of its range
-    // (no earlier pair touches them).
-    PairRun run;
-    run.t = t;
-    run.T = T;
-    run.note = split;
-    run.f_now = t != 0 ? std::span<Vec2>()
-                : split ? std::span<Vec2>(f).first(static_cast<std::size_t>(range_begin(1)))
-                        : std::span<Vec2>(f);
-    if (T > 1)
-      for (int c = 0; c < T; ++c) touching_[t * T + c].clear();
-    std::size_t first = 0, count = t == 0 ? examined : 0;  // split: set below
-    if (split) {
-#ifdef _OPENMP
-      busy_from = omp_get_wtime();
-#endif
-      std::uint64_t total = 0;
-      for (int u = 0; u < T; ++u) total += todo_weight_[u].empty() ? 0 : todo_weight_[u].back();
-      // Thread t's run: the running weights in (total cum[t], total cum[t + 1]].
-      auto bound = [&](int u) {
-        if (u >= T) return total;
-        if (!tuned) return total * static_cast<std::uint64_t>(u) / static_cast<std::uint64_t>(T);
-        return std::min(total, static_cast<std::uint64_t>(static_cast<double>(total) * pair_split_.cum()[u]));
-      };
-      // Runs start at the first pair of a sum block (pairs whose triangle i is in one run of
-      // kSumBlock indices), so no block is split between threads.
-      auto pair_at = [&](std::size_t c) -> const ContactPair& {
-        int u = 0;
-        while (c >= todo_[u].size()) c -= todo_[u++].size();
-        return pairs[todo_[u][c]];
-      };
-      auto at_block = [&](std::size_t c) {
-        while (c > 0 && c < examined && pair_at(c).i / kSumBlock == pair_at(c - 1).i / kSumBlock) ++c;
-        return c;
-      };
-      first = at_block(pairs_within_weight(bound(t), T));
-      const std::size_t end = t + 1 == T ? examined : at_block(pairs_within_weight(bound(t + 1), T));
-      count = end > first ? end - first : 0;
-    }
-    for (int u = 0; u < T && count > 0; ++u) {
-      const std::vector<Index>& list = todo_[u];
-      if (first >= list.size()) {
-        first -= list.size();
-        continue;
+    void pairs(int t, int T, bool split, std::span<const double> cum) {
+      // Forces added at once, while the records are in cache: by one thread (or the first
+      // alone, few pairs), to every node; by the first of several, to the nodes of its range
+      // (no earlier pair touches them).
+      PairRun run;
+      run.t = t;
+      run.T = T;
+      run.note = split;
+      run.f_now = t != 0 ? std::span<Vec2>()
+                  : split ? std::span<Vec2>(f).first(static_cast<std::size_t>(cf.range_begin(1)))
+                          : std::span<Vec2>(f);
+      const std::size_t n_examined = examined(T);
+      std::size_t first = 0, count = t == 0 ? n_examined : 0;  // split: set below
+      if (split) {
+        std::uint64_t total = 0;
+        for (int u = 0; u < T; ++u) total += cf.todo_weight_[u].empty() ? 0 : cf.todo_weight_[u].back();
+        // Thread t's run: the running weights in (total cum[t], total cum[t + 1]].
+        auto bound = [&](int u) {
+          if (u >= T) return total;
+          if (cum.empty()) return total * static_cast<std::uint64_t>(u) / static_cast<std::uint64_t>(T);
+          return std::min(total, static_cast<std::uint64_t>(static_cast<double>(total) * cum[u]));
+        };
+        // Runs start at the first pair of a sum block (pairs whose triangle i is in one run of
+        // kSumBlock indices), so no block is split between threads.
+        auto pair_at = [&](std::size_t c) -> const ContactPair& {
+          int u = 0;
+          while (c >= cf.todo_[u].size()) c -= cf.todo_[u++].size();
+          return candidates[cf.todo_[u][c]];
+        };
+        auto at_block = [&](std::size_t c) {
+          while (c > 0 && c < n_examined && pair_at(c).i / kSumBlock == pair_at(c - 1).i / kSumBlock) ++c;
+          return c;
+        };
+        first = at_block(cf.pairs_within_weight(bound(t), T));
+        const std::size_t end = t + 1 == T ? n_examined : at_block(cf.pairs_within_weight(bound(t + 1), T));
+        count = end > first ? end - first : 0;
       }
-      const std::size_t end = std::min(list.size(), first + count);
-      examine_pairs(list, first, end, in, params, dt, run);
-      count -= end - first;
-      first = 0;
+      for (int u = 0; u < T && count > 0; ++u) {
+        const std::vector<Index>& list = cf.todo_[u];
+        if (first >= list.size()) {
+          first -= list.size();
+          continue;
+        }
+        const std::size_t end = std::min(list.size(), first + count);
+        cf.examine_pairs(list, first, end, in, params, dt, run);
+        count -= end - first;
+        first = 0;
+      }
+      cf.end_pair_run(run);
     }
-    end_pair_run(run);
     // 4. The forces to the nodes (one thread, or few pairs: done in step 3): thread t adds
     // the forces of the records that touch its node range to those nodes (thread 0's own
     // ones: done in step 3), in record order, so each node gets the same sum, in the same
-    // order, for any thread count.
-    if (split) {
-      // Busy time: the pair loop alone. Every scatter starts after the barrier, so the
-      // step's contact phase ends at the slowest pair loop plus the longest scatter; the
-      // last thread's scatter is the longest by construction (it adds every record on its
-      // nodes, the first thread only the others' records). Balancing pair loop + scatter
-      // would keep the first thread's pair loop longer by that difference.
-#ifdef _OPENMP
-      if (tuned) pair_split_.set_busy(t, omp_get_wtime() - busy_from);
-#endif
-#pragma omp barrier
-      scatter_forces(in, f, t, T);
-    }
-  }
+    // order, for any thread count. The last thread's gather is the longest by construction
+    // (it adds every record on its nodes, the first thread only the others' records).
+    void gather(int t, int T) { cf.scatter_forces(in, f, t, T); }
+  };
+  Kernels k{*this, in, params, dt, skip, f, broad_.pairs(), cache_skip_, late_due_};
+  const exec::SplitRegion::Result r = split_region_.run(nt, np, k);
+  skipped += static_cast<Index>(r.count);
+  used_threads_ = r.threads;
   late_due_ = false;
-  if (used_threads_ > 1 && used_threads_ == nt) {
-    if (pairs_split_) pair_split_.rebalance();
-    filter_split_.rebalance();
-  }
 }
 
 }  // namespace dsdem::contact
