@@ -2,6 +2,8 @@
 
 #include "exec/deterministic_sums.hpp"
 
+#include <algorithm>
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -28,8 +30,21 @@ Team::Team(bool parallel, bool automatic) : parallel_(parallel), automatic_(auto
 
 bool Team::end_step(long steps_done) {
   if (!automatic_) return false;
+  return record_step(std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count(), steps_done);
+}
+
+bool Team::record_step(double step_seconds, long steps_done) {
+  if (!automatic_) return false;
   const bool before = parallel_;
-  probe(std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count(), steps_done);
+  const long k = steps_done - 1 - probe_start_;
+  if (parallel_ && k < -1 && parallel_median_ > 0.0) {  // between windows, on the threads
+    slow_ += step_seconds > kSlowdown * parallel_median_ ? 1 : 0;
+    if (++watched_ == kWatchSteps) {
+      if (2 * slow_ > kWatchSteps) probe_start_ = steps_done + 1;  // a window from the step after next
+      watched_ = slow_ = 0;
+    }
+  }
+  probe(step_seconds, steps_done);
   return parallel_ != before;
 }
 
@@ -56,6 +71,10 @@ void Team::probe(double step_seconds, long steps_done) {
     // slow spell of the other core does not hold the run on one thread for long, and a
     // busy machine pays few probes.
     parallel_ = choose_parallel(probe_serial_, probe_parallel_);
+    std::array<double, kProbeSteps> sorted = probe_parallel_;
+    std::sort(sorted.begin(), sorted.end());
+    parallel_median_ = 0.5 * (sorted[kProbeSteps / 2 - 1] + sorted[kProbeSteps / 2]);
+    watched_ = slow_ = 0;
     if (parallel_) {
       probe_start_ = steps_done + kProbeInterval;
       serial_recheck_ = kRecheckInterval;

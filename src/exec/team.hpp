@@ -78,6 +78,13 @@ class Team {
   // (the caller passes it on to phases that keep their own parallel flag).
   void begin_step() { step_start_ = std::chrono::steady_clock::now(); }
   bool end_step(long steps_done);
+  // end_step with the step's wall time given (tests).
+  bool record_step(double step_seconds, long steps_done);
+  // While on the threads: a probe window starts early when more than half of the last
+  // kWatchSteps steps took over kSlowdown times the threads' median of the last window
+  // (the machine got busy: other processes now deschedule a thread at the barriers).
+  static constexpr int kWatchSteps = 32;
+  static constexpr double kSlowdown = 1.5;
 
   // Each thread's node chunks in the node loops (kick, velocities, node sums): T + 1
   // chunk bounds for T threads, or empty for the equal shares of detail::own_chunks.
@@ -107,6 +114,8 @@ class Team {
   long serial_recheck_ = kRecheckInterval;
   long serial_steps_chosen_ = 0;
   std::array<double, kProbeSteps> probe_serial_{}, probe_parallel_{};
+  double parallel_median_ = 0.0;  // s: the threads' median step in the last window
+  int watched_ = 0, slow_ = 0;    // steps watched since the window, and how many were slow
   std::chrono::steady_clock::time_point step_start_{};
   std::vector<std::size_t> node_chunks_;
   NodePass pending_;
