@@ -78,9 +78,8 @@ void add_law_params(std::vector<KeySpec>& s, const law::Registry& reg, const std
   }
 }
 
-std::vector<KeySpec> build_schema() {
-  std::vector<KeySpec> s;
-  // Top level.
+// The mesh, the materials and the regions that join them.
+void add_mesh_and_materials(std::vector<KeySpec>& s) {
   s.push_back(of("title", KeyType::String, "", "Free text shown in the log, summary and report."));
   s.push_back(of("mesh", KeyType::Map, "required", "The Gmsh mesh or geometry."));
   s.push_back(of("mesh.file", KeyType::String, "required",
@@ -108,7 +107,10 @@ std::vector<KeySpec> build_schema() {
   s.push_back(choice("regions[].zone", {"continuous", "contact", "discrete"}, "continuous",
                      "continuous: plain FEM (zone B); contact: FEM whose surface takes part in contact (zone C); "
                      "discrete: breakable spheropolygon elements glued by joints (zone A)."));
+}
 
+// Boundary conditions, gravity, damping, time and stages.
+void add_boundaries_time_stages(std::vector<KeySpec>& s) {
   s.push_back(of("boundaries", KeyType::List, "", "Boundary conditions on curve or point groups."));
   s.push_back(of("boundaries[]", KeyType::Map, "", "One boundary condition."));
   s.push_back(of("boundaries[].group", KeyType::String, "required",
@@ -161,8 +163,10 @@ std::vector<KeySpec> build_schema() {
   }
   s.push_back(num("stages[].stop_kinetic_ratio", "", "", 0, 1,
                   "End the stage early once kinetic energy falls below this fraction of its peak in the stage.", true));
+}
 
-  // Cohesive joints (DESIGN.md §3; paper eqs. 6-9).
+// Cohesive joints (DESIGN.md §3; paper eqs. 6-9).
+void add_joints(std::vector<KeySpec>& s) {
   s.push_back(of("joints", KeyType::Map, "", "Cohesive joint properties for discrete (breakable) zones."));
   const std::vector<std::pair<std::string, std::string>> joint_sets{
       {"joints.default", "Properties of every joint unless a group, interface or curve entry overrides them."},
@@ -181,7 +185,10 @@ std::vector<KeySpec> build_schema() {
     add_law_params(s, law::joint_laws(), prefix, base);
     s.push_back(of(prefix + ".broken", KeyType::Boolean, "false", "Start broken (a pre-existing crack: contact only)."));
   }
-  // Spheropolygon contact (DESIGN.md §4; paper eqs. 1-5).
+}
+
+// Spheropolygon contact (DESIGN.md §4; paper eqs. 1-5).
+void add_contact(std::vector<KeySpec>& s) {
   s.push_back(of("contact", KeyType::Map, "", "Contact between spheropolygons of the discrete and contact zones."));
   s.push_back(choice("contact.law", law::contact_laws().names(), std::string(law::kDefaultContactLaw),
                      "Contact law (its parameters follow)."));
@@ -195,8 +202,10 @@ std::vector<KeySpec> build_schema() {
   s.push_back(num("contact.pairs[].friction", "", "contact.friction", 0, kInf, "Coulomb friction coefficient."));
   s.push_back(num("contact.pairs[].restitution", "", "contact.restitution", 0, 1, "Coefficient of restitution.", true));
   s.push_back(num("contact.pairs[].kn", "Pa", "contact.kn", 0, kInf, "Normal stiffness.", true));
+}
 
-  // Earthquake input (DESIGN.md §5; paper §2.2).
+// Earthquake input (DESIGN.md §5; paper §2.2) and the stage switches after it.
+void add_earthquake(std::vector<KeySpec>& s) {
   s.push_back(of("earthquake", KeyType::Map, "", "Design ground motion fed through viscous-spring boundaries."));
   s.push_back(num("earthquake.incident_factor", "", "0.5", 0, kInf,
                   "Incident wave = this factor x the design (outcrop) motion (0.5 for a uniform half-space).", true));
@@ -225,7 +234,10 @@ std::vector<KeySpec> build_schema() {
 
   s.push_back(of("stages[].failure", KeyType::Boolean, "true",
                  "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));
+}
 
+// Output intervals, checkpoints and gauges.
+void add_output(std::vector<KeySpec>& s) {
   s.push_back(of("output", KeyType::Map, "", "What is written and how often."));
   s.push_back(num("output.field_interval", "s", "end/50", 0, kInf, "Interval between VTU frames.", true));
   s.push_back(num("output.history_interval", "s", "end/1000", 0, kInf, "Interval between history rows.", true));
@@ -240,6 +252,17 @@ std::vector<KeySpec> build_schema() {
   s.push_back(of("output.gauges[].name", KeyType::String, "required", "Gauge name (history column prefix)."));
   s.push_back(of("output.gauges[].at", KeyType::Vector2, "required",
                  "Reference position; the gauge follows the material point there.", "m"));
+}
+
+// Keys in the order of docs/scenario-reference.md.
+std::vector<KeySpec> build_schema() {
+  std::vector<KeySpec> s;
+  add_mesh_and_materials(s);
+  add_boundaries_time_stages(s);
+  add_joints(s);
+  add_contact(s);
+  add_earthquake(s);
+  add_output(s);
   return s;
 }
 
