@@ -10,10 +10,8 @@
 #include <limits>
 #include <sstream>
 
-#include "io/input_file.hpp"
 #include "io/scenario_sections.hpp"
 #include "io/schema.hpp"
-#include "law/registry.hpp"
 
 namespace dsdem::io {
 
