@@ -53,6 +53,108 @@ int guarded(const std::function<int()>& body) {
   }
 }
 
+// Removes a scratch folder when it goes out of scope.
+struct ScratchDir {
+  std::filesystem::path p;
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(p, ec);
+  }
+};
+
+struct RunArgs {
+  CLI::App* cmd = nullptr;
+  std::string scenario_path, out_dir = "out";
+  std::vector<std::string> sets;
+  int threads = 0;
+  bool quiet = false, no_fields = false, no_plots = false;
+  std::string restart_path;
+  long stop_at_step = 0;
+};
+
+void add_run_command(CLI::App& app, RunArgs& a) {
+  auto* run_cmd = app.add_subcommand("run", "Run a scenario");
+  a.cmd = run_cmd;
+  run_cmd->add_option("scenario", a.scenario_path, "Scenario YAML file")->required();
+  run_cmd->add_option("-o,--output", a.out_dir, "Output directory")->capture_default_str();
+  run_cmd->add_option("--threads", a.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--set", a.sets, "Override a scenario value: key.path=value (repeatable)");
+  run_cmd->add_flag("-q,--quiet", a.quiet, "No progress on the terminal (the log still gets everything)");
+  run_cmd->add_flag("--no-fields", a.no_fields, "Do not write VTU field frames");
+  run_cmd->add_flag("--no-plots", a.no_plots, "Do not make the history plots at the end");
+  run_cmd->add_option("--restart", a.restart_path,
+                      "Continue from a checkpoint (OUT/checkpoint.h5) of an earlier run of the same scenario; the "
+                      "output goes on in the checkpoint's folder unless -o names another")
+      ->check(CLI::ExistingFile);
+  run_cmd->add_option("--stop-at-step", a.stop_at_step,
+                      "Stop cleanly after this step, writing a checkpoint (e.g. to split a run into batch jobs)")
+      ->check(CLI::PositiveNumber);
+}
+
+int run_command(RunArgs& a) {
+  install_stop_handlers();
+  const auto sc = dsdem::io::load_scenario(a.scenario_path, a.sets);
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+  // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
+  const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-run-{}", ::getpid());
+  ScratchDir cleanup{work};
+  auto prepared = dsdem::run::prepare_run(sc, work.string());
+  // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
+  // run killed outright later on.
+  std::error_code ec;
+  std::filesystem::remove_all(work, ec);
+  dsdem::run::RunOptions options;
+  options.output_dir = a.out_dir;
+  options.threads = a.threads;
+  options.quiet = a.quiet;
+  options.write_fields = !a.no_fields;
+  options.stop_signal = &g_stop_signal;
+  options.restart_from = a.restart_path;
+  options.stop_at_step = a.stop_at_step;
+  if (!a.restart_path.empty() && a.cmd->count("--output") == 0)
+    options.output_dir = a.out_dir = std::filesystem::path(a.restart_path).parent_path().string();
+  if (options.output_dir.empty()) options.output_dir = a.out_dir = ".";
+  if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
+  const auto result = dsdem::run::run(prepared, options);
+  if (result.stopped_by_signal) {
+    fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with --restart {}\n",
+               result.stopped_by_signal, a.out_dir, result.checkpoint_path);
+    return 128 + result.stopped_by_signal;
+  }
+  if (result.stopped_at_step) {
+    fmt::print("stopped at step {} as asked: results so far in {}; continue with --restart {}\n", result.steps,
+               a.out_dir, result.checkpoint_path);
+    return 0;
+  }
+  fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", a.out_dir, result.steps,
+             result.wall_time_s, result.energy_balance_error);
+  if (!a.no_plots && dsdem::app::run_plot(a.out_dir, true) != 0)
+    fmt::print(stderr, "warning: history plots were not made\n");
+  return 0;
+}
+
+struct CheckArgs {
+  CLI::App* cmd = nullptr;
+  std::string scenario_path;
+  std::vector<std::string> sets;
+};
+
+void add_check_command(CLI::App& app, CheckArgs& a) {
+  a.cmd = app.add_subcommand("check", "Validate a scenario and print the model, dt and a run-time estimate");
+  a.cmd->add_option("scenario", a.scenario_path, "Scenario YAML file")->required();
+  a.cmd->add_option("--set", a.sets, "Override a scenario value: key.path=value (repeatable)");
+}
+
+int check_command(const CheckArgs& a) {
+  const auto sc = dsdem::io::load_scenario(a.scenario_path, a.sets);
+  const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-check-{}", ::getpid());
+  ScratchDir cleanup{work};
+  auto prepared = dsdem::run::prepare_run(sc, work.string());
+  fmt::print("{}", dsdem::run::check_report(prepared));
+  fmt::print("scenario OK\n");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -60,40 +162,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
   bool show_version = false;
   app.add_flag("--version", show_version, "Print version and git commit");
-
-  // run
-  auto* run_cmd = app.add_subcommand("run", "Run a scenario");
-  std::string run_scenario_path, out_dir = "out";
-  std::vector<std::string> run_sets;
-  int threads = 0;
-  bool quiet = false, no_fields = false, no_plots = false;
-  run_cmd->add_option("scenario", run_scenario_path, "Scenario YAML file")->required();
-  run_cmd->add_option("-o,--output", out_dir, "Output directory")->capture_default_str();
-  run_cmd->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--set", run_sets, "Override a scenario value: key.path=value (repeatable)");
-  run_cmd->add_flag("-q,--quiet", quiet, "No progress on the terminal (the log still gets everything)");
-  run_cmd->add_flag("--no-fields", no_fields, "Do not write VTU field frames");
-  run_cmd->add_flag("--no-plots", no_plots, "Do not make the history plots at the end");
-  std::string restart_path;
-  long stop_at_step = 0;
-  run_cmd->add_option("--restart", restart_path,
-                      "Continue from a checkpoint (OUT/checkpoint.h5) of an earlier run of the same scenario; the "
-                      "output goes on in the checkpoint's folder unless -o names another")
-      ->check(CLI::ExistingFile);
-  run_cmd->add_option("--stop-at-step", stop_at_step,
-                      "Stop cleanly after this step, writing a checkpoint (e.g. to split a run into batch jobs)")
-      ->check(CLI::PositiveNumber);
-
-  // check
-  auto* check_cmd = app.add_subcommand("check", "Validate a scenario and print the model, dt and a run-time estimate");
-  std::string check_scenario_path;
-  std::vector<std::string> check_sets;
-  check_cmd->add_option("scenario", check_scenario_path, "Scenario YAML file")->required();
-  check_cmd->add_option("--set", check_sets, "Override a scenario value: key.path=value (repeatable)");
-
-  // schema
+  RunArgs run_args;
+  add_run_command(app, run_args);
+  CheckArgs check_args;
+  add_check_command(app, check_args);
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
-
   dsdem::app::add_wave_commands(app);
   dsdem::app::add_post_commands(app);
 
@@ -107,66 +180,8 @@ int main(int argc, char** argv) {
     fmt::print("dsdem {} (git {})\n", DSDEM_VERSION, DSDEM_GIT_COMMIT);
     return 0;
   }
-  if (*run_cmd) {
-    return guarded([&] {
-      install_stop_handlers();
-      const auto sc = dsdem::io::load_scenario(run_scenario_path, run_sets);
-      if (threads > 0) omp_set_num_threads(threads);
-      // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
-      const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-run-{}", ::getpid());
-      struct Cleanup {
-        std::filesystem::path p;
-        ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
-      } cleanup{work};
-      auto prepared = dsdem::run::prepare_run(sc, work.string());
-      // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
-      // run killed outright later on.
-      std::error_code ec;
-      std::filesystem::remove_all(work, ec);
-      dsdem::run::RunOptions options;
-      options.output_dir = out_dir;
-      options.threads = threads;
-      options.quiet = quiet;
-      options.write_fields = !no_fields;
-      options.stop_signal = &g_stop_signal;
-      options.restart_from = restart_path;
-      options.stop_at_step = stop_at_step;
-      if (!restart_path.empty() && run_cmd->count("--output") == 0)
-        options.output_dir = out_dir = std::filesystem::path(restart_path).parent_path().string();
-      if (options.output_dir.empty()) options.output_dir = out_dir = ".";
-      if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
-      const auto result = dsdem::run::run(prepared, options);
-      if (result.stopped_by_signal) {
-        fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with --restart {}\n",
-                   result.stopped_by_signal, out_dir, result.checkpoint_path);
-        return 128 + result.stopped_by_signal;
-      }
-      if (result.stopped_at_step) {
-        fmt::print("stopped at step {} as asked: results so far in {}; continue with --restart {}\n", result.steps,
-                   out_dir, result.checkpoint_path);
-        return 0;
-      }
-      fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", out_dir, result.steps,
-                 result.wall_time_s, result.energy_balance_error);
-      if (!no_plots && dsdem::app::run_plot(out_dir, true) != 0)
-        fmt::print(stderr, "warning: history plots were not made\n");
-      return 0;
-    });
-  }
-  if (*check_cmd) {
-    return guarded([&] {
-      const auto sc = dsdem::io::load_scenario(check_scenario_path, check_sets);
-      const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-check-{}", ::getpid());
-      struct Cleanup {
-        std::filesystem::path p;
-        ~Cleanup() { std::error_code ec; std::filesystem::remove_all(p, ec); }
-      } cleanup{work};
-      auto prepared = dsdem::run::prepare_run(sc, work.string());
-      fmt::print("{}", dsdem::run::check_report(prepared));
-      fmt::print("scenario OK\n");
-      return 0;
-    });
-  }
+  if (*run_args.cmd) return guarded([&] { return run_command(run_args); });
+  if (*check_args.cmd) return guarded([&] { return check_command(check_args); });
   if (*schema_cmd) {
     fmt::print("{}", dsdem::io::schema_markdown());
     return 0;

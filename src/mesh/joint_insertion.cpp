@@ -29,10 +29,11 @@ struct CurveEdge {
   }
 };
 
-}  // namespace
+Index group_of(const RawMesh& mesh, Index t) {
+  return mesh.triangle_surface_group.empty() ? kNoIndex : mesh.triangle_surface_group[t];
+}
 
-JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOptions& opt) {
-  const Index n_nodes = static_cast<Index>(mesh.nodes.size());
+void check_options(const RawMesh& mesh, const JointInsertionOptions& opt) {
   const Index n_tri = static_cast<Index>(mesh.triangles.size());
   const Index n_groups = static_cast<Index>(mesh.groups.size());
   if (!opt.breakable.empty() && static_cast<Index>(opt.breakable.size()) != n_groups)
@@ -54,10 +55,13 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
     if (prop < 0) fail(mesh, "curve_property of '" + mesh.groups[g].name + "' is negative");
   }
   for (Index g : opt.broken_curves) check_curve(g, "broken_curves");
+}
 
-  auto group_of = [&](Index t) {
-    return mesh.triangle_surface_group.empty() ? kNoIndex : mesh.triangle_surface_group[t];
-  };
+// Per triangle: 1 if breakable; checks that it is valid and counter-clockwise.
+std::vector<char> breakable_triangles(const RawMesh& mesh, const JointInsertionOptions& opt) {
+  const Index n_nodes = static_cast<Index>(mesh.nodes.size());
+  const Index n_tri = static_cast<Index>(mesh.triangles.size());
+  const Index n_groups = static_cast<Index>(mesh.groups.size());
   auto breakable_group = [&](Index g) {
     return g != kNoIndex && !opt.breakable.empty() && g >= 0 && g < n_groups && opt.breakable[g];
   };
@@ -72,9 +76,16 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
     const Vec2 e2 = mesh.nodes[c[2]] - mesh.nodes[c[0]];
     if (!(e1.x() * e2.y() - e1.y() * e2.x() > 0.0))
       fail(mesh, "triangle " + std::to_string(t) + " is not counter-clockwise (area <= 0)");
-    brk[t] = breakable_group(group_of(t)) ? 1 : 0;
+    brk[t] = breakable_group(group_of(mesh, t)) ? 1 : 0;
   }
+  return brk;
+}
 
+// New nodes: per mesh node, the shared continuous copy, then one per breakable triangle
+// (out.nodes, origin, copies, triangles).
+void split_nodes(const RawMesh& mesh, const std::vector<char>& brk, JointInsertionResult& out) {
+  const Index n_nodes = static_cast<Index>(mesh.nodes.size());
+  const Index n_tri = static_cast<Index>(mesh.triangles.size());
   // Node -> incident triangles (CSR, triangles ascending).
   std::vector<Index> inc_off(n_nodes + 1, 0), inc;
   for (const auto& c : mesh.triangles)
@@ -87,8 +98,6 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
       for (Index v : mesh.triangles[t]) inc[fill[v]++] = t;
   }
 
-  // New nodes: per mesh node, the shared continuous copy, then one per breakable triangle.
-  JointInsertionResult out;
   out.triangles.assign(n_tri, {kNoIndex, kNoIndex, kNoIndex});
   out.copies_offset.assign(n_nodes + 1, 0);
   auto add_node = [&](Index v) {
@@ -115,8 +124,11 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
     }
     out.copies_offset[v + 1] = static_cast<Index>(out.copies.size());
   }
+}
 
-  // Edges of all triangles, sorted so that the two sides of an edge are adjacent.
+// Edges of all triangles, sorted so that the two sides of an edge are adjacent.
+std::vector<EdgeRef> sorted_edges(const RawMesh& mesh) {
+  const Index n_tri = static_cast<Index>(mesh.triangles.size());
   std::vector<EdgeRef> edges;
   edges.reserve(3 * static_cast<std::size_t>(n_tri));
   for (Index t = 0; t < n_tri; ++t)
@@ -125,7 +137,11 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
       edges.push_back({std::min(p, q), std::max(p, q), t, k});
     }
   std::sort(edges.begin(), edges.end());
+  return edges;
+}
 
+std::vector<CurveEdge> sorted_curve_edges(const RawMesh& mesh) {
+  const Index n_groups = static_cast<Index>(mesh.groups.size());
   std::vector<CurveEdge> curve_edges;
   for (Index g = 0; g < n_groups; ++g) {
     if (mesh.groups[g].dim != 1) continue;
@@ -133,11 +149,60 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
       curve_edges.push_back({std::min(e[0], e[1]), std::max(e[0], e[1]), g});
   }
   std::sort(curve_edges.begin(), curve_edges.end());
+  return curve_edges;
+}
 
+// What a joint between triangles ta < tb takes from its groups and from the named
+// curves [lo_it, hi_it) through its edge (rules in joint_insertion.hpp).
+struct JointTags {
+  Index prop = kNoIndex, curve = kNoIndex;
+  bool start_broken = false;
+};
+
+JointTags tag_joint(const RawMesh& mesh, const JointInsertionOptions& opt, const std::vector<char>& brk, Index ta,
+                    Index tb, std::vector<CurveEdge>::const_iterator lo_it,
+                    std::vector<CurveEdge>::const_iterator hi_it) {
   auto side_property = [&](Index g) {
     const Index p = opt.group_property.empty() ? kNoIndex : opt.group_property[g];
     return p == kNoIndex ? opt.default_property : p;
   };
+  const Index ga = group_of(mesh, ta), gb = group_of(mesh, tb);
+  Index prop;
+  if (ga == gb) {
+    prop = side_property(ga);
+  } else if (opt.interface_property != kNoIndex) {
+    prop = opt.interface_property;
+  } else {
+    Index g = brk[ta] ? ga : gb;
+    if (brk[ta] && brk[tb]) g = std::min(ga, gb);
+    prop = side_property(g);
+  }
+  Index curve = kNoIndex, curve_any = kNoIndex;
+  bool prop_set = false, start_broken = false;
+  for (auto it = lo_it; it != hi_it; ++it) {  // ascending group index
+    const Index g = it->group;
+    if (curve_any == kNoIndex) curve_any = g;
+    const auto cp = opt.curve_property.find(g);
+    const bool broken = opt.broken_curves.count(g) > 0;
+    if (cp != opt.curve_property.end() && !prop_set) {
+      prop = cp->second;
+      prop_set = true;
+    }
+    if ((cp != opt.curve_property.end() || broken) && curve == kNoIndex) curve = g;
+    start_broken = start_broken || broken;
+  }
+  return {prop, curve != kNoIndex ? curve : curve_any, start_broken};
+}
+
+}  // namespace
+
+JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOptions& opt) {
+  check_options(mesh, opt);
+  const std::vector<char> brk = breakable_triangles(mesh, opt);
+  JointInsertionResult out;
+  split_nodes(mesh, brk, out);
+  const std::vector<EdgeRef> edges = sorted_edges(mesh);
+  const std::vector<CurveEdge> curve_edges = sorted_curve_edges(mesh);
 
   Joints& J = out.joints;
   // At most one joint per two edge sides: reserved, so the ten arrays do not grow by
@@ -170,32 +235,7 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
       if (lo_it != hi_it) out.curve_edges_without_joint.push_back({first.lo, first.hi});
       continue;
     }
-
-    const Index ga = group_of(ea.tri), gb = group_of(eb.tri);
-    Index prop;
-    if (ga == gb) {
-      prop = side_property(ga);
-    } else if (opt.interface_property != kNoIndex) {
-      prop = opt.interface_property;
-    } else {
-      Index g = brk[ea.tri] ? ga : gb;
-      if (brk[ea.tri] && brk[eb.tri]) g = std::min(ga, gb);
-      prop = side_property(g);
-    }
-    Index curve = kNoIndex, curve_any = kNoIndex;
-    bool prop_set = false, start_broken = false;
-    for (auto it = lo_it; it != hi_it; ++it) {  // ascending group index
-      const Index g = it->group;
-      if (curve_any == kNoIndex) curve_any = g;
-      const auto cp = opt.curve_property.find(g);
-      const bool broken = opt.broken_curves.count(g) > 0;
-      if (cp != opt.curve_property.end() && !prop_set) {
-        prop = cp->second;
-        prop_set = true;
-      }
-      if ((cp != opt.curve_property.end() || broken) && curve == kNoIndex) curve = g;
-      start_broken = start_broken || broken;
-    }
+    const JointTags tags = tag_joint(mesh, opt, brk, ea.tri, eb.tri, lo_it, hi_it);
 
     const std::size_t j = J.size();
     J.resize(j + 1);
@@ -203,10 +243,10 @@ JointInsertionResult insert_joints(const RawMesh& mesh, const JointInsertionOpti
                   out.triangles[eb.tri][(eb.local + 1) % 3], out.triangles[eb.tri][eb.local]};
     J.tri_a[j] = ea.tri;
     J.tri_b[j] = eb.tri;
-    J.property[j] = prop;
-    J.curve_group[j] = curve != kNoIndex ? curve : curve_any;
+    J.property[j] = tags.prop;
+    J.curve_group[j] = tags.curve;
     J.length0[j] = (mesh.nodes[q] - mesh.nodes[p]).norm();
-    if (start_broken) J.set_initially_broken(j, mesh.nodes[p], mesh.nodes[q]);
+    if (tags.start_broken) J.set_initially_broken(j, mesh.nodes[p], mesh.nodes[q]);
   }
   return out;
 }

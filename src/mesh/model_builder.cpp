@@ -183,46 +183,39 @@ void build_joint_properties(const io::Scenario& sc, const RawMesh& mesh,
   }
 }
 
-void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string>& errors) {
-  ContactSetup& c = model.contact;
+namespace {
+
+// Zone-C triangles of one connected continuous mesh are one body: they never collide
+// with each other (their elements cannot separate).
+void set_contact_bodies(const Model& model, ContactSetup& c) {
   const std::size_t nt = model.triangles.size();
-  c.active.assign(nt, 0);
-  c.radius.assign(nt, 0.0);
-  c.body.assign(nt, -1);
-  for (std::size_t t = 0; t < nt; ++t) c.active[t] = model.triangles.zone[t] != Zone::Bedrock ? 1 : 0;
-  c.enabled = std::count(c.active.begin(), c.active.end(), 1) > 0;
-  if (!c.enabled) return;
-  const io::ContactSpec& cs = sc.contact;
+  std::vector<Index> parent(nt);
+  for (std::size_t t = 0; t < nt; ++t) parent[t] = static_cast<Index>(t);
+  auto root = [&](Index i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<Index> first(model.nodes.size(), kNoIndex);
   for (std::size_t t = 0; t < nt; ++t) {
-    if (!c.active[t]) continue;
-    const auto& n = model.triangles.conn[t];
-    c.radius[t] = contact::rounding_radius(model.nodes.X[n[0]], model.nodes.X[n[1]], model.nodes.X[n[2]], cs.rounding);
-  }
-  // Zone-C triangles of one connected continuous mesh are one body: they never collide
-  // with each other (their elements cannot separate).
-  {
-    std::vector<Index> parent(nt);
-    for (std::size_t t = 0; t < nt; ++t) parent[t] = static_cast<Index>(t);
-    auto root = [&](Index i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
-    std::vector<Index> first(model.nodes.size(), kNoIndex);
-    for (std::size_t t = 0; t < nt; ++t) {
-      if (model.triangles.zone[t] != Zone::ContactBedrock) continue;
-      for (Index n : model.triangles.conn[t]) {
-        if (first[n] == kNoIndex) first[n] = static_cast<Index>(t);
-        else {
-          const Index a = root(first[n]), b = root(static_cast<Index>(t));
-          if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        }
+    if (model.triangles.zone[t] != Zone::ContactBedrock) continue;
+    for (Index n : model.triangles.conn[t]) {
+      if (first[n] == kNoIndex) first[n] = static_cast<Index>(t);
+      else {
+        const Index a = root(first[n]), b = root(static_cast<Index>(t));
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
       }
     }
-    for (std::size_t t = 0; t < nt; ++t)
-      if (model.triangles.zone[t] == Zone::ContactBedrock) c.body[t] = root(static_cast<Index>(t));
   }
-  // Stiffness: given, or p_c * E of the softer side (DESIGN.md §4); times the thickness
-  // (plane stress) so forces are those of the slab.
+  for (std::size_t t = 0; t < nt; ++t)
+    if (model.triangles.zone[t] == Zone::ContactBedrock) c.body[t] = root(static_cast<Index>(t));
+}
+
+// Stiffness: given, or p_c * E of the softer side (DESIGN.md §4); times the thickness
+// (plane stress) so forces are those of the slab. Sets the defaults and a pair per two
+// active surface groups, then the scenario's pairs; returns E of the softest group.
+double set_contact_pairs(const io::Scenario& sc, Model& model, std::vector<std::string>& errors) {
+  ContactSetup& c = model.contact;
+  const io::ContactSpec& cs = sc.contact;
   auto group_E = [&](Index g) {
     double E = std::numeric_limits<double>::infinity();
     for (Index t : model.groups[g].triangles) E = std::min(E, model.materials[model.triangles.material[t]].E);
@@ -266,6 +259,28 @@ void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string
     c.pairs.push_back({std::min(ga, gb), std::max(ga, gb), props(E, ps.kn, ps.friction, ps.restitution)});
   }
   for (const auto& p : c.pairs) c.max_kn = std::max(c.max_kn, p.props.kn);
+  return E_min;
+}
+
+}  // namespace
+
+void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string>& errors) {
+  ContactSetup& c = model.contact;
+  const std::size_t nt = model.triangles.size();
+  c.active.assign(nt, 0);
+  c.radius.assign(nt, 0.0);
+  c.body.assign(nt, -1);
+  for (std::size_t t = 0; t < nt; ++t) c.active[t] = model.triangles.zone[t] != Zone::Bedrock ? 1 : 0;
+  c.enabled = std::count(c.active.begin(), c.active.end(), 1) > 0;
+  if (!c.enabled) return;
+  const io::ContactSpec& cs = sc.contact;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!c.active[t]) continue;
+    const auto& n = model.triangles.conn[t];
+    c.radius[t] = contact::rounding_radius(model.nodes.X[n[0]], model.nodes.X[n[1]], model.nodes.X[n[2]], cs.rounding);
+  }
+  set_contact_bodies(model, c);
+  const double E_min = set_contact_pairs(sc, model, errors);
   c.skin = cs.skin.value_or(0.0);
   c.output = cs.output;
   spdlog::info("contact: {} spheropolygons, default kn = {:.4g} N/m per m of overlap ({}), friction {}, restitution {}",
@@ -274,20 +289,18 @@ void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string
                cs.restitution);
 }
 
-Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
+namespace {
+
+void throw_sorted(std::vector<std::string>& errors) {
+  std::sort(errors.begin(), errors.end());
+  errors.erase(std::unique(errors.begin(), errors.end()), errors.end());
+  throw io::ScenarioError(errors);
+}
+
+// Region of each surface group (by mesh group index); checks that every surface group
+// with triangles has one and that the boundaries' groups exist.
+std::vector<const io::RegionSpec*> regions_of_groups(const io::Scenario& sc, const RawMesh& mesh) {
   std::vector<std::string> errors;
-  Model model;
-  model.plane_stress = sc.plane_stress;
-  model.thickness = sc.thickness;
-
-  // Materials in a fixed order (the scenario map is sorted by name).
-  std::map<std::string, Index> material_index;
-  for (const auto& [name, m] : sc.materials) {
-    material_index[name] = static_cast<Index>(model.materials.size());
-    model.materials.push_back(m);
-  }
-
-  // Region of each surface group.
   std::vector<const io::RegionSpec*> region_of_group(mesh.groups.size(), nullptr);
   for (const auto& reg : sc.regions) {
     const RawPhysicalGroup* g = mesh.find(reg.group);
@@ -313,76 +326,79 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
       const RawPhysicalGroup* g = mesh.find(b.group);
       if (!g) errors.push_back(b.where.describe(missing_group_message(mesh, b.group, 1)));
     }
-  if (!errors.empty()) {
-    std::sort(errors.begin(), errors.end());
-    errors.erase(std::unique(errors.begin(), errors.end()), errors.end());
-    throw io::ScenarioError(errors);
-  }
+  if (!errors.empty()) throw_sorted(errors);
+  return region_of_group;
+}
 
-  const bool any_discrete = std::any_of(sc.regions.begin(), sc.regions.end(),
-                                       [](const io::RegionSpec& r) { return r.zone == Zone::Discrete; });
-  std::vector<Index> copies_offset, copies;  // copies of each mesh node in the model
-  if (any_discrete) {
-    dsdem::JointInsertionOptions opt;
-    opt.breakable.assign(mesh.groups.size(), false);
-    opt.group_property.assign(mesh.groups.size(), kNoIndex);
-    build_joint_properties(sc, mesh, region_of_group, material_index, model, opt, errors);
-    if (!errors.empty()) throw io::ScenarioError(errors);
-    dsdem::JointInsertionResult ins;
-    try {
-      ins = insert_joints(mesh, opt);
-    } catch (const std::exception& e) {
-      throw io::ScenarioError({e.what()});
-    }
-    // Nodes numbered in the order the triangles use them (mesh/node_order.hpp): the same
-    // motion, the node data of a thread's triangles next to each other. Written in place:
-    // a renumbered copy of the node arrays, freed at once, would keep its pages resident
-    // (glibc then serves later large blocks from its heap).
-    const std::vector<Index> new_id = node_order_by_first_use(ins.triangles, ins.nodes.size());
-    model.nodes.resize(ins.nodes.size());
-    for (std::size_t i = 0; i < ins.nodes.size(); ++i) {
-      model.nodes.X[static_cast<std::size_t>(new_id[i])] = ins.nodes[i];
-      model.nodes.origin[static_cast<std::size_t>(new_id[i])] = ins.origin[i];
-    }
-    model.triangles.resize(ins.triangles.size());
-    for (std::size_t t = 0; t < ins.triangles.size(); ++t) {
-      model.triangles.conn[t] = ins.triangles[t];
-      renumber(model.triangles.conn[t], new_id);
-    }
-    model.joints = std::move(ins.joints);
-    for (auto& nd : model.joints.nodes) renumber(nd, new_id);
-    mark_initially_broken(model.joints, model.joint_properties, model.nodes.X);
-    copies_offset = std::move(ins.copies_offset);
-    copies = std::move(ins.copies);
-    renumber(copies, new_id);
-  } else {
-    // Nodes shared (continuous mesh).
-    // Numbered as in the discrete case above.
-    const std::vector<Index> new_id = node_order_by_first_use(mesh.triangles, mesh.nodes.size());
-    model.nodes.resize(mesh.nodes.size());
-    model.triangles.resize(mesh.triangles.size());
-    copies_offset.resize(mesh.nodes.size() + 1);
-    copies.reserve(mesh.nodes.size());
-    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-      model.nodes.X[static_cast<std::size_t>(new_id[i])] = mesh.nodes[i];
-      model.nodes.origin[static_cast<std::size_t>(new_id[i])] = static_cast<Index>(i);
-      copies_offset[i + 1] = static_cast<Index>(i + 1);
-      copies.push_back(new_id[i]);
-    }
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      model.triangles.conn[t] = mesh.triangles[t];
-      renumber(model.triangles.conn[t], new_id);
-    }
+// Copies of each mesh node in the model (CSR, as JointInsertionResult).
+struct NodeCopies {
+  std::vector<Index> offset, copies;
+};
+
+// Nodes, triangles and joints of a model with discrete zones (joints inserted).
+NodeCopies insert_discrete_nodes(const io::Scenario& sc, const RawMesh& mesh,
+                                 const std::vector<const io::RegionSpec*>& region_of_group,
+                                 const std::map<std::string, Index>& material_index, Model& model,
+                                 std::vector<std::string>& errors) {
+  dsdem::JointInsertionOptions opt;
+  opt.breakable.assign(mesh.groups.size(), false);
+  opt.group_property.assign(mesh.groups.size(), kNoIndex);
+  build_joint_properties(sc, mesh, region_of_group, material_index, model, opt, errors);
+  if (!errors.empty()) throw io::ScenarioError(errors);
+  dsdem::JointInsertionResult ins;
+  try {
+    ins = insert_joints(mesh, opt);
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({e.what()});
+  }
+  // Nodes numbered in the order the triangles use them (mesh/node_order.hpp): the same
+  // motion, the node data of a thread's triangles next to each other. Written in place:
+  // a renumbered copy of the node arrays, freed at once, would keep its pages resident
+  // (glibc then serves later large blocks from its heap).
+  const std::vector<Index> new_id = node_order_by_first_use(ins.triangles, ins.nodes.size());
+  model.nodes.resize(ins.nodes.size());
+  for (std::size_t i = 0; i < ins.nodes.size(); ++i) {
+    model.nodes.X[static_cast<std::size_t>(new_id[i])] = ins.nodes[i];
+    model.nodes.origin[static_cast<std::size_t>(new_id[i])] = ins.origin[i];
+  }
+  model.triangles.resize(ins.triangles.size());
+  for (std::size_t t = 0; t < ins.triangles.size(); ++t) {
+    model.triangles.conn[t] = ins.triangles[t];
+    renumber(model.triangles.conn[t], new_id);
+  }
+  model.joints = std::move(ins.joints);
+  for (auto& nd : model.joints.nodes) renumber(nd, new_id);
+  mark_initially_broken(model.joints, model.joint_properties, model.nodes.X);
+  NodeCopies nc;
+  nc.offset = std::move(ins.copies_offset);
+  nc.copies = std::move(ins.copies);
+  renumber(nc.copies, new_id);
+  return nc;
+}
+
+// Nodes and triangles of a continuous model: nodes shared, numbered as in the discrete case.
+NodeCopies continuous_nodes(const RawMesh& mesh, Model& model) {
+  NodeCopies nc;
+  const std::vector<Index> new_id = node_order_by_first_use(mesh.triangles, mesh.nodes.size());
+  model.nodes.resize(mesh.nodes.size());
+  model.triangles.resize(mesh.triangles.size());
+  nc.offset.resize(mesh.nodes.size() + 1);
+  nc.copies.reserve(mesh.nodes.size());
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    model.nodes.X[static_cast<std::size_t>(new_id[i])] = mesh.nodes[i];
+    model.nodes.origin[static_cast<std::size_t>(new_id[i])] = static_cast<Index>(i);
+    nc.offset[i + 1] = static_cast<Index>(i + 1);
+    nc.copies.push_back(new_id[i]);
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const Index g = mesh.triangle_surface_group[t];
-    const io::RegionSpec* reg = region_of_group[static_cast<std::size_t>(g)];
-    model.triangles.group[t] = g;
-    model.triangles.material[t] = material_index.at(reg->material);
-    model.triangles.zone[t] = reg->zone;
+    model.triangles.conn[t] = mesh.triangles[t];
+    renumber(model.triangles.conn[t], new_id);
   }
+  return nc;
+}
 
-  // Groups keep the mesh's indices so triangle_surface_group stays valid.
+// Groups keep the mesh's indices so triangle_surface_group stays valid.
+void build_groups(const RawMesh& mesh, const NodeCopies& nc, Model& model) {
   for (const auto& g : mesh.groups) {
     Group mg;
     mg.name = g.name;
@@ -395,15 +411,17 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
         for (Index n : model.triangles.conn[t]) mg.nodes.push_back(n);
     // Every copy of a split mesh node belongs to the curve or point it lay on.
     for (Index n : g.nodes)
-      if (static_cast<std::size_t>(n) + 1 < copies_offset.size())
-        for (Index k = copies_offset[n]; k < copies_offset[n + 1]; ++k) mg.nodes.push_back(copies[k]);
+      if (static_cast<std::size_t>(n) + 1 < nc.offset.size())
+        for (Index k = nc.offset[n]; k < nc.offset[n + 1]; ++k) mg.nodes.push_back(nc.copies[k]);
     std::sort(mg.nodes.begin(), mg.nodes.end());
     mg.nodes.erase(std::unique(mg.nodes.begin(), mg.nodes.end()), mg.nodes.end());
     mg.mesh_edges = g.edges;
     model.groups.push_back(std::move(mg));
   }
+}
 
-  // Reference geometry; a folded element is an input error.
+// Reference geometry; a folded element is an input error.
+void set_reference_geometry(const RawMesh& mesh, Model& model, std::vector<std::string>& errors) {
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {
     const auto& c = model.triangles.conn[t];
     const auto geo = fem::reference_geometry(model.nodes.X[c[0]], model.nodes.X[c[1]], model.nodes.X[c[2]]);
@@ -416,6 +434,38 @@ Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
     model.triangles.Dm_inv[t] = geo.Dm_inv;
     model.triangles.area0[t] = geo.area;
   }
+}
+
+}  // namespace
+
+Model build_model(const io::Scenario& sc, const RawMesh& mesh) {
+  std::vector<std::string> errors;
+  Model model;
+  model.plane_stress = sc.plane_stress;
+  model.thickness = sc.thickness;
+
+  // Materials in a fixed order (the scenario map is sorted by name).
+  std::map<std::string, Index> material_index;
+  for (const auto& [name, m] : sc.materials) {
+    material_index[name] = static_cast<Index>(model.materials.size());
+    model.materials.push_back(m);
+  }
+  const std::vector<const io::RegionSpec*> region_of_group = regions_of_groups(sc, mesh);
+
+  const bool any_discrete = std::any_of(sc.regions.begin(), sc.regions.end(),
+                                       [](const io::RegionSpec& r) { return r.zone == Zone::Discrete; });
+  const NodeCopies nc = any_discrete
+                            ? insert_discrete_nodes(sc, mesh, region_of_group, material_index, model, errors)
+                            : continuous_nodes(mesh, model);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Index g = mesh.triangle_surface_group[t];
+    const io::RegionSpec* reg = region_of_group[static_cast<std::size_t>(g)];
+    model.triangles.group[t] = g;
+    model.triangles.material[t] = material_index.at(reg->material);
+    model.triangles.zone[t] = reg->zone;
+  }
+  build_groups(mesh, nc, model);
+  set_reference_geometry(mesh, model, errors);
   if (!errors.empty()) throw io::ScenarioError(errors);
   set_local_penalty_scales(model.joints, model.joint_properties, model.triangles.area0);
   log_penalty_stiffness(model);

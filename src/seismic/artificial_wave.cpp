@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "model/types.hpp"
+#include "seismic/artificial_wave_setup.hpp"
 #include "seismic/response_spectrum.hpp"
 
 namespace dsdem::seismic {
@@ -62,6 +63,9 @@ double spectrum_to_psd(double sa, double omega, double zeta, double Td, double p
 
 namespace {
 
+using detail::Oscillator;
+using detail::Setup;
+
 // Scale down every half cycle (run of samples of one sign) whose peak exceeds limit so
 // that its peak equals limit: a local way to bring the PGA to the target without
 // flattening peaks (clipping would add high-frequency content).
@@ -82,39 +86,6 @@ void limit_half_cycles(std::vector<double>& a, double limit) {
     }
     i = j;
   }
-}
-
-// One SDOF oscillator sub-stepped as in spectral_value(): its Nigam-Jennings step and
-// the absolute-acceleration response H[q] (sub-step q) to a unit hat input at sample
-// 1. By linearity the response at sub-step q to any input a is
-// sum_s H[q - (s - 1) m] a[s], which gives the sensitivity of Sa to each band.
-struct Oscillator {
-  double omega = 0.0;
-  int m = 1;  // sub-steps per sample
-  NigamJenningsStep step{};
-  std::vector<double> H;
-};
-
-Oscillator make_oscillator(double period, double zeta, double dt, std::size_t n) {
-  Oscillator o;
-  o.omega = 2.0 * kPi / period;
-  o.m = std::max(1, static_cast<int>(std::ceil(kSpectrumPointsPerPeriod * dt / period)));
-  o.step = nigam_jennings_step(o.omega, zeta, dt / o.m);
-  o.H.assign((n + 1) * static_cast<std::size_t>(o.m) + 1, 0.0);
-  double x = 0.0, xd = 0.0;
-  const double c1 = 2.0 * zeta * o.omega, c2 = o.omega * o.omega;
-  const auto& k = o.step;
-  for (std::size_t q = 1; q < o.H.size(); ++q) {
-    // Unit hat: 0 at t = 0, 1 at t = dt, 0 at t = 2 dt (sub-step times q/m in samples).
-    auto hat = [&](double s) { return std::max(0.0, 1.0 - std::abs(s - 1.0)); };
-    const double g0 = hat(static_cast<double>(q - 1) / o.m), g1 = hat(static_cast<double>(q) / o.m);
-    const double xn = k.a11 * x + k.a12 * xd + k.b11 * g0 + k.b12 * g1;
-    const double vn = k.a21 * x + k.a22 * xd + k.b21 * g0 + k.b22 * g1;
-    x = xn;
-    xd = vn;
-    o.H[q] = -(c1 * xd + c2 * x);
-  }
-  return o;
 }
 
 // Peak of |absolute acceleration| (= Sa), its sub-step index and sign.
@@ -154,26 +125,6 @@ void kernel_row(const Oscillator& o, std::size_t q, std::size_t n, double* row) 
     const long idx = static_cast<long>(q) - (static_cast<long>(s) - 1) * o.m;
     row[s] = idx >= 0 && idx < static_cast<long>(o.H.size()) ? o.H[static_cast<std::size_t>(idx)] : 0.0;
   }
-}
-
-// Hat weights in log period: a bin of period T goes to the two nearest band centres
-// (a partition of unity; the last band also owns every longer period).
-void band_weights(const std::vector<double>& Tc, double T, std::size_t& j0, double& w0, double& w1) {
-  w1 = 0.0;
-  if (T <= Tc.front()) {
-    j0 = 0;
-    w0 = 1.0;
-    return;
-  }
-  if (T >= Tc.back()) {
-    j0 = Tc.size() - 1;
-    w0 = 1.0;
-    return;
-  }
-  const auto it = std::upper_bound(Tc.begin(), Tc.end(), T);
-  j0 = static_cast<std::size_t>(it - Tc.begin()) - 1;
-  w1 = std::log(T / Tc[j0]) / std::log(Tc[j0 + 1] / Tc[j0]);
-  w0 = 1.0 - w1;
 }
 
 // target/Sa interpolated log-linearly at period T (held outside the control range).
@@ -261,302 +212,247 @@ Eigen::VectorXd regularised_solve(const std::vector<std::vector<double>>& A, con
   return N.ldlt().solve(r);
 }
 
-// The baseline correction is linear: a_c = a - Phi (L a), Phi the n x m polynomial
-// basis, L (m x n) found once by correcting unit impulses. Lets the refinement correct
-// its wavelets at the cost of m numbers each.
-struct BaselineOperator {
-  std::size_t n = 0, m = 0;
-  std::vector<double> Phi;  // n x m, row s = basis at sample s
-  std::vector<double> L;    // m x n, column s = coefficients for a unit impulse at s
-};
-
-BaselineOperator make_baseline_operator(std::size_t n, double dt, int degree) {
-  BaselineOperator B;
-  B.n = n;
-  B.m = static_cast<std::size_t>(degree) + 1;
-  const double T = dt * static_cast<double>(n - 1);
-  B.Phi.resize(n * B.m);
-  for (std::size_t s = 0; s < n; ++s) {
-    const double x = 2.0 * dt * static_cast<double>(s) / T - 1.0;
-    double p0 = 1.0, p1 = x;
-    for (std::size_t k = 0; k < B.m; ++k) {
-      double pk = k == 0 ? 1.0 : (k == 1 ? x : 0.0);
-      if (k >= 2) {
-        pk = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / static_cast<double>(k);
-        p0 = p1;
-        p1 = pk;
-      }
-      B.Phi[s * B.m + k] = pk;
-    }
-  }
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(B.m), static_cast<Eigen::Index>(B.m));
-  for (std::size_t s = 0; s < n; ++s)
-    for (std::size_t i = 0; i < B.m; ++i)
-      for (std::size_t j = 0; j < B.m; ++j) G(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) += B.Phi[s * B.m + i] * B.Phi[s * B.m + j];
-  const auto Gf = G.ldlt();
-  B.L.resize(B.m * n);
-  std::vector<double> e(n, 0.0);
-  for (std::size_t s = 0; s < n; ++s) {
-    std::fill(e.begin(), e.end(), 0.0);
-    e[s] = 1.0;
-    const Accelerogram c = integrate(dt, e, BaselineOptions{true, degree});
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(B.m));
-    for (std::size_t i = 0; i < n; ++i) {
-      const double corr = e[i] - c.a[i];
-      for (std::size_t k = 0; k < B.m; ++k) r[static_cast<Eigen::Index>(k)] += B.Phi[i * B.m + k] * corr;
-    }
-    const Eigen::VectorXd cs = Gf.solve(r);
-    for (std::size_t k = 0; k < B.m; ++k) B.L[k * n + s] = cs[static_cast<Eigen::Index>(k)];
-  }
-  return B;
-}
-
-// Constant data of one generation: control periods, oscillators, FFT bands.
-struct Setup {
-  BaselineOperator base;
-  std::vector<double> envelope;  // intensity envelope at the samples
-  std::size_t n = 0, N = 0;
-  std::vector<double> Tc, target;
-  std::vector<Oscillator> osc;
-  std::vector<double> band_T;
-  std::vector<std::size_t> bin_band;
-  std::vector<double> bin_w0, bin_w1;
-};
-
-// Stationary sum of cosines with the target's PSD and seeded phases, times the
-// intensity envelope; frequencies f_k = k/(2T) up to Nyquist (DESIGN.md §5).
-std::vector<double> synthesise(const ArtificialWaveParams& P, const Setup& S, std::mt19937_64& rng) {
-  const std::size_t n = S.n;
-  const double T = P.dt * static_cast<double>(n - 1);
-  const double df = 1.0 / (2.0 * T);
-  const std::size_t K = static_cast<std::size_t>(std::floor(0.5 / P.dt / df + 1e-9));
-  const double Td = P.t2 > P.t1 ? P.t2 - P.t1 : T;  // duration of the strong phase
-  // Content longer than twice the longest control period is left out: nothing
-  // controls it and the baseline correction would remove it anyway.
-  const double longest = 2.0 * P.period_max;
-  struct Term {
-    double A, w, phase;
-  };
-  std::vector<Term> terms;
-  for (std::size_t k = 1; k <= K; ++k) {
-    const double f = df * static_cast<double>(k), w = 2.0 * kPi * f;
-    const double phase = 2.0 * kPi * uniform01(rng);  // drawn for every k, used or not
-    if (1.0 / f > longest) continue;
-    const double A =
-        std::sqrt(4.0 * spectrum_to_psd(P.spectrum.sa(1.0 / f), w, P.spectrum.damping, Td, P.exceedance) * 2.0 *
-                  kPi * df);
-    terms.push_back({A, w, phase});
-  }
-  // Each sample sums its cosines in frequency order, on any thread: the same bits.
-  std::vector<double> a(n, 0.0);
-  const auto ns = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t ii = 0; ii < ns; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    double ai = 0.0;
-    for (const Term& t : terms) ai += t.A * std::cos(t.w * P.dt * static_cast<double>(i) + t.phase);
-    a[i] = ai * S.envelope[i];
-  }
-  return a;
-}
-
 struct Wavelet {
   std::size_t s0 = 0;    // first sample
   std::vector<double> v;  // values from s0 on
 };
 
-// One attempt from one set of phases: iterate, return the best iterate.
-ArtificialWave attempt(const ArtificialWaveParams& P, const Setup& S, std::vector<double> a) {
-  const std::size_t n = S.n, N = S.N, M = S.Tc.size(), Mb = S.band_T.size();
-  const double zeta = P.spectrum.damping, pga = P.spectrum.pga;
-  const BaselineOptions baseline{true, P.baseline_degree};
+// Buffers of one attempt, reused from iteration to iteration.
+struct Workspace {
   Eigen::FFT<double> fft;
-  ArtificialWave out;
-  out.control_period = S.Tc;
-  out.target_sa = S.target;
-  double best_score = std::numeric_limits<double>::infinity();
-  std::vector<double> sa(M), x(N), y;
-  std::vector<Peak> peaks(M);
+  std::vector<double> sa, x, y;
+  std::vector<Peak> peaks;
   std::vector<std::complex<double>> X, Xb;
-  std::vector<std::vector<double>> K(M, std::vector<double>(n));
+  std::vector<std::vector<double>> K;
   Columns basis;
   std::vector<std::vector<double>> rows;
   std::vector<double> rhs, weight, x0;
   std::vector<Wavelet> wav;
   std::vector<double> wav_c;  // M x m baseline coefficients of the wavelets
+  explicit Workspace(const Setup& S)
+      : sa(S.Tc.size()), x(S.N), peaks(S.Tc.size()), K(S.Tc.size(), std::vector<double>(S.n)) {}
+};
+
+// Response spectrum of rec at the control periods and its misfits (long, short periods).
+// Each oscillator on its own (any thread, the same bits); the misfit in period order.
+// Oscillators differ in sub-steps, hence dynamic chunks.
+void measure(const ArtificialWaveParams& P, const Setup& S, const Accelerogram& rec, Workspace& ws, double& mis,
+             double& mis_short) {
+  const std::size_t M = S.Tc.size();
+  const auto Ms = static_cast<std::ptrdiff_t>(M);
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::ptrdiff_t j = 0; j < Ms; ++j) ws.peaks[j] = peak_response(S.osc[j], rec.a, P.spectrum.damping);
+  mis = 0.0;
+  mis_short = 0.0;
+  for (std::size_t j = 0; j < M; ++j) {
+    ws.sa[j] = ws.peaks[j].sa;
+    const double e = std::abs(ws.sa[j] / S.target[j] - 1.0);
+    (S.Tc[j] < 0.1 ? mis_short : mis) = std::max(S.Tc[j] < 0.1 ? mis_short : mis, e);
+  }
+}
+
+// Fourier-amplitude correction (GB 17741): the amplitudes of band j (phases kept) are
+// multiplied by a gain g_j. The classical gain is target_j / Sa_j; since the peak at one
+// period also sees the neighbouring bands, the gains are solved together from
+// s_i sum_j g_j y_i(band_j) = target_i, regularised towards the classical ratios.
+// Fills the band signals y(band_j) as the columns; returns their number.
+std::size_t band_columns(const Setup& S, const Accelerogram& rec, Workspace& ws) {
+  const std::size_t n = S.n, N = S.N, Mb = S.band_T.size();
+  std::fill(ws.x.begin(), ws.x.end(), 0.0);
+  std::copy(rec.a.begin(), rec.a.end(), ws.x.begin());
+  ws.fft.fwd(ws.X, ws.x);
+  ws.basis.resize(n, Mb);
+  for (std::size_t j = 0; j < Mb; ++j) {
+    ws.Xb.assign(ws.X.size(), {0.0, 0.0});
+    if (j == Mb - 1) ws.Xb[0] = ws.X[0];
+    for (std::size_t b = 1; b <= N / 2; ++b) {
+      double w = 0.0;
+      if (S.bin_band[b] == j) w += S.bin_w0[b];
+      if (S.bin_band[b] + 1 == j) w += S.bin_w1[b];
+      if (w == 0.0) continue;
+      ws.Xb[b] = w * ws.X[b];
+      if (b != N - b) ws.Xb[N - b] = std::conj(ws.Xb[b]);
+    }
+    ws.fft.inv(ws.y, ws.Xb);
+    std::copy(ws.y.begin(), ws.y.begin() + static_cast<std::ptrdiff_t>(n), ws.basis.col(j));
+  }
+  ws.x0.resize(Mb);
+  for (std::size_t j = 0; j < Mb; ++j) ws.x0[j] = interpolate_ratio(S.Tc, S.target, ws.sa, S.band_T[j]);
+  return Mb;
+}
+
+// Refinement in time (after Abrahamson 1992, RspMatch): tapered-cosine wavelets, one per
+// control period, placed to act on that oscillator's peak (cut where the taper is below
+// e^-16). Each is baseline-corrected (psi - Phi L psi, the correction being linear), so
+// the wave stays corrected and the solve sees what the wave will get. Returns the
+// number of wavelets.
+std::size_t wavelet_columns(const ArtificialWaveParams& P, const Setup& S, Workspace& ws) {
+  const std::size_t n = S.n, M = S.Tc.size(), m = S.base.m;
+  const double zeta = P.spectrum.damping;
+  const double s1 = std::sqrt(1.0 - zeta * zeta);
+  ws.wav.assign(M, {});
+  ws.wav_c.assign(M * m, 0.0);
+  for (std::size_t j = 0; j < M; ++j) {
+    const double wd = 2.0 * kPi / S.Tc[j] * s1;
+    const double gamma = 1.178 * std::pow(S.Tc[j], 0.93);
+    const double shift = std::atan(s1 / zeta) / wd;  // the response peak lags the wavelet
+    const double tc = static_cast<double>(ws.peaks[j].q) / S.osc[j].m * P.dt - shift;
+    const double lo = std::max(0.0, std::ceil((tc - 4.0 * gamma) / P.dt));
+    const double hi = std::min(static_cast<double>(n - 1), std::floor((tc + 4.0 * gamma) / P.dt));
+    Wavelet& W = ws.wav[j];
+    W.s0 = static_cast<std::size_t>(lo);
+    for (double si = lo; si <= hi; si += 1.0) {
+      const double tau = P.dt * si - tc;
+      W.v.push_back(std::cos(wd * tau) *
+                    std::exp(-(tau / gamma) * (tau / gamma)));
+    }
+    for (std::size_t k = 0; k < m; ++k)
+      ws.wav_c[j * m + k] = dot(&S.base.L[k * n + W.s0], W.v.data(), W.v.size());
+  }
+  ws.x0.assign(M, 0.0);
+  return M;
+}
+
+// Rows: the spectral peaks (relative to the target); in the refinement also the samples
+// near the PGA, kept in place so that the rescaling to the PGA stays ~1. The kernels
+// are causal: only samples up to the peak time count.
+void build_rows(const ArtificialWaveParams& P, const Setup& S, const Accelerogram& rec, bool fourier,
+                std::size_t cols, Workspace& ws) {
+  const std::size_t n = S.n, M = S.Tc.size(), m = S.base.m;
+  const auto Ms = static_cast<std::ptrdiff_t>(M);
+  ws.rows.assign(M, std::vector<double>(cols));
+  ws.rhs.assign(M, 0.0);
+  ws.weight.assign(M, 0.0);
+#pragma omp parallel for schedule(dynamic, 4)
+  for (std::ptrdiff_t ii = 0; ii < Ms; ++ii) {  // each row on its own: the same bits on any thread
+    const auto i = static_cast<std::size_t>(ii);
+    const std::size_t last = std::min(n, ws.peaks[i].q / static_cast<std::size_t>(S.osc[i].m) + 2);
+    std::vector<double>& row = ws.rows[i];
+    const double* Ki = ws.K[i].data();
+    if (fourier) {
+      std::size_t j = 0;
+      for (; j + 4 <= cols; j += 4) {
+        const double* const b[4] = {ws.basis.col(j), ws.basis.col(j + 1), ws.basis.col(j + 2), ws.basis.col(j + 3)};
+        dot4(Ki, b, last, &row[j]);
+      }
+      for (; j < cols; ++j) row[j] = dot(Ki, ws.basis.col(j), last);
+    } else {
+      double kphi[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (std::size_t s = 0; s < last; ++s)
+        for (std::size_t k = 0; k < m && k < 8; ++k) kphi[k] += Ki[s] * S.base.Phi[s * m + k];
+      for (std::size_t j = 0; j < cols; ++j) {
+        const Wavelet& W = ws.wav[j];
+        const std::size_t e = std::min(last, W.s0 + W.v.size());
+        double d = W.s0 < e ? dot(Ki + W.s0, W.v.data(), e - W.s0) : 0.0;
+        for (std::size_t k = 0; k < m && k < 8; ++k) d -= kphi[k] * ws.wav_c[j * m + k];
+        row[j] = d;
+      }
+    }
+    ws.rhs[i] = fourier ? ws.peaks[i].sign * S.target[i] : ws.peaks[i].sign * (S.target[i] - ws.sa[i]);
+    ws.weight[i] = 1.0 / S.target[i];
+  }
+  if (fourier) return;
+  const double pga = P.spectrum.pga;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (std::abs(rec.a[s]) <= 0.9 * pga) continue;
+    std::vector<double> row(cols);
+    for (std::size_t j = 0; j < cols; ++j) {
+      const Wavelet& W = ws.wav[j];
+      double v = s >= W.s0 && s < W.s0 + W.v.size() ? W.v[s - W.s0] : 0.0;
+      for (std::size_t k = 0; k < m; ++k) v -= S.base.Phi[s * m + k] * ws.wav_c[j * m + k];
+      row[j] = v;
+    }
+    ws.rows.push_back(std::move(row));
+    ws.rhs.push_back(0.0);
+    ws.weight.push_back(3.0 / pga);
+  }
+}
+
+// The band gains g applied to rec's spectrum; the next iterate into a.
+void apply_band_gains(const Setup& S, const Accelerogram& rec, Eigen::VectorXd& g, Workspace& ws,
+                      std::vector<double>& a) {
+  const std::size_t n = S.n, N = S.N, Mb = S.band_T.size();
+  // A poor linearisation (the peak moved) falls back to the plain ratio.
+  for (std::size_t j = 0; j < Mb; ++j) {
+    double& gj = g[static_cast<Eigen::Index>(j)];
+    if (!std::isfinite(gj) || gj < 0.25 * ws.x0[j] || gj > 4.0 * ws.x0[j]) gj = ws.x0[j];
+  }
+  ws.X[0] *= g[static_cast<Eigen::Index>(Mb - 1)];
+  for (std::size_t b = 1; b <= N / 2; ++b) {
+    const std::size_t j = S.bin_band[b];
+    double gain = S.bin_w0[b] * g[static_cast<Eigen::Index>(j)];
+    if (S.bin_w1[b] > 0.0) gain += S.bin_w1[b] * g[static_cast<Eigen::Index>(j + 1)];
+    ws.X[b] *= gain;
+    if (b != N - b) ws.X[N - b] = std::conj(ws.X[b]);
+  }
+  ws.fft.inv(ws.y, ws.X);
+  // The change is windowed by the intensity envelope so that the wave keeps its
+  // shape in time (the band gains would otherwise spread energy to the ends).
+  for (std::size_t i = 0; i < n; ++i) a[i] = rec.a[i] + S.envelope[i] * (ws.y[i] - rec.a[i]);
+}
+
+// The wavelets, weighted by g, added to rec with their baseline correction; the next
+// iterate into a.
+void apply_wavelets(const Setup& S, Accelerogram& rec, const Eigen::VectorXd& g, const Workspace& ws,
+                    std::vector<double>& a) {
+  const std::size_t n = S.n, m = S.base.m, cols = ws.wav.size();
+  std::vector<double> cb(m, 0.0);
+  for (std::size_t j = 0; j < cols; ++j) {
+    const double bj = g[static_cast<Eigen::Index>(j)];
+    const Wavelet& W = ws.wav[j];
+    for (std::size_t k = 0; k < W.v.size(); ++k) rec.a[W.s0 + k] += bj * W.v[k];
+    for (std::size_t k = 0; k < m; ++k) cb[k] += bj * ws.wav_c[j * m + k];
+  }
+  for (std::size_t s = 0; s < n; ++s) {
+    double p = 0.0;
+    for (std::size_t k = 0; k < m; ++k) p += S.base.Phi[s * m + k] * cb[k];
+    a[s] = rec.a[s] - p;
+  }
+}
+
+// One spectral correction of the iterate rec (its peaks measured): the next iterate into a.
+void correct(const ArtificialWaveParams& P, const Setup& S, bool fourier, Accelerogram& rec, Workspace& ws,
+             std::vector<double>& a) {
+  // Linearised peaks: Sa_i ~ s_i sum_s K_i[s] a[s] at the current peak times.
+  const auto Ms = static_cast<std::ptrdiff_t>(S.Tc.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < Ms; ++i) kernel_row(S.osc[i], ws.peaks[i].q, S.n, ws.K[i].data());
+  const std::size_t cols = fourier ? band_columns(S, rec, ws) : wavelet_columns(P, S, ws);
+  build_rows(P, S, rec, fourier, cols, ws);
+  Eigen::VectorXd g = regularised_solve(ws.rows, ws.rhs, ws.weight, fourier ? 0.3 : 0.03, ws.x0);
+  if (fourier)
+    apply_band_gains(S, rec, g, ws, a);
+  else
+    apply_wavelets(S, rec, g, ws, a);
+}
+
+// One attempt from one set of phases: iterate, return the best iterate.
+ArtificialWave attempt(const ArtificialWaveParams& P, const Setup& S, std::vector<double> a) {
+  const double pga = P.spectrum.pga;
+  const BaselineOptions baseline{true, P.baseline_degree};
+  Workspace ws(S);
+  ArtificialWave out;
+  out.control_period = S.Tc;
+  out.target_sa = S.target;
+  double best_score = std::numeric_limits<double>::infinity();
   for (int it = 0;; ++it) {
     // Peak adjustment, baseline correction, exact PGA: every iterate is a valid wave.
     limit_half_cycles(a, pga);
     Accelerogram rec = integrate(P.dt, a, baseline);
     scale(rec, pga / rec.pga());
-
-    // Response spectrum at the control periods and misfit.
-    // Each oscillator on its own (any thread, the same bits); the misfit in period order.
-    // Oscillators differ in sub-steps, hence dynamic chunks.
-    const auto Ms = static_cast<std::ptrdiff_t>(M);
-#pragma omp parallel for schedule(dynamic, 4)
-    for (std::ptrdiff_t j = 0; j < Ms; ++j) peaks[j] = peak_response(S.osc[j], rec.a, zeta);
     double mis = 0.0, mis_short = 0.0;
-    for (std::size_t j = 0; j < M; ++j) {
-      sa[j] = peaks[j].sa;
-      const double e = std::abs(sa[j] / S.target[j] - 1.0);
-      (S.Tc[j] < 0.1 ? mis_short : mis) = std::max(S.Tc[j] < 0.1 ? mis_short : mis, e);
-    }
+    measure(P, S, rec, ws, mis, mis_short);
     const double score = std::max(mis / P.tolerance, mis_short / P.short_tolerance);
     if (score < best_score) {
       best_score = score;
       out.wave = rec;
-      out.sa = sa;
+      out.sa = ws.sa;
       out.max_misfit = mis;
       out.max_short_misfit = mis_short;
       out.iterations = it;
     }
     if (score <= 1.0 || it >= P.iterations) break;
-
-    // Linearised peaks: Sa_i ~ s_i sum_s K_i[s] a[s] at the current peak times.
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < Ms; ++i) kernel_row(S.osc[i], peaks[i].q, n, K[i].data());
-
-    const bool fourier = it < P.fourier_iterations;
-    std::size_t cols = 0;
-    if (fourier) {
-      // Fourier-amplitude correction (GB 17741): the amplitudes of band j (phases
-      // kept) are multiplied by a gain g_j. The classical gain is target_j / Sa_j;
-      // since the peak at one period also sees the neighbouring bands, the gains are
-      // solved together from s_i sum_j g_j y_i(band_j) = target_i, regularised
-      // towards the classical ratios.
-      cols = Mb;
-      std::fill(x.begin(), x.end(), 0.0);
-      std::copy(rec.a.begin(), rec.a.end(), x.begin());
-      fft.fwd(X, x);
-      basis.resize(n, Mb);
-      for (std::size_t j = 0; j < Mb; ++j) {
-        Xb.assign(X.size(), {0.0, 0.0});
-        if (j == Mb - 1) Xb[0] = X[0];
-        for (std::size_t b = 1; b <= N / 2; ++b) {
-          double w = 0.0;
-          if (S.bin_band[b] == j) w += S.bin_w0[b];
-          if (S.bin_band[b] + 1 == j) w += S.bin_w1[b];
-          if (w == 0.0) continue;
-          Xb[b] = w * X[b];
-          if (b != N - b) Xb[N - b] = std::conj(Xb[b]);
-        }
-        fft.inv(y, Xb);
-        std::copy(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(n), basis.col(j));
-      }
-      x0.resize(Mb);
-      for (std::size_t j = 0; j < Mb; ++j) x0[j] = interpolate_ratio(S.Tc, S.target, sa, S.band_T[j]);
-    } else {
-      // Refinement in time (after Abrahamson 1992, RspMatch): tapered-cosine wavelets,
-      // one per control period, placed to act on that oscillator's peak (cut where
-      // the taper is below e^-16). Each is baseline-corrected (psi - Phi L psi, the
-      // correction being linear), so the wave stays corrected and the solve sees
-      // what the wave will get.
-      cols = M;
-      const std::size_t m = S.base.m;
-      const double s1 = std::sqrt(1.0 - zeta * zeta);
-      wav.assign(M, {});
-      wav_c.assign(M * m, 0.0);
-      for (std::size_t j = 0; j < M; ++j) {
-        const double wd = 2.0 * kPi / S.Tc[j] * s1;
-        const double gamma = 1.178 * std::pow(S.Tc[j], 0.93);
-        const double shift = std::atan(s1 / zeta) / wd;  // the response peak lags the wavelet
-        const double tc = static_cast<double>(peaks[j].q) / S.osc[j].m * P.dt - shift;
-        const double lo = std::max(0.0, std::ceil((tc - 4.0 * gamma) / P.dt));
-        const double hi = std::min(static_cast<double>(n - 1), std::floor((tc + 4.0 * gamma) / P.dt));
-        Wavelet& W = wav[j];
-        W.s0 = static_cast<std::size_t>(lo);
-        for (double si = lo; si <= hi; si += 1.0) {
-          const double tau = P.dt * si - tc;
-          W.v.push_back(std::cos(wd * tau) *
-                        std::exp(-(tau / gamma) * (tau / gamma)));
-        }
-        for (std::size_t k = 0; k < m; ++k)
-          wav_c[j * m + k] = dot(&S.base.L[k * n + W.s0], W.v.data(), W.v.size());
-      }
-      x0.assign(M, 0.0);
-    }
-    // Rows: the spectral peaks (relative to the target); in the refinement also the
-    // samples near the PGA, kept in place so that the rescaling to the PGA stays ~1.
-    // The kernels are causal: only samples up to the peak time count.
-    rows.assign(M, std::vector<double>(cols));
-    rhs.assign(M, 0.0);
-    weight.assign(M, 0.0);
-    const std::size_t m = S.base.m;
-#pragma omp parallel for schedule(dynamic, 4)
-    for (std::ptrdiff_t ii = 0; ii < Ms; ++ii) {  // each row on its own: the same bits on any thread
-      const auto i = static_cast<std::size_t>(ii);
-      const std::size_t last = std::min(n, peaks[i].q / static_cast<std::size_t>(S.osc[i].m) + 2);
-      if (fourier) {
-        std::size_t j = 0;
-        for (; j + 4 <= cols; j += 4) {
-          const double* const b[4] = {basis.col(j), basis.col(j + 1), basis.col(j + 2), basis.col(j + 3)};
-          dot4(K[i].data(), b, last, &rows[i][j]);
-        }
-        for (; j < cols; ++j) rows[i][j] = dot(K[i].data(), basis.col(j), last);
-      } else {
-        double kphi[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        for (std::size_t s = 0; s < last; ++s)
-          for (std::size_t k = 0; k < m && k < 8; ++k) kphi[k] += K[i][s] * S.base.Phi[s * m + k];
-        for (std::size_t j = 0; j < cols; ++j) {
-          const Wavelet& W = wav[j];
-          const std::size_t e = std::min(last, W.s0 + W.v.size());
-          double d = W.s0 < e ? dot(K[i].data() + W.s0, W.v.data(), e - W.s0) : 0.0;
-          for (std::size_t k = 0; k < m && k < 8; ++k) d -= kphi[k] * wav_c[j * m + k];
-          rows[i][j] = d;
-        }
-      }
-      rhs[i] = fourier ? peaks[i].sign * S.target[i] : peaks[i].sign * (S.target[i] - sa[i]);
-      weight[i] = 1.0 / S.target[i];
-    }
-    if (!fourier) {
-      for (std::size_t s = 0; s < n; ++s) {
-        if (std::abs(rec.a[s]) <= 0.9 * pga) continue;
-        std::vector<double> row(cols);
-        for (std::size_t j = 0; j < cols; ++j) {
-          const Wavelet& W = wav[j];
-          double v = s >= W.s0 && s < W.s0 + W.v.size() ? W.v[s - W.s0] : 0.0;
-          for (std::size_t k = 0; k < m; ++k) v -= S.base.Phi[s * m + k] * wav_c[j * m + k];
-          row[j] = v;
-        }
-        rows.push_back(std::move(row));
-        rhs.push_back(0.0);
-        weight.push_back(3.0 / pga);
-      }
-    }
-    Eigen::VectorXd g = regularised_solve(rows, rhs, weight, fourier ? 0.3 : 0.03, x0);
-    if (fourier) {
-      // A poor linearisation (the peak moved) falls back to the plain ratio.
-      for (std::size_t j = 0; j < Mb; ++j) {
-        double& gj = g[static_cast<Eigen::Index>(j)];
-        if (!std::isfinite(gj) || gj < 0.25 * x0[j] || gj > 4.0 * x0[j]) gj = x0[j];
-      }
-      X[0] *= g[static_cast<Eigen::Index>(Mb - 1)];
-      for (std::size_t b = 1; b <= N / 2; ++b) {
-        const std::size_t j = S.bin_band[b];
-        double gain = S.bin_w0[b] * g[static_cast<Eigen::Index>(j)];
-        if (S.bin_w1[b] > 0.0) gain += S.bin_w1[b] * g[static_cast<Eigen::Index>(j + 1)];
-        X[b] *= gain;
-        if (b != N - b) X[N - b] = std::conj(X[b]);
-      }
-      fft.inv(y, X);
-      // The change is windowed by the intensity envelope so that the wave keeps its
-      // shape in time (the band gains would otherwise spread energy to the ends).
-      for (std::size_t i = 0; i < n; ++i) a[i] = rec.a[i] + S.envelope[i] * (y[i] - rec.a[i]);
-    } else {
-      std::vector<double> cb(m, 0.0);
-      for (std::size_t j = 0; j < cols; ++j) {
-        const double bj = g[static_cast<Eigen::Index>(j)];
-        const Wavelet& W = wav[j];
-        for (std::size_t k = 0; k < W.v.size(); ++k) rec.a[W.s0 + k] += bj * W.v[k];
-        for (std::size_t k = 0; k < m; ++k) cb[k] += bj * wav_c[j * m + k];
-      }
-      for (std::size_t s = 0; s < n; ++s) {
-        double p = 0.0;
-        for (std::size_t k = 0; k < m; ++k) p += S.base.Phi[s * m + k] * cb[k];
-        a[s] = rec.a[s] - p;
-      }
-    }
+    correct(P, S, it < P.fourier_iterations, rec, ws, a);
   }
   return out;
 }
@@ -565,38 +461,14 @@ ArtificialWave attempt(const ArtificialWaveParams& P, const Setup& S, std::vecto
 
 ArtificialWave generate_artificial_wave(const ArtificialWaveParams& P) {
   P.validate();
-  Setup S;
-  S.n = static_cast<std::size_t>(std::floor(P.duration / P.dt + 1e-9)) + 1;
-  const double T = P.dt * static_cast<double>(S.n - 1);
-  S.base = make_baseline_operator(S.n, P.dt, P.baseline_degree);
-  for (std::size_t i = 0; i < S.n; ++i)
-    S.envelope.push_back(intensity_envelope(P.dt * static_cast<double>(i), P.t1, P.t2, P.c));
-  S.Tc = log_spaced(2.0 * P.dt, P.period_max, P.control_periods);
-  for (double t : S.Tc) {
-    S.target.push_back(P.spectrum.sa(t));
-    S.osc.push_back(make_oscillator(t, P.spectrum.damping, P.dt, S.n));
-  }
-  // FFT grid zero-padded to at least 2n so that the corrections do not wrap around.
-  S.N = 1;
-  while (S.N < 2 * S.n) S.N *= 2;
-  // Band centres: down in frequency from Nyquist by 4% steps, never closer than
-  // 1/(4T), up to period_max.
-  for (double f = 0.5 / P.dt; f > 1.0 / P.period_max; f -= std::max(0.04 * f, 0.25 / T)) S.band_T.push_back(1.0 / f);
-  S.band_T.push_back(P.period_max);
-  S.bin_band.assign(S.N / 2 + 1, 0);
-  S.bin_w0.assign(S.N / 2 + 1, 0.0);
-  S.bin_w1.assign(S.N / 2 + 1, 0.0);
-  for (std::size_t b = 1; b <= S.N / 2; ++b)
-    band_weights(S.band_T, static_cast<double>(S.N) * P.dt / static_cast<double>(b), S.bin_band[b], S.bin_w0[b],
-                 S.bin_w1[b]);
-
+  const detail::Setup S = detail::make_setup(P);
   // Attempts draw successive phase sets from one seeded stream; the first that meets
   // the acceptance tolerances is kept, else the best of all.
   std::mt19937_64 rng(P.seed);
   ArtificialWave best;
   double best_score = std::numeric_limits<double>::infinity();
   for (int k = 0; k < P.attempts; ++k) {
-    ArtificialWave w = attempt(P, S, synthesise(P, S, rng));
+    ArtificialWave w = attempt(P, S, detail::synthesise(P, S, rng));
     w.attempts = k + 1;
     // The misfit reported and judged is measured on a grid three times denser than
     // the control periods, so that narrow dips between them count too.

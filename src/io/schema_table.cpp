@@ -1,0 +1,272 @@
+// The scenario's keys (the table behind io/schema.hpp), from the law registries'
+// declarations for the law parameters.
+#include "io/schema_table.hpp"
+
+#include <fmt/format.h>
+
+#include "law/registry.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace dsdem::io::detail {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+KeySpec num(std::string pattern, std::string unit, std::string def, double min, double max, std::string doc,
+            bool min_excl = false, bool max_excl = false) {
+  KeySpec s;
+  s.pattern = std::move(pattern);
+  s.type = KeyType::Number;
+  s.unit = std::move(unit);
+  s.default_text = std::move(def);
+  s.min = min;
+  s.max = max;
+  s.min_exclusive = min_excl;
+  s.max_exclusive = max_excl;
+  s.doc = std::move(doc);
+  return s;
+}
+KeySpec of(std::string pattern, KeyType type, std::string def, std::string doc, std::string unit = "") {
+  KeySpec s;
+  s.pattern = std::move(pattern);
+  s.type = type;
+  s.default_text = std::move(def);
+  s.doc = std::move(doc);
+  s.unit = std::move(unit);
+  return s;
+}
+KeySpec choice(std::string pattern, std::vector<std::string> choices, std::string def, std::string doc) {
+  KeySpec s = of(std::move(pattern), KeyType::Choice, std::move(def), std::move(doc));
+  s.choices = std::move(choices);
+  return s;
+}
+
+// One key per parameter of the laws of a registry, under `prefix`, in registration and
+// declaration order; a parameter several laws declare is one key (declared alike). Its
+// doc names the laws that use it unless all do. Without `keep_required` a required
+// parameter has no default here (a set of overrides).
+void add_law_params(std::vector<KeySpec>& s, const law::Registry& reg, const std::string& prefix, bool keep_required) {
+  std::vector<const law::ParamDecl*> params;
+  for (const auto& l : reg.laws())
+    for (const auto& p : l.params) {
+      const auto same = std::find_if(params.begin(), params.end(), [&](const law::ParamDecl* q) { return q->name == p.name; });
+      if (same == params.end()) {
+        params.push_back(&p);
+        continue;
+      }
+      const law::ParamDecl& q = **same;
+      if (q.unit != p.unit || q.default_text != p.default_text || q.min != p.min || q.max != p.max ||
+          q.min_exclusive != p.min_exclusive || q.max_exclusive != p.max_exclusive || q.doc != p.doc)
+        throw std::logic_error(fmt::format("{} law '{}' declares parameter '{}' unlike an earlier law",
+                                           law::category_name(reg.category()), l.name, p.name));
+    }
+  for (const law::ParamDecl* p : params) {
+    std::string users;
+    std::size_t n_users = 0;
+    for (const auto& l : reg.laws())
+      if (l.has_param(p->name)) {
+        users += (users.empty() ? "" : ", ") + l.name;
+        ++n_users;
+      }
+    std::string doc = n_users == reg.size() ? p->doc : users + ": " + p->doc;
+    const std::string def = p->required() && !keep_required ? "" : p->default_text;
+    s.push_back(num(prefix + "." + p->name, p->unit, def, p->min, p->max, std::move(doc), p->min_exclusive,
+                    p->max_exclusive));
+  }
+}
+
+// The mesh, the materials and the regions that join them.
+void add_mesh_and_materials(std::vector<KeySpec>& s) {
+  s.push_back(of("title", KeyType::String, "", "Free text shown in the log, summary and report."));
+  s.push_back(of("mesh", KeyType::Map, "required", "The Gmsh mesh or geometry."));
+  s.push_back(of("mesh.file", KeyType::String, "required",
+                 "Gmsh ASCII .msh (format 4.1 or 2.2) or .geo file, relative to the scenario file."));
+  s.push_back(num("mesh.element_size", "m", "", 0, kInf,
+                  "Maximum element size used to mesh a .geo (required for .geo, ignored for .msh).", true));
+  s.push_back(choice("mesh.triangle_order", {"spatial", "file"}, "spatial",
+                     "Numbering of the triangles: spatial (along a Hilbert curve through their centroids, "
+                     "for memory locality and thread balance) or file (the mesh file's order). The two runs "
+                     "differ by rounding only; ParaView's cell ids are the solver's numbers."));
+  s.push_back(choice("mesh.plane", {"strain", "stress"}, "strain",
+                     "2D idealisation: plane strain (per unit thickness) or plane stress."));
+  s.push_back(num("mesh.thickness", "m", "1", 0, kInf, "Out-of-plane thickness (plane stress).", true));
+
+  s.push_back(of("materials", KeyType::Map, "required", "Materials by name."));
+  s.push_back(of("materials.*", KeyType::Map, "", "One material."));
+  s.push_back(choice("materials.*.model", law::material_laws().names(), std::string(law::kDefaultMaterialLaw),
+                     "Constitutive model of the bulk."));
+  add_law_params(s, law::material_laws(), "materials.*", true);
+
+  s.push_back(of("regions", KeyType::List, "required", "Assigns a material and a zone to each physical surface group."));
+  s.push_back(of("regions[]", KeyType::Map, "", "One region."));
+  s.push_back(of("regions[].group", KeyType::String, "required", "Name of a physical surface group of the mesh."));
+  s.push_back(of("regions[].material", KeyType::String, "required", "Name of a material under `materials`."));
+  s.push_back(choice("regions[].zone", {"continuous", "contact", "discrete"}, "continuous",
+                     "continuous: plain FEM (zone B); contact: FEM whose surface takes part in contact (zone C); "
+                     "discrete: breakable spheropolygon elements glued by joints (zone A)."));
+}
+
+// Boundary conditions, gravity, damping, time and stages.
+void add_boundaries_time_stages(std::vector<KeySpec>& s) {
+  s.push_back(of("boundaries", KeyType::List, "", "Boundary conditions on curve or point groups."));
+  s.push_back(of("boundaries[]", KeyType::Map, "", "One boundary condition."));
+  s.push_back(of("boundaries[].group", KeyType::String, "required",
+                 "Name of a physical curve or point group, or a surface group (a driven body: all its nodes)."));
+  s.push_back(choice("boundaries[].type", {"fixed", "roller", "velocity", "displacement", "free", "viscous_spring"}, "required",
+                     "fixed: both directions held; roller: `direction` held; velocity / displacement: the given "
+                     "components prescribed (constant or history); free: nothing (overrides an earlier stage); "
+                     "viscous_spring: absorbing boundary with the free-field earthquake input (DESIGN.md §5)."));
+  s.push_back(num("boundaries[].R", "m", "", 0, kInf, "viscous_spring: distance from the scattering source to the boundary.", true));
+  s.push_back(of("boundaries[].scattering_centre", KeyType::Vector2, "",
+                 "viscous_spring: point of the scattering source; R is then each node's distance to it.", "m"));
+  s.push_back(of("boundaries[].free_field", KeyType::Boolean, "true",
+                 "viscous_spring: apply the free-field seismic input forces on this boundary."));
+  s.push_back(choice("boundaries[].direction", {"x", "y"}, "",
+                     "For a roller: the direction that is held (x for a vertical side, y for a base)."));
+  s.push_back(of("boundaries[].x", KeyType::NumberOrTable, "",
+                 "Prescribed x component: a number, or a history [[t, value], ...] (linear in between, held after).",
+                 "m/s or m"));
+  s.push_back(of("boundaries[].y", KeyType::NumberOrTable, "", "Prescribed y component, as for x.", "m/s or m"));
+
+  s.push_back(of("gravity", KeyType::Vector2, "[0, -9.81]", "Gravitational acceleration.", "m/s^2"));
+  s.push_back(of("damping", KeyType::Map, "", "Rayleigh damping C = alpha M + beta K (DESIGN.md §6)."));
+  s.push_back(num("damping.alpha", "1/s", "0", 0, kInf, "Mass-proportional coefficient."));
+  s.push_back(num("damping.beta", "s", "0", 0, kInf, "Stiffness-proportional coefficient."));
+
+  s.push_back(of("time", KeyType::Map, "required", "Time integration."));
+  s.push_back(num("time.end", "s", "", 0, kInf,
+                  "End time (required without stages; with stages the sum of their durations).", true));
+  s.push_back(num("time.dt", "s", "", 0, kInf, "Fixed time step; when absent, safety x the stable step.", true));
+  s.push_back(num("time.safety", "", "0.3", 0, 1, "Fraction of the stable time step used.", true));
+  s.push_back(of("time.adaptive", KeyType::Boolean, "true without time.dt",
+                 "Take the step again as joints break: safety x the stable step of the intact joints, triangles and "
+                 "contacts (DESIGN.md §6), so it grows as the stiffest joints go; false keeps the first step. Not "
+                 "with time.dt."));
+
+  s.push_back(of("stages", KeyType::List, "", "Stages run one after another; each may override damping and boundaries."));
+  s.push_back(of("stages[]", KeyType::Map, "", "One stage."));
+  s.push_back(of("stages[].name", KeyType::String, "required", "Stage name (log, histories)."));
+  s.push_back(num("stages[].duration", "s", "required", 0, kInf, "Simulated time of the stage.", true));
+  s.push_back(of("stages[].damping", KeyType::Map, "", "Rayleigh damping during this stage (else the top-level one)."));
+  s.push_back(num("stages[].damping.alpha", "1/s", "0", 0, kInf, "Mass-proportional coefficient."));
+  s.push_back(num("stages[].damping.beta", "s", "0", 0, kInf, "Stiffness-proportional coefficient."));
+  s.push_back(of("stages[].boundaries", KeyType::List, "",
+                 "Boundary conditions during this stage (else the top-level ones)."));
+  s.push_back(of("stages[].boundaries[]", KeyType::Map, "", "One boundary condition."));
+  for (const char* k : {"group", "type", "direction", "x", "y", "R", "scattering_centre", "free_field"}) {
+    KeySpec copy = *std::find_if(s.begin(), s.end(), [&](const KeySpec& q) { return q.pattern == std::string("boundaries[].") + k; });
+    copy.pattern = std::string("stages[].boundaries[].") + k;
+    s.push_back(copy);
+  }
+  s.push_back(num("stages[].stop_kinetic_ratio", "", "", 0, 1,
+                  "End the stage early once kinetic energy falls below this fraction of its peak in the stage.", true));
+}
+
+// Cohesive joints (DESIGN.md §3; paper eqs. 6-9).
+void add_joints(std::vector<KeySpec>& s) {
+  s.push_back(of("joints", KeyType::Map, "", "Cohesive joint properties for discrete (breakable) zones."));
+  const std::vector<std::pair<std::string, std::string>> joint_sets{
+      {"joints.default", "Properties of every joint unless a group, interface or curve entry overrides them."},
+      {"joints.groups.*", "Overrides for joints inside one discrete surface group."},
+      {"joints.interface", "Overrides for joints between a discrete group and a continuous one (the bond to bedrock)."},
+      {"joints.curves.*", "Overrides for joints on a named mesh curve (pre-existing crack, weak interlayer)."}};
+  s.push_back(of("joints.groups", KeyType::Map, "", "Per discrete group overrides, by group name."));
+  s.push_back(of("joints.curves", KeyType::Map, "", "Per curve overrides, by curve group name."));
+  for (const auto& [prefix, doc] : joint_sets) {
+    const bool base = prefix == "joints.default";
+    s.push_back(of(prefix, KeyType::Map, "", doc));
+    s.push_back(choice(prefix + ".law", law::joint_laws().names(), base ? std::string(law::kDefaultJointLaw) : "",
+                       base ? "Joint law (its parameters follow)."
+                            : "Joint law of these joints (default: the one of joints.default)."));
+    // Required values are required once, in joints.default; the other sets override.
+    add_law_params(s, law::joint_laws(), prefix, base);
+    s.push_back(of(prefix + ".broken", KeyType::Boolean, "false", "Start broken (a pre-existing crack: contact only)."));
+  }
+}
+
+// Spheropolygon contact (DESIGN.md §4; paper eqs. 1-5).
+void add_contact(std::vector<KeySpec>& s) {
+  s.push_back(of("contact", KeyType::Map, "", "Contact between spheropolygons of the discrete and contact zones."));
+  s.push_back(choice("contact.law", law::contact_laws().names(), std::string(law::kDefaultContactLaw),
+                     "Contact law (its parameters follow)."));
+  add_law_params(s, law::contact_laws(), "contact", true);
+  s.push_back(num("contact.rounding", "", "0.05", 0, 0.5, "Rounding radius as a fraction of each triangle's inscribed radius.", true, true));
+  s.push_back(num("contact.skin", "m", "auto", 0, kInf, "Broad-phase skin (default: half the mean inscribed radius).", true));
+  s.push_back(of("contact.output", KeyType::Boolean, "false", "Write contact points and forces as a VTU series (contacts.pvd)."));
+  s.push_back(of("contact.pairs", KeyType::List, "", "Friction / restitution / stiffness for particular pairs of surface groups."));
+  s.push_back(of("contact.pairs[]", KeyType::Map, "", "One pair of groups."));
+  s.push_back(of("contact.pairs[].groups", KeyType::List, "required", "Two surface group names (the same name twice: within one group)."));
+  s.push_back(num("contact.pairs[].friction", "", "contact.friction", 0, kInf, "Coulomb friction coefficient."));
+  s.push_back(num("contact.pairs[].restitution", "", "contact.restitution", 0, 1, "Coefficient of restitution.", true));
+  s.push_back(num("contact.pairs[].kn", "Pa", "contact.kn", 0, kInf, "Normal stiffness.", true));
+}
+
+// Earthquake input (DESIGN.md §5; paper §2.2) and the stage switches after it.
+void add_earthquake(std::vector<KeySpec>& s) {
+  s.push_back(of("earthquake", KeyType::Map, "", "Design ground motion fed through viscous-spring boundaries."));
+  s.push_back(num("earthquake.incident_factor", "", "0.5", 0, kInf,
+                  "Incident wave = this factor x the design (outcrop) motion (0.5 for a uniform half-space).", true));
+  for (const std::string comp : {"horizontal", "vertical"}) {
+    const std::string base = "earthquake." + comp;
+    s.push_back(of(base, KeyType::Map, "", comp == "horizontal" ? "Horizontal component: vertically incident SV wave."
+                                                                  : "Vertical component: vertically incident P wave."));
+    s.push_back(of(base + ".file", KeyType::String, "", "Accelerogram: CSV (t, a) or PEER .AT2, relative to the scenario."));
+    s.push_back(choice(base + ".units", {"g", "m/s2"}, "g", "Units of a CSV accelerogram (AT2 is always g)."));
+    s.push_back(num(base + ".scale", "", "1", -kInf, kInf, "Factor applied to the record (e.g. to scale it to a PGA)."));
+    s.push_back(of(base + ".generate", KeyType::Map, "", "Generate an artificial accelerogram (GB 17741 method) instead of a file."));
+    s.push_back(choice(base + ".generate.spectrum", {"hydraulic", "gb50011"}, "hydraulic", "Target spectrum."));
+    s.push_back(num(base + ".generate.pga", "g", "0.05", 0, kInf, "Peak ground acceleration.", true));
+    s.push_back(num(base + ".generate.Tg", "s", "0.35", 0.1, 10, "Characteristic period.", true));
+    s.push_back(num(base + ".generate.beta_max", "", "2.25", 1, kInf, "Peak of the hydraulic beta spectrum."));
+    s.push_back(num(base + ".generate.damping", "", "0.05", 0, 1, "Damping ratio of the target spectrum.", true, true));
+    s.push_back(num(base + ".generate.duration", "s", "10", 0, kInf, "Duration.", true));
+    s.push_back(num(base + ".generate.dt", "s", "0.02", 0, kInf, "Sampling step.", true));
+    s.push_back(num(base + ".generate.seed", "", "1", 0, kInf, "Random seed (same seed, same wave)."));
+    s.push_back(num(base + ".generate.t1", "s", "1.5", 0, kInf, "End of the rising part of the intensity envelope."));
+    s.push_back(num(base + ".generate.t2", "s", "6.5", 0, kInf, "Start of the decay of the intensity envelope."));
+    s.push_back(num(base + ".generate.c", "1/s", "1", 0, kInf, "Decay rate of the envelope."));
+  }
+  s.push_back(of("stages[].earthquake", KeyType::Boolean, "false",
+                 "The earthquake acts during this stage (its time zero is the stage start)."));
+
+  s.push_back(of("stages[].failure", KeyType::Boolean, "true",
+                 "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));
+}
+
+// Output intervals, checkpoints and gauges.
+void add_output(std::vector<KeySpec>& s) {
+  s.push_back(of("output", KeyType::Map, "", "What is written and how often."));
+  s.push_back(num("output.field_interval", "s", "end/50", 0, kInf, "Interval between VTU frames.", true));
+  s.push_back(num("output.history_interval", "s", "end/1000", 0, kInf, "Interval between history rows.", true));
+  s.push_back(num("output.progress_interval", "s", "2", 0, kInf, "Wall-clock interval between progress lines.", true));
+  s.push_back(num("output.checkpoint_steps", "", "0", 0, kInf,
+                  "Write OUT/checkpoint.h5 every this many steps (0: only by wall clock, at the end and on SIGINT/SIGTERM)."));
+  s.push_back(num("output.checkpoint_interval", "s", "600", 0, kInf,
+                  "Wall-clock interval between checkpoints (0: none by wall clock). A checkpoint is always written at "
+                  "the end and on SIGINT/SIGTERM; continue with `dsdem run SCENARIO --restart OUT/checkpoint.h5`."));
+  s.push_back(of("output.gauges", KeyType::List, "", "Gauges: material points followed through the run."));
+  s.push_back(of("output.gauges[]", KeyType::Map, "", "One gauge."));
+  s.push_back(of("output.gauges[].name", KeyType::String, "required", "Gauge name (history column prefix)."));
+  s.push_back(of("output.gauges[].at", KeyType::Vector2, "required",
+                 "Reference position; the gauge follows the material point there.", "m"));
+}
+
+}  // namespace
+
+// Keys in the order of docs/scenario-reference.md.
+std::vector<KeySpec> build_schema() {
+  std::vector<KeySpec> s;
+  add_mesh_and_materials(s);
+  add_boundaries_time_stages(s);
+  add_joints(s);
+  add_contact(s);
+  add_earthquake(s);
+  add_output(s);
+  return s;
+}
+
+}  // namespace dsdem::io::detail
