@@ -193,7 +193,7 @@ TEST(ContactDynamics, HeadOnCollisionOfBlocksConservesMomentumAndGainsNoEnergy) 
     EXPECT_LE(after, ke0 * (1 + 1e-3)) << "energy gained " << after / ke0 - 1;
     // The ledger books the dashpots as velocity Verlet applies them (DESIGN.md §1, §6);
     // what is left is the contact springs' own net work where contacts open and close
-    // within a step (0.09-0.11 J of 62.5 J at any time.safety): 1.5e-3.
+    // within a step, which no smaller time step removes.
     EXPECT_LT(s.energy().balance_error(), 2e-3);
   }
 }

@@ -91,8 +91,8 @@ double footing_pressure(const solver::Solver& s, const Model& model) {
 // Prandtl (1920): a smooth rigid strip footing on weightless ground of cohesion c and
 // phi = 0 fails at q_u = (2 + pi) c. The footing is pushed slowly (quasi-static: the
 // loading takes ~100 times the wave's transit of the model); the pressure's peak and its
-// plateau up to 9 mm of settlement are within 5 % of q_u (measured: peak 1.037 q_u, 0.99 q_u
-// at the end, the slow fall from the finite-strain St Venant-Kirchhoff response).
+// plateau up to 9 mm of settlement are within 5 % of q_u. Further on the plateau falls slowly:
+// St Venant-Kirchhoff softens at finite strain.
 TEST(Plasticity, PrandtlBearingCapacityOfAStripFootingWithinFivePercent) {
   Model model = footing_model();
   solver::Solver s(model);
