@@ -83,7 +83,7 @@ inline Vec3 cauchy_from_pk2(const Mat2& F, const Vec3& S) {
 // Result of one element evaluation.
 struct TriangleResponse {
   std::array<Vec2, 3> force;  // internal force on each node (already with sign: add to f), N
-  Vec3 cauchy;                // Pa, elastic + initial stress (no damping part)
+  Vec3 cauchy = Vec3::Zero();  // Pa, elastic + initial stress (no damping part); zero when not asked for
   Vec3 green;                 // Green strain, Voigt with engineering shear
   double strain_energy = 0.0; // J (per thickness as given)
   double detF = 1.0;
