@@ -124,6 +124,25 @@ struct ContactSpec {
   std::vector<ContactPairSpec> pairs;
 };
 
+// Water in a named crack up to a level (DESIGN.md §11).
+struct CrackWaterSpec {
+  std::string curve;  // a curve group whose joints form the crack
+  double level = 0.0;  // m
+  SourceLocation where;
+};
+
+// Water at rest during a stage (DESIGN.md §11).
+struct WaterSpec {
+  bool present = false;
+  std::vector<Vec2> line;   // piezometric line (x, z), m, x increasing; one point: a level
+  double density = 1000.0;  // kg/m^3
+  // saturated: pore pressure in the whole solid; discontinuities: only in named-curve
+  // joints, broken joints and on exposed edges.
+  bool pore_pressure_in_matrix = true;
+  std::vector<CrackWaterSpec> cracks;
+  SourceLocation where;  // of the line (or the level)
+};
+
 struct StageSpec {
   std::string name;
   double duration = 0.0;
@@ -132,6 +151,7 @@ struct StageSpec {
   double stop_kinetic_ratio = 0.0;  // 0 = run the full duration
   bool failure = true;              // joints may damage and break
   bool earthquake = false;          // the earthquake acts (time zero = stage start)
+  WaterSpec water;                  // the top-level water unless the stage sets its own
 };
 
 struct GaugeSpec {

@@ -265,6 +265,48 @@ void read_regions(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   }
 }
 
+// Water at rest (top level or a stage's): a level or a line, the density, where the pore
+// pressure acts, water in named cracks.
+WaterSpec read_water(SchemaReader& r, const YAML::Node& w, const KeyPath& p) {
+  r.check_keys(w, p);
+  WaterSpec ws;
+  if (r.boolean(w, p, "dry").value_or(false)) {
+    if (w["level"].IsDefined() || w["line"].IsDefined())
+      r.error(w["dry"], p.child("dry").actual, "a dry stage has no level or line (remove one of them)");
+    return ws;
+  }
+  ws.present = true;
+  const std::optional<double> level = r.number(w, p, "level");
+  const auto line = r.table(w, p, "line");
+  if (level && line) r.error(w["line"], p.child("line").actual, "give either level or line, not both");
+  if (!level && !line && !w["line"].IsDefined())
+    r.error(w, p.actual, "missing level (m) or line [[x, z], ...] (m): the piezometric line");
+  if (level) ws.line = {Vec2(0.0, *level)};
+  if (line)
+    for (const auto& row : *line) ws.line.emplace_back(row[0], row[1]);
+  ws.where = location(r, w[line ? "line" : "level"].IsDefined() ? w[line ? "line" : "level"] : w,
+                      p.child(line ? "line" : "level").actual);
+  ws.density = r.number(w, p, "density").value_or(1000.0);
+  ws.pore_pressure_in_matrix = r.string(w, p, "pore_pressure").value_or("saturated") == "saturated";
+  if (YAML::Node cs = r.section(w, p, "cracks", YAML::NodeType::Sequence); cs.IsDefined()) {
+    const KeyPath cp = p.child("cracks");
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const KeyPath ip = cp.index(i);
+      if (!cs[i].IsMap()) {
+        r.error(cs[i], ip.actual, "expected a map with curve and level");
+        continue;
+      }
+      r.check_keys(cs[i], ip);
+      CrackWaterSpec c;
+      c.curve = r.string(cs[i], ip, "curve").value_or("");
+      c.level = r.number(cs[i], ip, "level").value_or(0.0);
+      c.where = location(r, cs[i]["curve"].IsDefined() ? cs[i]["curve"] : cs[i], ip.child("curve").actual);
+      ws.cracks.push_back(std::move(c));
+    }
+  }
+  return ws;
+}
+
 // Boundaries, gravity, damping, time and the stages that take them over.
 void read_time_and_stages(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   const KeyPath top{"", ""};
@@ -276,6 +318,9 @@ void read_time_and_stages(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   DampingSpec damping;
   if (YAML::Node d = r.section(root, top, "damping", YAML::NodeType::Map); d.IsDefined())
     damping = read_damping(r, d, top.child("damping"), damping);
+  WaterSpec water;
+  if (YAML::Node w = r.section(root, top, "water", YAML::NodeType::Map); w.IsDefined())
+    water = read_water(r, w, top.child("water"));
 
   std::optional<double> end;
   if (YAML::Node t = r.section(root, top, "time", YAML::NodeType::Map); t.IsDefined()) {
@@ -313,6 +358,10 @@ void read_time_and_stages(SchemaReader& r, YAML::Node& root, Scenario& sc) {
       stage.stop_kinetic_ratio = r.number(s, sp, "stop_kinetic_ratio").value_or(0.0);
       stage.failure = r.boolean(s, sp, "failure").value_or(true);
       stage.earthquake = r.boolean(s, sp, "earthquake").value_or(false);
+      if (YAML::Node w = r.section(s, sp, "water", YAML::NodeType::Map); w.IsDefined())
+        stage.water = read_water(r, w, sp.child("water"));
+      else
+        stage.water = water;
       sc.stages.push_back(std::move(stage));
     }
     if (end && st.size() > 0)
@@ -323,6 +372,7 @@ void read_time_and_stages(SchemaReader& r, YAML::Node& root, Scenario& sc) {
     stage.duration = end.value_or(0.0);
     stage.damping = damping;
     stage.boundaries = boundaries;
+    stage.water = water;
     if (!end && root["time"].IsDefined()) r.error(root["time"], "time.end", "missing value (end time, s); or give stages");
     sc.stages.push_back(std::move(stage));
   }

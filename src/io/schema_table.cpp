@@ -237,6 +237,36 @@ void add_earthquake(std::vector<KeySpec>& s) {
                  "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));
 }
 
+// Water at rest (DESIGN.md §11), for every stage and per stage.
+void add_water(std::vector<KeySpec>& s) {
+  s.push_back(of("water", KeyType::Map, "",
+                 "Water at rest in every stage unless a stage sets its own (DESIGN.md §11): hydrostatic pressure "
+                 "rho_w g (z_w(x) - z) below the piezometric line z_w(x), acting on elements (total stress), joint "
+                 "faces and exposed edges."));
+  for (const std::string base : {"water", "stages[].water"}) {
+    if (base != "water")
+      s.push_back(of(base, KeyType::Map, "", "Water during this stage (else the top-level water)."));
+    s.push_back(num(base + ".level", "m", "", -kInf, kInf,
+                    "Horizontal piezometric line at this elevation (a pool level); or give line."));
+    s.push_back(of(base + ".line", KeyType::Table, "",
+                   "Piezometric line [[x, z], ...], x increasing, spanning the model: the pool level over open "
+                   "water, the water table in the slope.",
+                   "m"));
+    s.push_back(num(base + ".density", "kg/m^3", "1000", 0, kInf, "Water density rho_w.", true));
+    s.push_back(choice(base + ".pore_pressure", {"saturated", "discontinuities"}, "saturated",
+                       "saturated: pore pressure in the whole solid below the line (elements, every joint face, "
+                       "exposed edges); discontinuities: only in joints on named curves, broken joints and on "
+                       "exposed edges (an impervious intact rock mass)."));
+    s.push_back(of(base + ".cracks", KeyType::List, "", "Water standing in named cracks at their own level."));
+    s.push_back(of(base + ".cracks[]", KeyType::Map, "", "One crack."));
+    s.push_back(of(base + ".cracks[].curve", KeyType::String, "required",
+                   "A named mesh curve with joints (e.g. a back crack); its faces take rho_w g (level - z)."));
+    s.push_back(num(base + ".cracks[].level", "m", "required", -kInf, kInf, "Water level in the crack."));
+    s.push_back(of(base + ".dry", KeyType::Boolean, "false",
+                   base == "water" ? "No water (as if the section were absent)." : "No water in this stage."));
+  }
+}
+
 // Output intervals, checkpoints and gauges.
 void add_output(std::vector<KeySpec>& s) {
   s.push_back(of("output", KeyType::Map, "", "What is written and how often."));
@@ -265,6 +295,7 @@ std::vector<KeySpec> build_schema() {
   add_joints(s);
   add_contact(s);
   add_earthquake(s);
+  add_water(s);
   add_output(s);
   return s;
 }

@@ -1,4 +1,5 @@
 #include "run/outputs.hpp"
+#include "run/water.hpp"
 
 #include <algorithm>
 
@@ -44,6 +45,7 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
                                          {"broken_joints", ""},
                                          {"fragments", ""},
                                          {"contacts", ""}};
+  if (has_water(prepared.scenario)) columns.push_back({"water_work", energy_unit});
   const std::string force_unit = plane_strain ? "N_per_m" : "N";
   for (const auto& [name, nodes] : reactions)
     for (const char* c : {"x", "y"}) columns.push_back({fmt::format("{}_reaction_{}", name, c), force_unit});
@@ -72,6 +74,7 @@ RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, cons
       out_(out),
       write_fields_(write_fields),
       has_joints_(prepared.model.joints.size() > 0),
+      has_water_(has_water(prepared.scenario)),
       energy_unit_(prepared.model.plane_stress ? "J" : "J_per_m"),
       force_unit_(prepared.model.plane_stress ? "N" : "N_per_m"),
       reactions_(reaction_groups(prepared.scenario, prepared.model)) {
@@ -108,6 +111,7 @@ void RunOutputs::write_history(int stage_index) {
   row_[k++] = static_cast<double>(solver_.broken_joints());
   row_[k++] = solver::count_fragments(model_, fragment_label_);
   row_[k++] = static_cast<double>(solver_.active_contacts());
+  if (has_water_) row_[k++] = e.water_work;
   for (const auto& [name, nodes] : reactions_) {
     const Vec2 r = solver_.reaction_on(*nodes);
     row_[k++] = r.x();
@@ -149,6 +153,14 @@ void RunOutputs::write_fields() {
   if (has_joints_) {
     solver::count_fragments(model_, fragment_label_);
     cell_extra.push_back(io::scalar_field("fragment", "", std::span<const std::int32_t>(fragment_label_)));
+  }
+  if (has_water_) {  // at the centroid; the stress field is the effective stress (DESIGN.md §11)
+    pore_pressure_.resize(model_.triangles.size());
+    for (std::size_t t = 0; t < pore_pressure_.size(); ++t) {
+      const auto& c = model_.triangles.conn[t];
+      pore_pressure_[t] = solver_.water().pressure((model_.nodes.x(c[0]) + model_.nodes.x(c[1]) + model_.nodes.x(c[2])) / 3.0);
+    }
+    cell_extra.push_back(io::scalar_field("pore_pressure", "Pa", std::span<const double>(pore_pressure_)));
   }
   io::write_triangles_vtu(file, model_.nodes, model_.triangles, model_.materials, {}, cell_extra, vo);
   solver_.release_stress();  // not held between frames: 48 B per triangle

@@ -57,12 +57,14 @@ class RunOutputs {
   std::filesystem::path out_;
   bool write_fields_ = true;
   bool has_joints_ = false;
+  bool has_water_ = false;  // some stage has water: a water_work column and a pore-pressure field
   std::string energy_unit_, force_unit_;
   ReactionGroups reactions_;
   std::optional<io::HistoryWriter> history_;
   std::optional<io::PvdSeries> fields_, cracks_, contacts_;
   std::vector<double> row_;
   std::vector<Index> fragment_label_;
+  std::vector<double> pore_pressure_;  // Pa per triangle, for a frame
   std::vector<Vec2> contact_points_, contact_forces_;
   std::vector<double> contact_normal_force_, contact_overlap_;
 };

@@ -1,4 +1,5 @@
 #include "run/prepare.hpp"
+#include "run/water.hpp"
 
 #include <spdlog/sinks/ringbuffer_sink.h>
 #include <spdlog/spdlog.h>
@@ -123,6 +124,7 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   run.scenario = scenario;
   load_model(run, work_dir);
   locate_gauges(run);
+  check_water(run.scenario, run.model);
   choose_time_step(run);
   run.estimated_steps = static_cast<long>(std::ceil(scenario.end_time() / run.dt));
   load_earthquake(run);

@@ -1,4 +1,5 @@
 #include "run/stage.hpp"
+#include "run/water.hpp"
 
 #include <vector>
 
@@ -22,6 +23,8 @@ void apply_stage(solver::Solver& solver, const io::StageSpec& stage, const io::S
                           sc.earthquake.incident_factor, start_time);
   else
     solver.set_earthquake(nullptr, nullptr, 0.5, 0.0);
+  if (stage.water.present) solver.set_water(water_setup(stage.water, solver.model(), sc.gravity));
+  else solver.clear_water();
 }
 
 }  // namespace dsdem::run

@@ -22,12 +22,16 @@ struct EnergyLedger {
   // Plastic work of the bulk (Mohr-Coulomb, DESIGN.md §12): a function of the state, the
   // sum of each triangle's accumulated plastic work.
   double plastic_dissipated = 0.0;
+  // Work of the water at rest on the solid (DESIGN.md §11), booked as the work of the
+  // other loads: trapezoidal on each step's displacement increments.
+  double water_work = 0.0;
 
   double mechanical() const { return kinetic + strain + gravity_potential + joint_elastic + contact_elastic; }
   double dissipated() const {
     return damping_dissipated + fracture_dissipated + friction_dissipated + contact_damping_dissipated +
            plastic_dissipated;
   }
+  double work_in() const { return external_work + water_work; }
   // Relative balance error: |E - E0 + D - W| over the largest energy in play.
   double balance_error() const;
 };

@@ -36,6 +36,18 @@ Solver::Solver(Model& model)
   }
 }
 
+void Solver::set_water(WaterSetup w) { water_.set(model_, std::move(w)); }
+
+void Solver::clear_water() { water_.clear(); }
+
+double Solver::water_work_sum() {
+  const auto sum = exec::deterministic_sums<1>(
+      water_.size(), [&](std::size_t t) { return std::array<double, 1>{water_.work(t)}; }, reduction_scratch_,
+      team_.parallel());
+  if (!water_.has_water()) water_.clear();  // the forces of the last wet step are booked: done
+  return sum[0];
+}
+
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
 void Solver::set_settings(const StepSettings& s) {
@@ -74,7 +86,9 @@ void Solver::release_damping_buffers_if_unused() {
 void Solver::initialise() {
   clear_forces();
   add_gravity();
+  water_booking_ = false;  // no step taken: the water forces do no work yet
   add_element_and_joint_forces();
+  water_booking_ = true;
   add_contact_forces();
   add_boundary_forces();
   add_damping_forces();
@@ -84,7 +98,7 @@ void Solver::initialise() {
   exec::parallel_for(team_, n.size(), [&](std::size_t i) { n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero()); });
   if (damped()) damping_force_prev_ = damping_force_;
   update_energy();
-  energy_.initial_total = energy_.mechanical() + energy_.dissipated() - energy_.external_work;
+  energy_.initial_total = energy_.mechanical() + energy_.dissipated() - energy_.work_in();
 }
 
 // One step of velocity Verlet, phase by phase (DESIGN.md §1). The execution layer runs a
@@ -299,6 +313,7 @@ void Solver::update_energy() {
     energy_.strain = strain_sum[0];
   }
   if (any_plastic_) energy_.plastic_dissipated = plastic_dissipation_sum();
+  if (water_.active()) energy_.water_work += water_work_sum();
   std::swap(damping_force_prev_, damping_force_);
   release_damping_buffers_if_unused();
 }
@@ -345,10 +360,11 @@ void Solver::check_stability() {
   constexpr double kEnergyGrowthRatio = 0.1;
   constexpr double kEnergyGrowthRate = 1.15;
   constexpr int kEnergyGrowthSteps = 5;
-  const double created = energy_.mechanical() - energy_.initial_total + energy_.dissipated() - energy_.external_work;
+  const double created = energy_.mechanical() - energy_.initial_total + energy_.dissipated() - energy_.work_in();
   const double in_play = std::max({std::abs(energy_.kinetic), std::abs(energy_.strain), std::abs(energy_.gravity_potential),
                                    std::abs(energy_.joint_elastic), std::abs(energy_.contact_elastic),
-                                   std::abs(energy_.external_work), std::abs(energy_.dissipated()),
+                                   std::abs(energy_.external_work), std::abs(energy_.water_work),
+                                   std::abs(energy_.dissipated()),
                                    std::abs(energy_.initial_total)});
   const bool growing = created > kEnergyGrowthRatio * in_play && created > kEnergyGrowthRate * created_prev_ &&
                        created_prev_ > 0.0;

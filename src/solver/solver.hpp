@@ -20,6 +20,7 @@
 #include "solver/energy.hpp"
 #include "solver/integrator.hpp"
 #include "solver/time_step.hpp"
+#include "solver/water_loads.hpp"
 
 namespace dsdem::solver {
 
@@ -69,6 +70,11 @@ class Solver {
   // null; time zero of the records is `start_time`. Call with both null to switch it off.
   void set_earthquake(const seismic::Accelerogram* horizontal, const seismic::Accelerogram* vertical,
                       double incident_factor, double start_time);
+
+  // Water at rest for the coming stage (DESIGN.md §11), or none from now.
+  void set_water(WaterSetup w);
+  void clear_water();
+  const WaterLoads& water() const { return water_; }
 
   // The time step as the joints break (TimeStepControl::set_rule): applied at once and
   // after set_settings() / restore(), whose dt it replaces.
@@ -239,6 +245,11 @@ class Solver {
   std::vector<Vec2> u_prev_;
   std::vector<double> reduction_scratch_;
   std::vector<fem::ElasticConstants> elastic_;
+  // Water at rest (the element kernels add its forces); its work is booked except in
+  // initialise(), where no step is taken.
+  WaterLoads water_;
+  bool water_booking_ = true;
+  double water_work_sum();  // J/m: this step's work of the water forces
 
   // Mohr-Coulomb bulk (DESIGN.md §12), per material: its return-mapping model and the
   // columns of Triangles::state that hold its five state variables. The model's state

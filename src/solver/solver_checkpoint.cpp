@@ -84,6 +84,13 @@ void Solver::save(io::CheckpointWriter& out) const {
                                      e.external_work, e.damping_dissipated, e.fracture_dissipated,
                                      e.friction_dissipated, e.initial_total, e.contact_damping_dissipated};
   out.put("energy", energies);
+  if (water_.size() > 0) {  // the water's work so far and its last forces (their work's first half)
+    out.put("water/work", energy_.water_work);
+    std::vector<Vec2> f;
+    f.reserve(3 * water_.size());
+    for (const auto& t : water_.previous_forces()) f.insert(f.end(), t.begin(), t.end());
+    out.put("water/force_prev", vec2s(f));
+  }
   save_nodes(out);
   save_triangles(out);
   save_joints(out);
@@ -218,6 +225,15 @@ void Solver::restore(const io::CheckpointReader& in) {
   // 10 values before contact damping had a term of its own (it was in friction then).
   if (e.size() != 10) check_size("energy", e.size(), 11);
   energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9], e.size() > 10 ? e[10] : 0.0};
+  if (in.has("water/work")) {
+    energy_.water_work = in.scalar("water/work");
+    const auto f = in.doubles("water/force_prev");
+    check_size("water/force_prev", f.size(), 6 * model_.triangles.size());
+    std::vector<std::array<Vec2, 3>> prev(model_.triangles.size());
+    for (std::size_t t = 0; t < prev.size(); ++t)
+      for (int k = 0; k < 3; ++k) prev[t][k] = Vec2(f[6 * t + 2 * k], f[6 * t + 2 * k + 1]);
+    water_.restore_previous_forces(std::move(prev));
+  }
   restore_nodes(in);
   restore_triangles(in);
   restore_joints(in);

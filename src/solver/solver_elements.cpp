@@ -44,6 +44,9 @@ struct ElementKernels {
     } else {
       fem::triangle_internal_force(in, s.elastic_[mat], r, damping);
     }
+    // The water at rest (DESIGN.md §11): the pore pressure's part of the total stress and
+    // the tractions on this triangle's exposed edges and joint faces.
+    if (s.water_.active()) s.water_.add(t, in.x, tri.conn[t], n, J, s.settings_.dt, s.water_booking_, r.force);
     if (!s.stress_on_demand_) {
       tri.stress[t] = r.cauchy;
       tri.strain[t] = r.green;

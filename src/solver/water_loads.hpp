@@ -1,0 +1,107 @@
+#pragma once
+// Water at rest on the model (DESIGN.md §11): which triangle edges the water loads, and
+// each triangle's water forces of the last step for their work. The element kernels add
+// a triangle's water forces to its internal force (the total stress of §11 item 1 and
+// the tractions of items 2-3 on its own edges), so they reach the nodes through the
+// element scatter with the same bits for any thread count.
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "model/model.hpp"
+#include "water/hydrostatic.hpp"
+
+namespace dsdem::solver {
+
+// The water of a stage.
+struct WaterSetup {
+  water::PiezometricLine line;
+  double density = 1000.0;       // kg/m^3
+  double gravity = 9.81;         // m/s^2, the magnitude of the model's gravity
+  // true: pore pressure in the whole saturated solid (elements, every joint face, exposed
+  // edges); false: only in the named discontinuities (joints on named curves), broken
+  // joints and on exposed edges, the intact matrix and its joints dry.
+  bool pore_pressure_in_matrix = true;
+  // Water in a crack up to a level (m), by curve group of the model; it replaces the
+  // line's pressure on the faces of that curve's joints.
+  std::vector<std::pair<Index, double>> crack_levels;
+  double unit_weight() const { return density * gravity; }
+};
+
+class WaterLoads {
+ public:
+  // The stage's water (sizes the per-triangle arrays on first use). Throws
+  // std::invalid_argument if a crack level names no curve group of the model.
+  void set(const Model& m, WaterSetup w);
+  // No water from now: the forces fall to zero (the next step books the last half of
+  // their work).
+  void clear();
+  // Water forces act or still have work to book.
+  bool active() const { return active_; }
+  bool has_water() const { return has_water_; }
+  const WaterSetup& setup() const { return setup_; }
+
+  // Triangle t's water forces at its current corners x (counter-clockwise, as conn), added
+  // to force; its work over the step, trapezoidal on the corners' displacement increments
+  // dt v (the drift's own, v the half-step velocities), kept in work(t) unless `book` is off
+  // (the initial forces: no step taken).
+  [[gnu::always_inline]] void add(std::size_t t, const std::array<Vec2, 3>& x, const std::array<Index, 3>& c,
+                                  const Nodes& n, const Joints& J, double dt, bool book, std::array<Vec2, 3>& force) {
+    const std::array<Vec2, 3> f =
+        has_water_ ? water::triangle_forces(input(t, x, J), setup_.line, unit_weight_) : std::array<Vec2, 3>{};
+    double w = 0.0;
+    if (book)
+      for (int k = 0; k < 3; ++k) w += 0.5 * (previous_[t][k] + f[k]).dot(dt * n.v[c[k]]);
+    work_[t] = w;
+    previous_[t] = f;
+    for (int k = 0; k < 3; ++k) force[k] += f[k];
+  }
+  double work(std::size_t t) const { return work_[t]; }
+  std::size_t size() const { return work_.size(); }
+
+  // Pore pressure at a point, Pa (0 without water).
+  double pressure(Vec2 x) const { return has_water_ ? water::pressure(setup_.line, unit_weight_, x) : 0.0; }
+
+  // The checkpoint's part: the last forces per triangle (their work's first half).
+  const std::vector<std::array<Vec2, 3>>& previous_forces() const { return previous_; }
+  void restore_previous_forces(std::vector<std::array<Vec2, 3>> f) { previous_ = std::move(f); }
+
+ private:
+  water::TriangleWater input(std::size_t t, const std::array<Vec2, 3>& x, const Joints& J) const {
+    water::TriangleWater in;
+    in.x = x;
+    in.pore_pressure = setup_.pore_pressure_in_matrix;
+    for (int k = 0; k < 3; ++k) {
+      if (!(exposed_[t] & (1u << k))) continue;
+      const Index j = edge_joint_[t][k];
+      const double level = j == kNoIndex ? kNoLevel : crack_level_of_curve(J.curve_group[j]);
+      if (!std::isnan(level)) {
+        in.edge[k] = water::EdgeWater::level;
+        in.level[k] = level;
+      } else if (setup_.pore_pressure_in_matrix || j == kNoIndex || J.broken[j] || J.curve_group[j] != kNoIndex) {
+        in.edge[k] = water::EdgeWater::line;
+      }
+    }
+    return in;
+  }
+  double crack_level_of_curve(Index g) const {
+    return g == kNoIndex || static_cast<std::size_t>(g) >= crack_level_.size() ? kNoLevel : crack_level_[g];
+  }
+  void build_edges(const Model& m);
+
+  static constexpr double kNoLevel = std::numeric_limits<double>::quiet_NaN();
+  WaterSetup setup_;
+  double unit_weight_ = 0.0;
+  bool active_ = false;
+  bool has_water_ = false;
+  // Per triangle: bit k when edge k (corner k -> k + 1) is on no other triangle (the
+  // model's surface, a joint face), and the joint on that edge (or kNoIndex).
+  std::vector<std::uint8_t> exposed_;
+  std::vector<std::array<Index, 3>> edge_joint_;
+  std::vector<double> crack_level_;  // per model group, NaN where none
+  std::vector<std::array<Vec2, 3>> previous_;
+  std::vector<double> work_;
+};
+
+}  // namespace dsdem::solver
