@@ -277,7 +277,7 @@ WaterSpec read_water(SchemaReader& r, const YAML::Node& w, const KeyPath& p) {
   }
   ws.present = true;
   const std::optional<double> level = r.number(w, p, "level");
-  const auto line = r.table(w, p, "line");
+  const auto line = r.polyline(w, p, "line");
   if (level && line) r.error(w["line"], p.child("line").actual, "give either level or line, not both");
   if (!level && !line && !w["line"].IsDefined())
     r.error(w, p.actual, "missing level (m) or line [[x, z], ...] (m): the piezometric line");

@@ -29,6 +29,7 @@ std::string type_name(KeyType t) {
     case KeyType::Map: return "map";
     case KeyType::List: return "list";
     case KeyType::Table: return "[[t, value], ...]";
+    case KeyType::Polyline: return "[[x, z], ...]";
     case KeyType::Choice: return "one of";
     case KeyType::NumberOrTable: return "number or [[t, value], ...]";
   }
@@ -291,29 +292,42 @@ std::optional<std::array<double, 2>> SchemaReader::vector2(const YAML::Node& map
 
 std::optional<std::vector<std::array<double, 2>>> SchemaReader::table(const YAML::Node& map, const KeyPath& parent,
                                                                       const std::string& key) {
+  return rows(map, parent, key, /*polyline=*/false);
+}
+
+std::optional<std::vector<std::array<double, 2>>> SchemaReader::polyline(const YAML::Node& map, const KeyPath& parent,
+                                                                         const std::string& key) {
+  return rows(map, parent, key, /*polyline=*/true);
+}
+
+std::optional<std::vector<std::array<double, 2>>> SchemaReader::rows(const YAML::Node& map, const KeyPath& parent,
+                                                                     const std::string& key, bool polyline) {
   const KeyPath p = parent.child(key);
   const YAML::Node n = map[key];
   if (!n.IsDefined() || n.IsNull()) return std::nullopt;
   std::vector<std::array<double, 2>> rows;
   double v;
-  if (n.IsScalar() && parse_double(n, v)) {
+  if (!polyline && n.IsScalar() && parse_double(n, v)) {
     if (!std::isfinite(v)) error(n, p.actual, "not a finite number");
     rows.push_back({0.0, v});
     return rows;
   }
+  const char* row = polyline ? "[x, z]" : "[t, value]";
   if (!n.IsSequence() || n.size() == 0) {
-    error(n, p.actual, "expected a number or a non-empty list of [t, value] rows");
+    error(n, p.actual, polyline ? "expected a non-empty list of [x, z] points"
+                                : "expected a number or a non-empty list of [t, value] rows");
     return std::nullopt;
   }
   for (std::size_t i = 0; i < n.size(); ++i) {
     std::array<double, 2> r{};
     if (!n[i].IsSequence() || n[i].size() != 2 || !parse_double(n[i][0], r[0]) || !parse_double(n[i][1], r[1]) ||
         !std::isfinite(r[0]) || !std::isfinite(r[1])) {
-      error(n[i], fmt::format("{}[{}]", p.actual, i), "expected a row [t, value] of two numbers");
+      error(n[i], fmt::format("{}[{}]", p.actual, i), fmt::format("expected a row {} of two numbers", row));
       return std::nullopt;
     }
     if (!rows.empty() && !(r[0] > rows.back()[0])) {
-      error(n[i], fmt::format("{}[{}]", p.actual, i), fmt::format("times must increase: {} after {}", r[0], rows.back()[0]));
+      error(n[i], fmt::format("{}[{}]", p.actual, i),
+            fmt::format("{} must increase: {} after {}", polyline ? "x" : "times", r[0], rows.back()[0]));
       return std::nullopt;
     }
     rows.push_back(r);

@@ -11,7 +11,7 @@
 
 namespace dsdem::io {
 
-enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable };
+enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable, Polyline };
 
 struct KeySpec {
   std::string pattern;  // e.g. "materials.*.E", "regions[].group"
@@ -58,6 +58,9 @@ class SchemaReader {
   // A list of [t, value] rows, strictly increasing in t.
   std::optional<std::vector<std::array<double, 2>>> table(const YAML::Node& map, const KeyPath& parent,
                                                           const std::string& key);
+  // A list of [x, z] points, strictly increasing in x (a polyline over x).
+  std::optional<std::vector<std::array<double, 2>>> polyline(const YAML::Node& map, const KeyPath& parent,
+                                                             const std::string& key);
   // A map or list that must exist when required; returns an undefined node otherwise.
   YAML::Node section(const YAML::Node& map, const KeyPath& parent, const std::string& key, YAML::NodeType::value type);
   // Reports every key of `map` that the schema does not know under `path`, with the
@@ -76,6 +79,8 @@ class SchemaReader {
   const std::string* override_for(const std::string& path) const;
 
  private:
+  std::optional<std::vector<std::array<double, 2>>> rows(const YAML::Node& map, const KeyPath& parent,
+                                                         const std::string& key, bool polyline);
   const KeySpec& spec(const KeyPath& p) const;
   void check_range(const YAML::Node& at, const KeyPath& p, const KeySpec& s, double v);
   std::string file_;

@@ -248,7 +248,7 @@ void add_water(std::vector<KeySpec>& s) {
       s.push_back(of(base, KeyType::Map, "", "Water during this stage (else the top-level water)."));
     s.push_back(num(base + ".level", "m", "", -kInf, kInf,
                     "Horizontal piezometric line at this elevation (a pool level); or give line."));
-    s.push_back(of(base + ".line", KeyType::Table, "",
+    s.push_back(of(base + ".line", KeyType::Polyline, "",
                    "Piezometric line [[x, z], ...], x increasing, spanning the model: the pool level over open "
                    "water, the water table in the slope.",
                    "m"));

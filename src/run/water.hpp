@@ -1,0 +1,20 @@
+#pragma once
+// The scenario's water at rest (DESIGN.md §11) checked against the model and handed to
+// the solver.
+#include "io/scenario.hpp"
+#include "model/model.hpp"
+#include "solver/water_loads.hpp"
+
+namespace dsdem::run {
+
+// Some stage has water.
+bool has_water(const io::Scenario& sc);
+
+// Every stage's water against the model: the line spans the model's x range, each crack
+// is a named curve with joints. Throws io::ScenarioError with file, line and key.
+void check_water(const io::Scenario& sc, const Model& model);
+
+// The solver's form of a stage's water (spec.present), for gravity g.
+solver::WaterSetup water_setup(const io::WaterSpec& spec, const Model& model, Vec2 gravity);
+
+}  // namespace dsdem::run
