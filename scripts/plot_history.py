@@ -188,7 +188,7 @@ class Plotter:
             return
         fig, ax = _fig(5.5)
         f, u = self._scaled([self.h.col(c) for c in cols], "J/m")
-        styles = {"kinetic": "-", "strain": "-", "gravity_potential": "-", "external_work": "-."}
+        styles = {"kinetic": "-", "strain": "-", "gravity_potential": "-", "external_work": "-.", "water_work": "-."}
         lines = []
         for c in cols:
             q = lib.split_unit(c)[0]

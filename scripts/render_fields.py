@@ -326,6 +326,51 @@ def gauge_position(track, t: float):
 # ------------------------------------------------------------------------------------
 
 
+def water_line(w) -> list[tuple[float, float]] | None:
+    """The piezometric line of one `water:` section (DESIGN.md §11), None when dry."""
+    if not isinstance(w, dict) or w.get("dry"):
+        return None
+    if "line" in w:
+        return [(float(x), float(z)) for x, z in w["line"]]
+    if "level" in w:
+        return [(-math.inf, float(w["level"])), (math.inf, float(w["level"]))]
+    return None
+
+
+def water_schedule(scenario: dict, summary: dict | None = None) -> list[tuple[float, list[tuple[float, float]] | None]]:
+    """(stage end time, piezometric line or None) of each stage, in order: from the run's
+    summary (the water as run, --set included), else from the scenario file."""
+    if summary and isinstance(summary.get("water"), list):
+        out = []
+        for st in summary["water"]:
+            pts = st.get("piezometric_line_m")
+            line = None
+            if pts:
+                line = ([(-math.inf, pts[0][1]), (math.inf, pts[0][1])] if len(pts) == 1
+                        else [(float(x), float(z)) for x, z in pts])
+            out.append((float(st.get("end_s", math.inf)), line))
+        return out
+    top = scenario.get("water")
+    stages = scenario.get("stages") or [{"duration": (scenario.get("time") or {}).get("end", math.inf)}]
+    out, t = [], 0.0
+    for st in stages:
+        st = st if isinstance(st, dict) else {}
+        t += float(st.get("duration", math.inf))
+        out.append((t, water_line(st.get("water", top))))
+    return out
+
+
+def water_polyline(line, x0: float, x1: float) -> np.ndarray:
+    """The line over [x0, x1]: its vertices inside, interpolated (held) at the ends."""
+    xs = np.array([p[0] for p in line])
+    zs = np.array([p[1] for p in line])
+    if not np.isfinite(xs).all():  # a level
+        return np.array([[x0, zs[0]], [x1, zs[0]]])
+    inside = (xs > x0) & (xs < x1)
+    x = np.concatenate([[x0], xs[inside], [x1]])
+    return np.column_stack([x, np.interp(x, xs, zs)])
+
+
 def time_format(times: list[float]) -> str:
     ts = np.array([t for t in times if math.isfinite(t)])
     if ts.size >= 2:
@@ -528,6 +573,17 @@ class Renderer:
                              bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.7))
             self.gauge_artists.append((mk, tx))
 
+        # The water at rest of the frame's stage: its piezometric line over a light fill.
+        self.water = water_schedule(self.scenario if isinstance(self.scenario, dict) else {}, self.summary)
+        self.water_fill = PolyCollection([], facecolors=(0.35, 0.6, 0.9, 0.18), edgecolors="none", zorder=0.5)
+        ax.add_collection(self.water_fill)
+        (self.water_curve,) = ax.plot([], [], color=(0.1, 0.35, 0.75), lw=1.4, zorder=5)
+        if any(line is not None for _, line in self.water):
+            leg = ax.get_legend()
+            handles = list(getattr(leg, "legend_handles", None) or getattr(leg, "legendHandles", [])) if leg else []
+            handles.append(Line2D([], [], color=(0.1, 0.35, 0.75), lw=1.6, label="piezometric line"))
+            ax.legend(handles=handles, loc="lower left", fontsize=9, framealpha=0.85)
+
         self.title_left = ax.set_title("", loc="left")
         ax.set_title(self.run_title if len(self.run_title) <= 70 else self.run_title[:67] + "...",
                      loc="right", fontsize=9.5, color="0.4", fontweight="normal")
@@ -561,6 +617,7 @@ class Renderer:
         else:
             self.cracks_broken.set_segments([])
             self.cracks_damaged.set_segments([])
+        self.draw_water(fd.time)
         for g, (mk, tx) in zip(self.gauges, self.gauge_artists):
             x, y = gauge_position(g, fd.time)
             mk.set_data([x], [y])
@@ -573,6 +630,22 @@ class Renderer:
         self.fig.savefig(tmp, dpi=self.savedpi, pil_kwargs={"compress_level": 3})
         tmp.replace(path)
         return path
+
+    def draw_water(self, time: float) -> None:
+        line = None
+        for end, stage_line in self.water:
+            line = stage_line
+            if not math.isfinite(time) or time <= end * (1 + 1e-9):
+                break
+        if line is None:
+            self.water_curve.set_data([], [])
+            self.water_fill.set_verts([])
+            return
+        x0, x1, y0, _ = self.bbox
+        pts = water_polyline(line, x0, x1)
+        self.water_curve.set_data(pts[:, 0], pts[:, 1])
+        below = np.vstack([pts, [[x1, y0], [x0, y0]]])
+        self.water_fill.set_verts([below] if (pts[:, 1] > y0).any() else [])
 
     def movie(self, pngs: list[Path]) -> Path:
         ffmpeg = shutil.which("ffmpeg")

@@ -1,4 +1,5 @@
 #include "run/summary.hpp"
+#include "run/water.hpp"
 
 #include <algorithm>
 
@@ -31,6 +32,33 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   energies["plastic_dissipated"] = e.plastic_dissipated;
   energies["water_work"] = e.water_work;
   return energies;
+}
+
+// Each stage's water at rest (DESIGN.md §11) as run, overrides included: what renders and
+// reports draw.
+Json water_stages(const io::Scenario& sc) {
+  Json stages = Json::array();
+  double start = 0.0;
+  for (const auto& st : sc.stages) {
+    Json w = Json::object();
+    w["stage"] = st.name;
+    w["start_s"] = start;
+    w["end_s"] = start += st.duration;
+    if (st.water.present) {
+      Json line = Json::array();
+      for (const Vec2& p : st.water.line) line.push_back(Json::array({p.x(), p.y()}));
+      w["piezometric_line_m"] = std::move(line);  // one point: a level
+      w["density_kg_per_m3"] = st.water.density;
+      w["pore_pressure"] = st.water.pore_pressure_in_matrix ? "saturated" : "discontinuities";
+      Json cracks = Json::array();
+      for (const auto& c : st.water.cracks) cracks.push_back(Json::object({{"curve", c.curve}, {"level_m", c.level}}));
+      w["cracks"] = std::move(cracks);
+    } else {
+      w["piezometric_line_m"] = nullptr;
+    }
+    stages.push_back(std::move(w));
+  }
+  return stages;
 }
 
 Json gauge_summaries(const PreparedRun& prepared, const std::vector<GaugeStats>& stats) {
@@ -86,6 +114,7 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
   if (f.stopped_at_step) s["stopped_at_step"] = solver.step_count();
   s["final_energies"] = final_energies(solver.energy(), f.energy_unit);
   s["gauges"] = gauge_summaries(prepared, gauges);
+  if (has_water(sc)) s["water"] = water_stages(sc);
   return s;
 }
 
