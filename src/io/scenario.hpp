@@ -139,6 +139,7 @@ struct WaterSpec {
   // saturated: pore pressure in the whole solid; discontinuities: only in named-curve
   // joints, broken joints and on exposed edges.
   bool pore_pressure_in_matrix = true;
+  double ru = 0.0;          // > 0: pore-pressure ratio below the ground surface instead of a line
   std::vector<CrackWaterSpec> cracks;
   SourceLocation where;  // of the line (or the level)
 };

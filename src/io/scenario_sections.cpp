@@ -278,9 +278,12 @@ WaterSpec read_water(SchemaReader& r, const YAML::Node& w, const KeyPath& p) {
   ws.present = true;
   const std::optional<double> level = r.number(w, p, "level");
   const auto line = r.polyline(w, p, "line");
-  if (level && line) r.error(w["line"], p.child("line").actual, "give either level or line, not both");
-  if (!level && !line && !w["line"].IsDefined())
-    r.error(w, p.actual, "missing level (m) or line [[x, z], ...] (m): the piezometric line");
+  const std::optional<double> ru = r.number(w, p, "ru");
+  if ((level ? 1 : 0) + (line ? 1 : 0) + (ru ? 1 : 0) > 1)
+    r.error(w[ru ? "ru" : "line"], p.child(ru ? "ru" : "line").actual, "give one of level, line and ru");
+  if (!level && !line && !ru && !w["line"].IsDefined())
+    r.error(w, p.actual, "missing level (m) or line [[x, z], ...] (m): the piezometric line (or a ratio ru)");
+  ws.ru = ru.value_or(0.0);
   if (level) ws.line = {Vec2(0.0, *level)};
   if (line)
     for (const auto& row : *line) ws.line.emplace_back(row[0], row[1]);

@@ -252,6 +252,10 @@ void add_water(std::vector<KeySpec>& s) {
                    "Piezometric line [[x, z], ...], x increasing, spanning the model: the pool level over open "
                    "water, the water table in the slope.",
                    "m"));
+    s.push_back(num(base + ".ru", "", "", 0, 1,
+                    "Pore-pressure ratio (Bishop & Morgenstern): p = ru gamma h at depth h below the ground surface, "
+                    "gamma the unit weight of the material there; instead of level or line.",
+                    true, true));
     s.push_back(num(base + ".density", "kg/m^3", "1000", 0, kInf, "Water density rho_w.", true));
     s.push_back(choice(base + ".pore_pressure", {"saturated", "discontinuities"}, "saturated",
                        "saturated: pore pressure in the whole solid below the line (elements, every joint face, "

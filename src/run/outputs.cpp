@@ -158,7 +158,8 @@ void RunOutputs::write_fields() {
     pore_pressure_.resize(model_.triangles.size());
     for (std::size_t t = 0; t < pore_pressure_.size(); ++t) {
       const auto& c = model_.triangles.conn[t];
-      pore_pressure_[t] = solver_.water().pressure((model_.nodes.x(c[0]) + model_.nodes.x(c[1]) + model_.nodes.x(c[2])) / 3.0);
+      pore_pressure_[t] = solver_.water().pressure(
+          (model_.nodes.x(c[0]) + model_.nodes.x(c[1]) + model_.nodes.x(c[2])) / 3.0, model_.triangles.material[t]);
     }
     cell_extra.push_back(io::scalar_field("pore_pressure", "Pa", std::span<const double>(pore_pressure_)));
   }

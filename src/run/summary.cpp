@@ -50,6 +50,7 @@ Json water_stages(const io::Scenario& sc) {
       w["piezometric_line_m"] = std::move(line);  // one point: a level
       w["density_kg_per_m3"] = st.water.density;
       w["pore_pressure"] = st.water.pore_pressure_in_matrix ? "saturated" : "discontinuities";
+      if (st.water.ru > 0.0) w["ru"] = st.water.ru;  // below the ground surface; no line
       Json cracks = Json::array();
       for (const auto& c : st.water.cracks) cracks.push_back(Json::object({{"curve", c.curve}, {"level_m", c.level}}));
       w["cracks"] = std::move(cracks);

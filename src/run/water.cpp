@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -20,6 +21,34 @@ Index crack_group(const io::CrackWaterSpec& c, const Model& model) {
 }
 
 }  // namespace
+
+std::vector<Vec2> ground_surface(const Model& model) {
+  const auto& X = model.nodes.X;
+  double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min, h_min = x_min;
+  for (const Vec2& p : X) x_min = std::min(x_min, p.x()), x_max = std::max(x_max, p.x());
+  for (double a : model.triangles.area0) h_min = std::min(h_min, std::sqrt(2.0 * a));
+  // Samples half the smallest element apart: each triangle edge raises the samples under it.
+  const std::size_t n = std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil((x_max - x_min) / (0.5 * h_min))) + 1);
+  const double dx = (x_max - x_min) / static_cast<double>(n - 1);
+  std::vector<double> top(n, -std::numeric_limits<double>::infinity());
+  for (const auto& c : model.triangles.conn)
+    for (int k = 0; k < 3; ++k) {
+      Vec2 a = X[c[k]], b = X[c[(k + 1) % 3]];
+      if (a.x() > b.x()) std::swap(a, b);
+      const auto i0 = static_cast<std::size_t>(std::max(0.0, std::ceil((a.x() - x_min) / dx - 1e-9)));
+      const auto i1 = std::min(n - 1, static_cast<std::size_t>(std::floor((b.x() - x_min) / dx + 1e-9)));
+      for (std::size_t i = i0; i <= i1; ++i) {
+        const double x = x_min + static_cast<double>(i) * dx;
+        const double y = b.x() > a.x() ? a.y() + (b.y() - a.y()) * std::clamp((x - a.x()) / (b.x() - a.x()), 0.0, 1.0)
+                                       : std::max(a.y(), b.y());
+        top[i] = std::max(top[i], y);
+      }
+    }
+  std::vector<Vec2> line;
+  line.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) line.emplace_back(x_min + static_cast<double>(i) * dx, top[i]);
+  return line;
+}
 
 bool has_water(const io::Scenario& sc) {
   return std::any_of(sc.stages.begin(), sc.stages.end(), [](const io::StageSpec& st) { return st.water.present; });
@@ -50,11 +79,16 @@ void check_water(const io::Scenario& sc, const Model& model) {
 
 solver::WaterSetup water_setup(const io::WaterSpec& spec, const Model& model, Vec2 gravity) {
   solver::WaterSetup w;
-  w.line = water::PiezometricLine(spec.line);
+  if (spec.ru <= 0.0) w.line = water::PiezometricLine(spec.line);
   w.density = spec.density;
   w.gravity = gravity.norm();
   w.pore_pressure_in_matrix = spec.pore_pressure_in_matrix;
   for (const auto& c : spec.cracks) w.crack_levels.emplace_back(crack_group(c, model), c.level);
+  if (spec.ru > 0.0) {
+    w.ru = spec.ru;
+    w.line = water::PiezometricLine(ground_surface(model));
+    for (const auto& m : model.materials) w.material_unit_weight.push_back(spec.ru * m.rho * w.gravity);
+  }
   return w;
 }
 

@@ -46,7 +46,7 @@ struct ElementKernels {
     }
     // The water at rest (DESIGN.md §11): the pore pressure's part of the total stress and
     // the tractions on this triangle's exposed edges and joint faces.
-    if (s.water_.active()) s.water_.add(t, in.x, tri.conn[t], n, J, s.settings_.dt, s.water_booking_, r.force);
+    if (s.water_.active()) s.water_.add(t, in.x, tri.conn[t], mat, n, J, s.settings_.dt, s.water_booking_, r.force);
     if (!s.stress_on_demand_) {
       tri.stress[t] = r.cauchy;
       tri.strain[t] = r.green;

@@ -26,7 +26,15 @@ struct WaterSetup {
   // Water in a crack up to a level (m), by curve group of the model; it replaces the
   // line's pressure on the faces of that curve's joints.
   std::vector<std::pair<Index, double>> crack_levels;
+  // A pore-pressure ratio ru (Bishop & Morgenstern): the line is then the ground surface
+  // and each material's unit weight, ru rho g, scales the pressure below it (by material
+  // index; empty: rho_w g everywhere).
+  double ru = 0.0;
+  std::vector<double> material_unit_weight;
   double unit_weight() const { return density * gravity; }
+  double unit_weight(Index material) const {
+    return material_unit_weight.empty() ? unit_weight() : material_unit_weight[material];
+  }
 };
 
 class WaterLoads {
@@ -47,9 +55,11 @@ class WaterLoads {
   // dt v (the drift's own, v the half-step velocities), kept in work(t) unless `book` is off
   // (the initial forces: no step taken).
   [[gnu::always_inline]] void add(std::size_t t, const std::array<Vec2, 3>& x, const std::array<Index, 3>& c,
-                                  const Nodes& n, const Joints& J, double dt, bool book, std::array<Vec2, 3>& force) {
-    const std::array<Vec2, 3> f =
-        has_water_ ? water::triangle_forces(input(t, x, J), setup_.line, unit_weight_) : std::array<Vec2, 3>{};
+                                  Index material, const Nodes& n, const Joints& J, double dt, bool book,
+                                  std::array<Vec2, 3>& force) {
+    const std::array<Vec2, 3> f = has_water_ ? water::triangle_forces(input(t, x, J), setup_.line,
+                                                                      setup_.unit_weight(material))
+                                             : std::array<Vec2, 3>{};
     double w = 0.0;
     if (book)
       for (int k = 0; k < 3; ++k) w += 0.5 * (previous_[t][k] + f[k]).dot(dt * n.v[c[k]]);
@@ -60,8 +70,10 @@ class WaterLoads {
   double work(std::size_t t) const { return work_[t]; }
   std::size_t size() const { return work_.size(); }
 
-  // Pore pressure at a point, Pa (0 without water).
-  double pressure(Vec2 x) const { return has_water_ ? water::pressure(setup_.line, unit_weight_, x) : 0.0; }
+  // Pore pressure at a point of a material, Pa (0 without water).
+  double pressure(Vec2 x, Index material) const {
+    return has_water_ ? water::pressure(setup_.line, setup_.unit_weight(material), x) : 0.0;
+  }
 
   // The checkpoint's part: the last forces per triangle (their work's first half).
   const std::vector<std::array<Vec2, 3>>& previous_forces() const { return previous_; }
@@ -72,6 +84,7 @@ class WaterLoads {
     water::TriangleWater in;
     in.x = x;
     in.pore_pressure = setup_.pore_pressure_in_matrix;
+    in.level_unit_weight = unit_weight_;
     for (int k = 0; k < 3; ++k) {
       if (!(exposed_[t] & (1u << k))) continue;
       const Index j = edge_joint_[t][k];

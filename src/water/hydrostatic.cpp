@@ -113,7 +113,7 @@ std::array<Vec2, 3> triangle_forces(const TriangleWater& in, const PiezometricLi
       fe = edge_forces(line, unit_weight, a, b);
     } else if (in.edge[k] == EdgeWater::level) {
       if (std::min(a.y(), b.y()) >= in.level[k]) continue;
-      fe = edge_forces_to_level(in.level[k], unit_weight, a, b);
+      fe = edge_forces_to_level(in.level[k], in.level_unit_weight, a, b);
     } else {
       continue;
     }

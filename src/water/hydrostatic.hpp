@@ -63,10 +63,11 @@ struct TriangleWater {
   bool pore_pressure = true;        // -p I in the element (saturated matrix)
   std::array<EdgeWater, 3> edge{EdgeWater::dry, EdgeWater::dry, EdgeWater::dry};
   std::array<double, 3> level{};    // m, for EdgeWater::level
+  double level_unit_weight = 0.0;   // rho_w g of the water in cracks (EdgeWater::level), N/m^3
 };
 
 // All the water's nodal forces on one triangle (DESIGN.md §11, items 1-3): its pore
-// pressure and the traction on its loaded edges. For p linear over a triangle whose three
+// pressure and the traction on its loaded edges; unit_weight scales the line's pressure. For p linear over a triangle whose three
 // edges are loaded by the line, the sum is the corner's share of the buoyancy,
 // rho_w g A / 3 upward each.
 std::array<Vec2, 3> triangle_forces(const TriangleWater& in, const PiezometricLine& line, double unit_weight);

@@ -15,6 +15,7 @@
 #include "io/scenario.hpp"
 #include "run/runner.hpp"
 #include "run/summary.hpp"
+#include "run/water.hpp"
 
 namespace fs = std::filesystem;
 
@@ -70,7 +71,7 @@ TEST(WaterInput, BadWaterValuesAreErrorsWithTheirKey) {
   EXPECT_NE(prepare_error({"water.level=20", "water.density=0"}).find("water.density"), std::string::npos);
   EXPECT_NE(prepare_error({"water.line=[[0, 30], [0, 20]]"}).find("x must increase"), std::string::npos);
   EXPECT_NE(prepare_error({"water.density=1000"}).find("missing level"), std::string::npos);
-  EXPECT_NE(prepare_error({"water.level=20", "water.line=[[0, 1], [100, 2]]"}).find("either level or line"),
+  EXPECT_NE(prepare_error({"water.level=20", "water.line=[[0, 1], [100, 2]]"}).find("give one of level, line and ru"),
             std::string::npos);
   const std::string crack = prepare_error({"water.level=20", "water.cracks=[{curve: back, level: 30}]"});
   EXPECT_NE(crack.find("water.cracks[0].curve"), std::string::npos) << crack;
@@ -78,4 +79,19 @@ TEST(WaterInput, BadWaterValuesAreErrorsWithTheirKey) {
   EXPECT_NE(prepare_error({"stages=[{name: a, duration: 0.1, water: {level: 3, dry: true}}]", "time.end=null"})
                 .find("dry"),
             std::string::npos);
+}
+
+// A pore-pressure ratio: the line is the ground surface of the slope (toe at 15 m, the
+// face rising at 45 degrees to the crest at 40 m), the pressure ru rho g times the depth.
+TEST(WaterInput, PorePressureRatioActsBelowTheGroundSurface) {
+  const fs::path dir = dsdem::test::fresh_dir("water_ru");
+  auto sc = dsdem::io::load_scenario(kSlope, {"water.ru=0.3"});
+  const auto prepared = dsdem::run::prepare_run(sc, (dir / "work").string());
+  const auto& model = prepared.model;
+  const auto w = dsdem::run::water_setup(sc.stages.front().water, model, sc.gravity);
+  for (const auto& [x, z] : {std::pair{10.0, 15.0}, std::pair{47.5, 27.5}, std::pair{80.0, 40.0}, std::pair{100.0, 40.0}})
+    EXPECT_NEAR(w.line.elevation(x), z, 1e-9) << x;
+  EXPECT_NEAR(w.unit_weight(0), 0.3 * 2650.0 * 9.81, 1e-9);
+  EXPECT_NE(prepare_error({"water.ru=0.3", "water.level=20"}).find("give one of level, line and ru"), std::string::npos);
+  EXPECT_NE(prepare_error({"water.ru=1.5"}).find("water.ru"), std::string::npos);
 }

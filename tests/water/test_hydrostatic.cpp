@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "joint/cohesive_law.hpp"
 #include "water/hydrostatic.hpp"
 
 using namespace dsdem;
@@ -132,4 +133,42 @@ TEST(TriangleForces, FloatingSquareGetsTheWeightOfTheDisplacedWater) {
     for (const Vec2& f : water::triangle_forces(t, line, kGamma)) net += f;
   EXPECT_NEAR(net.x(), 0.0, 1e-12 * kGamma);
   EXPECT_NEAR(net.y(), kGamma * 0.37, 1e-12 * kGamma);
+}
+
+// Terzaghi on a joint (DESIGN.md §11 item 2): a horizontal joint under the total normal
+// stress sigma with water at pressure p in it. The water pushes its faces apart by p, so
+// in equilibrium the cohesive spring carries sigma + p, and the joint slips at
+// tau = c - (sigma + p) tan(phi) (tension positive).
+TEST(JointUnderWater, SlipsAtTheEffectiveNormalStress) {
+  JointProperties jp;
+  jp.kn = 1e10;
+  jp.ks = 5e9;
+  jp.ft = 1e6;
+  jp.c = 3e5;
+  jp.phi = 35.0 * M_PI / 180.0;
+  jp.GI = 100.0;
+  jp.GII = 1000.0;
+  const double L = 2.0, sigma = -2.0e6, depth = 40.0;
+  const double p = kGamma * depth;
+  // Face a: the bottom of the block above (counter-clockwise along it: left to right);
+  // face b: the top of the block below (right to left). The crack is full to z = depth.
+  const Vec2 left(0.0, 0.0), right(L, 0.0);
+  const auto on_a = water::edge_forces_to_level(depth, kGamma, left, right);
+  const auto on_b = water::edge_forces_to_level(depth, kGamma, right, left);
+  const double push = (on_a[0] + on_a[1]).y();
+  EXPECT_NEAR(push, p * L, 1e-12 * p * L);
+  EXPECT_NEAR((on_a[0] + on_a[1] + on_b[0] + on_b[1]).norm(), 0.0, 1e-12 * p * L);  // apart, equal and opposite
+  // Face a in equilibrium: sigma L (the load from above) + the water + the spring's
+  // -sn L (the normal points from a to b, downward) sum to zero.
+  const double sn = sigma + push / L;
+  const double dn = sn / jp.kn;
+  const double tau = jp.c - (sigma + p) * std::tan(jp.phi);
+  const CohesiveResponse below = cohesive_law(dn, 0.999 * tau / jp.ks, jp, JointPointState{});
+  EXPECT_NEAR(below.sn, sigma + p, 1e-9 * std::abs(sigma));
+  EXPECT_NEAR(below.fs, tau, 1e-9 * tau);
+  EXPECT_NEAR(below.ss, 0.999 * tau, 1e-9 * tau);  // still elastic, no damage
+  EXPECT_EQ(below.state.damage, 0.0);
+  const CohesiveResponse beyond = cohesive_law(dn, 1.01 * tau / jp.ks, jp, JointPointState{});
+  EXPECT_GT(beyond.state.damage, 0.0);  // slipping: the shear strength is passed
+  EXPECT_LE(beyond.ss, tau * (1.0 + 1e-9));
 }
