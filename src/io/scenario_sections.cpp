@@ -270,18 +270,14 @@ void read_regions(SchemaReader& r, YAML::Node& root, Scenario& sc) {
 WaterSpec read_water(SchemaReader& r, const YAML::Node& w, const KeyPath& p) {
   r.check_keys(w, p);
   WaterSpec ws;
-  if (r.boolean(w, p, "dry").value_or(false)) {
-    if (w["level"].IsDefined() || w["line"].IsDefined())
-      r.error(w["dry"], p.child("dry").actual, "a dry stage has no level or line (remove one of them)");
-    return ws;
-  }
-  ws.present = true;
+  // dry: true keeps the values (checked alike) and switches the water off.
+  ws.present = !r.boolean(w, p, "dry").value_or(false);
   const std::optional<double> level = r.number(w, p, "level");
   const auto line = r.polyline(w, p, "line");
   const std::optional<double> ru = r.number(w, p, "ru");
   if ((level ? 1 : 0) + (line ? 1 : 0) + (ru ? 1 : 0) > 1)
     r.error(w[ru ? "ru" : "line"], p.child(ru ? "ru" : "line").actual, "give one of level, line and ru");
-  if (!level && !line && !ru && !w["line"].IsDefined())
+  if (ws.present && !level && !line && !ru && !w["line"].IsDefined())
     r.error(w, p.actual, "missing level (m) or line [[x, z], ...] (m): the piezometric line (or a ratio ru)");
   ws.ru = ru.value_or(0.0);
   if (level) ws.line = {Vec2(0.0, *level)};

@@ -267,7 +267,9 @@ void add_water(std::vector<KeySpec>& s) {
                    "A named mesh curve with joints (e.g. a back crack); its faces take rho_w g (level - z)."));
     s.push_back(num(base + ".cracks[].level", "m", "required", -kInf, kInf, "Water level in the crack."));
     s.push_back(of(base + ".dry", KeyType::Boolean, "false",
-                   base == "water" ? "No water (as if the section were absent)." : "No water in this stage."));
+                   base == "water" ? "No water: the section's values are kept and checked but do not act (one switch "
+                                     "to fill or empty a documented pool)."
+                                   : "No water in this stage (its values are kept but do not act)."));
   }
 }
 

@@ -66,6 +66,17 @@ std::string model_report(const PreparedRun& run) {
   return r;
 }
 
+// A stage's water at rest (DESIGN.md §11) in a few words.
+std::string water_text(const io::WaterSpec& w) {
+  if (!w.present) return "";
+  std::string s = w.ru > 0.0                ? fmt::format(", water: ru = {} below the ground surface", w.ru)
+                  : w.line.size() == 1      ? fmt::format(", water: level {} m", w.line.front().y())
+                                            : fmt::format(", water: line of {} points", w.line.size());
+  if (!w.pore_pressure_in_matrix) s += " (discontinuities only)";
+  for (const auto& c : w.cracks) s += fmt::format(", {} filled to {} m", c.curve, c.level);
+  return s;
+}
+
 // The time step and its control, the stages and the gauges.
 std::string time_report(const PreparedRun& run) {
   const io::Scenario& sc = run.scenario;
@@ -80,8 +91,8 @@ std::string time_report(const PreparedRun& run) {
                    grows ? "at most " : "", run.estimated_steps, sc.end_time(), sc.stages.size(),
                    sc.stages.size() == 1 ? "" : "s");
   for (const auto& st : sc.stages)
-    r += fmt::format("  stage    {:<12} {} s, alpha = {} 1/s, beta = {} s, {} boundary conditions\n", st.name,
-                     st.duration, st.damping.alpha, st.damping.beta, st.boundaries.size());
+    r += fmt::format("  stage    {:<12} {} s, alpha = {} 1/s, beta = {} s, {} boundary conditions{}\n", st.name,
+                     st.duration, st.damping.alpha, st.damping.beta, st.boundaries.size(), water_text(st.water));
   for (const auto& g : run.gauges)
     r += fmt::format("gauge      {:<12} at ({}, {}) m in triangle {}\n", g.name, g.at.x(), g.at.y(), g.triangle);
   return r;
