@@ -13,8 +13,9 @@ void NodeScatter::build(std::span<const std::array<Index, 3>> conn, std::span<co
   share_triangles_with_shared_nodes(conn, n_nodes);
   encode_own_corners(conn, joint_nodes, tri_b);
   list_shared_and_gathered(conn, n_nodes);
-  build_shared_gather(conn);
-  build_joint_gather(joint_nodes);
+  std::vector<Index> fill;
+  build_shared_gather(conn, fill);
+  build_joint_gather(joint_nodes, fill);
   check_joints_covered(joint_nodes.size());
   if (!shared_damping_force_.empty()) keep_shared_damping(true);
 }
@@ -85,6 +86,7 @@ void NodeScatter::list_shared_and_gathered(std::span<const std::array<Index, 3>>
   gathered_nodes_.clear();
   for (std::size_t i = 0; i < n_nodes; ++i)
     if (gathered[i]) gathered_nodes_.push_back(static_cast<Index>(i));
+  std::vector<std::uint8_t>().swap(gathered);
   shared_force_.assign(shared_triangles_.size(), {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
 }
 
@@ -94,21 +96,22 @@ Index NodeScatter::gathered_slot(Index node) const {
 }
 
 // CSR of the shared slots' corners over the gathered nodes, in ascending triangle order.
-void NodeScatter::build_shared_gather(std::span<const std::array<Index, 3>> conn) {
+// fill: scratch for the next free entry per gathered node.
+void NodeScatter::build_shared_gather(std::span<const std::array<Index, 3>> conn, std::vector<Index>& fill) {
   const std::size_t ng = gathered_nodes_.size();
   gather_offset_.assign(ng + 1, 0);
   for (Index t : shared_triangles_)
     for (Index i : conn[t]) ++gather_offset_[gathered_slot(i) + 1];
   for (std::size_t g = 0; g < ng; ++g) gather_offset_[g + 1] += gather_offset_[g];
   gather_entry_.assign(gather_offset_[ng], 0);
-  std::vector<Index> fill(gather_offset_.begin(), gather_offset_.end() - 1);
+  fill.assign(gather_offset_.begin(), gather_offset_.end() - 1);
   for (std::size_t s = 0; s < shared_triangles_.size(); ++s)
     for (int k = 0; k < 3; ++k)
       gather_entry_[fill[gathered_slot(conn[shared_triangles_[s]][k])]++] = static_cast<Index>(3 * s + k);
 }
 
 // CSR of the joints' ends at gathered nodes, in ascending joint order.
-void NodeScatter::build_joint_gather(std::span<const std::array<Index, 4>> joint_nodes) {
+void NodeScatter::build_joint_gather(std::span<const std::array<Index, 4>> joint_nodes, std::vector<Index>& fill) {
   const std::size_t ng = gathered_nodes_.size();
   gather_joint_offset_.assign(ng + 1, 0);
   for (const auto& nd : joint_nodes)
@@ -116,7 +119,7 @@ void NodeScatter::build_joint_gather(std::span<const std::array<Index, 4>> joint
       if (const Index g = gathered_slot(i); g != kNoIndex) ++gather_joint_offset_[g + 1];
   for (std::size_t g = 0; g < ng; ++g) gather_joint_offset_[g + 1] += gather_joint_offset_[g];
   gather_joint_entry_.assign(gather_joint_offset_[ng], 0);
-  std::vector<Index> fill(gather_joint_offset_.begin(), gather_joint_offset_.end() - 1);
+  fill.assign(gather_joint_offset_.begin(), gather_joint_offset_.end() - 1);
   for (std::size_t j = 0; j < joint_nodes.size(); ++j)
     // Entry 2 (2 j + e) + side: force slot 2 j + e (end e), side 1 = face b (negated).
     for (int k = 0; k < 4; ++k)

@@ -107,8 +107,8 @@ class NodeScatter {
   void encode_own_corners(std::span<const std::array<Index, 3>> conn, std::span<const std::array<Index, 4>> joint_nodes,
                           std::span<const Index> tri_b);
   void list_shared_and_gathered(std::span<const std::array<Index, 3>> conn, std::size_t n_nodes);
-  void build_shared_gather(std::span<const std::array<Index, 3>> conn);
-  void build_joint_gather(std::span<const std::array<Index, 4>> joint_nodes);
+  void build_shared_gather(std::span<const std::array<Index, 3>> conn, std::vector<Index>& fill);
+  void build_joint_gather(std::span<const std::array<Index, 4>> joint_nodes, std::vector<Index>& fill);
   void check_joints_covered(std::size_t n_joints) const;
   // Position of node in gathered_nodes_, or kNoIndex.
   Index gathered_slot(Index node) const;
