@@ -252,8 +252,9 @@ Trial tension_plane_return(const MohrCoulombModel& mc, const P3& sB) {
 // The first candidate whose conditions hold to round-off (1e-13 of the stress scale, some
 // hundred ulps); the regions tile the plastic domain, so one does up to that round-off.
 // Without a cut-off the apex takes what no candidate does. `region` is the result's
-// region when no candidate's system can be solved.
-Returned candidate_return(const MohrCoulombModel& mc, const P3& sB, MohrCoulombRegion region) {
+// region when no candidate's system can be solved. Out of line, so that the common
+// closed-form returns are not slowed by this loop's registers.
+[[gnu::noinline]] Returned candidate_return(const MohrCoulombModel& mc, const P3& sB, MohrCoulombRegion region) {
   const double tol = 1e-13 * (std::abs(sB[0]) + std::abs(sB[2]) + mc.sc + (mc.cutoff ? std::abs(mc.ft) : 0.0));
   const Candidate* begin = mc.cutoff ? std::begin(kWithCutoff) : std::begin(kShearOnly);
   const Candidate* stop = mc.cutoff ? std::end(kWithCutoff) : std::end(kShearOnly);
