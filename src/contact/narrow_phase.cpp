@@ -147,45 +147,53 @@ DSDEM_AVX2 __m256d dot_from(__m256d ax, __m256d ay, double cx, double cy, __m256
 DSDEM_AVX2 __m256d pick(__m256d m1, __m256d m2, double v0, double v1, double v2) {
   return sel(m2, bc(v2), sel(m1, bc(v1), bc(v0)));
 }
-#undef DSDEM_AVX2
 
-__attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core,
-                                                          const CoreEdges& ce, double reach,
-                                                          std::array<CoreClosest, 3>& out) {
-  // Lane v = vertex v; lane 3 repeats vertex 2 (not read).
-  const __m256d px = _mm256_set_pd(p[2].x(), p[2].x(), p[1].x(), p[0].x());
-  const __m256d py = _mm256_set_pd(p[2].y(), p[2].y(), p[1].y(), p[0].y());
-  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0), inf = bc(std::numeric_limits<double>::infinity());
-  // The box test and the edge distances (closest_within). p - core[k] serves both the edge
-  // distance and the edge parameter below, as in the scalar code (the same values).
-  __m256d far = bit_or(bit_or(lt(px, bc(ce.lo.x() - reach)), lt(bc(ce.hi.x() + reach), px)),
-                       bit_or(lt(py, bc(ce.lo.y() - reach)), lt(bc(ce.hi.y() + reach), py)));
+// p - core[k] (dx, dy), which serves both the edge distance and the edge parameter, as in
+// the scalar code (the same values), and the signed edge distances sd (edge_distances()).
+struct Offsets4 {
   __m256d dx[3], dy[3], sd[3];
+};
+DSDEM_AVX2 Offsets4 offsets_to_core(__m256d px, __m256d py, const std::array<Vec2, 3>& core, const CoreEdges& ce) {
+  Offsets4 o;
   for (int k = 0; k < 3; ++k) {
-    dx[k] = sub(px, bc(core[k].x()));
-    dy[k] = sub(py, bc(core[k].y()));
-    sd[k] = add(mul(dx[k], bc(ce.n_out[k].x())), mul(dy[k], bc(ce.n_out[k].y())));
+    o.dx[k] = sub(px, bc(core[k].x()));
+    o.dy[k] = sub(py, bc(core[k].y()));
+    o.sd[k] = add(mul(o.dx[k], bc(ce.n_out[k].x())), mul(o.dy[k], bc(ce.n_out[k].y())));
   }
+  return o;
+}
+
+// closest_within()'s rejection, in two parts: outside the core's box grown by reach ...
+DSDEM_AVX2 __m256d outside_box(__m256d px, __m256d py, const CoreEdges& ce, double reach) {
+  return bit_or(bit_or(lt(px, bc(ce.lo.x() - reach)), lt(bc(ce.hi.x() + reach), px)),
+                bit_or(lt(py, bc(ce.lo.y() - reach)), lt(bc(ce.hi.y() + reach), py)));
+}
+// ... or beyond an edge line by more than reach and the margin.
+DSDEM_AVX2 __m256d beyond_edges(__m256d px, __m256d py, double reach, const Offsets4& o) {
   const __m256d sign = bc(-0.0);
   const __m256d beyond =
       add(bc(reach * (1.0 + 1e-6)), mul(bc(1e-12), add(_mm256_andnot_pd(sign, px), _mm256_andnot_pd(sign, py))));
-  far = bit_or(far, bit_or(lt(beyond, sd[0]), bit_or(lt(beyond, sd[1]), lt(beyond, sd[2]))));
-  const int far_bits = _mm256_movemask_pd(far) & 7;
-  if (far_bits == 7) {  // all three far (common): no more work for them
-    for (CoreClosest& c : out) {
-      c = CoreClosest{};
-      c.distance = std::numeric_limits<double>::infinity();
-    }
-    return;
-  }
-  // Outside: the nearest point of the three segments, the first edge winning a tie.
-  __m256d t_raw[3];
-  __m256d best = inf, edge = zero, t = zero, qx = zero, qy = zero;
+  return bit_or(lt(beyond, o.sd[0]), bit_or(lt(beyond, o.sd[1]), lt(beyond, o.sd[2])));
+}
+
+// The lanes' CoreClosest fields (edge and vertex as doubles).
+struct Closest4 {
+  __m256d dist, qx, qy, nx, ny, edge, t, vertex;
+};
+
+// closest_from()'s outside branch: the nearest point of the three segments, the first edge
+// winning a tie. t_raw[k]: the unclamped parameter along edge k (the inside branch's).
+DSDEM_AVX2 Closest4 nearest_on_edges(__m256d px, __m256d py, const std::array<Vec2, 3>& core, const CoreEdges& ce,
+                                     const Offsets4& o, __m256d (&t_raw)[3], __m256d& best) {
+  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0);
+  Closest4 r;
+  best = bc(std::numeric_limits<double>::infinity());
+  r.edge = zero, r.t = zero, r.qx = zero, r.qy = zero;
   for (int k = 0; k < 3; ++k) {
     const Vec2& a = core[k];
     const Vec2& b = core[(k + 1) % 3];
     const __m256d ex = bc(ce.e[k].x()), ey = bc(ce.e[k].y());
-    t_raw[k] = mul(add(mul(dx[k], ex), mul(dy[k], ey)), bc(ce.inv_len2[k]));
+    t_raw[k] = mul(add(mul(o.dx[k], ex), mul(o.dy[k], ey)), bc(ce.inv_len2[k]));
     const __m256d at_a = le(t_raw[k], zero), at_b = le(one, t_raw[k]);
     const __m256d cx = sel(at_a, bc(a.x()), sel(at_b, bc(b.x()), add(bc(a.x()), mul(t_raw[k], ex))));
     const __m256d cy = sel(at_a, bc(a.y()), sel(at_b, bc(b.y()), add(bc(a.y()), mul(t_raw[k], ey))));
@@ -194,60 +202,75 @@ __attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 
     const __m256d d2 = add(mul(ux, ux), mul(uy, uy));
     const __m256d better = lt(d2, best);
     best = sel(better, d2, best);
-    edge = sel(better, bc(k), edge);
-    t = sel(better, tk, t);
-    qx = sel(better, cx, qx);
-    qy = sel(better, cy, qy);
+    r.edge = sel(better, bc(k), r.edge);
+    r.t = sel(better, tk, r.t);
+    r.qx = sel(better, cx, r.qx);
+    r.qy = sel(better, cy, r.qy);
   }
-  const __m256d dist = _mm256_sqrt_pd(best);
-  const __m256d apart = lt(zero, dist);
-  __m256d nx = _mm256_div_pd(sub(px, qx), dist), ny = _mm256_div_pd(sub(py, qy), dist);
+  return r;
+}
+
+// The distance, the normal and the vertex of the outside branch, from the squared
+// distance `best` of nearest_on_edges().
+DSDEM_AVX2 void outside_result(__m256d px, __m256d py, const CoreEdges& ce, int far_bits, __m256d best, Closest4& r) {
+  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0);
+  r.dist = _mm256_sqrt_pd(best);
+  const __m256d apart = lt(zero, r.dist);
+  r.nx = _mm256_div_pd(sub(px, r.qx), r.dist), r.ny = _mm256_div_pd(sub(py, r.qy), r.dist);
   if (((_mm256_movemask_pd(apart) | far_bits) & 7) != 7) {
     // p on the boundary (rare): the edge's own normal, or x on a core collapsed to a point.
-    const __m256d e1 = _mm256_cmp_pd(edge, one, _CMP_EQ_OQ), e2 = _mm256_cmp_pd(edge, bc(2.0), _CMP_EQ_OQ);
+    const __m256d e1 = _mm256_cmp_pd(r.edge, one, _CMP_EQ_OQ), e2 = _mm256_cmp_pd(r.edge, bc(2.0), _CMP_EQ_OQ);
     const __m256d has_edge = lt(zero, pick(e1, e2, ce.inv_len2[0], ce.inv_len2[1], ce.inv_len2[2]));
-    nx = sel(apart, nx, sel(has_edge, pick(e1, e2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x()), one));
-    ny = sel(apart, ny, sel(has_edge, pick(e1, e2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y()), zero));
+    r.nx = sel(apart, r.nx, sel(has_edge, pick(e1, e2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x()), one));
+    r.ny = sel(apart, r.ny, sel(has_edge, pick(e1, e2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y()), zero));
   }
-  // Outside lanes: an edge end is a vertex (closest_from's at_vertex and vertex).
-  const __m256d at_end = bit_or(le(t, zero), le(one, t));
-  __m256d vertex = sel(le(one, t), sel(_mm256_cmp_pd(edge, bc(2.0), _CMP_EQ_OQ), zero, add(edge, one)), edge);
-  __m256d dist_out = dist;
-  // Inside a proper core (closest_from's first branch): the least deep edge k.
+  // An edge end is a vertex (closest_from's vertex).
+  r.vertex = sel(le(one, r.t), sel(_mm256_cmp_pd(r.edge, bc(2.0), _CMP_EQ_OQ), zero, add(r.edge, one)), r.edge);
+}
+
+// closest_from()'s first branch, in the lanes whose vertex is inside a proper core (rare):
+// the least deep edge k. Returns those lanes (none when no near lane is inside).
+DSDEM_AVX2 __m256d inside_result(__m256d px, __m256d py, const CoreEdges& ce, int far_bits, const Offsets4& o,
+                                 const __m256d (&t_raw)[3], Closest4& r) {
+  const __m256d zero = _mm256_setzero_pd(), one = bc(1.0);
+  const __m256d* sd = o.sd;
   __m256d inside = bit_and(bit_and(le(sd[0], zero), le(sd[1], zero)), le(sd[2], zero));
   if (!ce.proper) inside = zero;
-  if (_mm256_movemask_pd(inside) & ~far_bits & 7) {  // rare: a vertex inside the other core
-    const __m256d m1 = lt(sd[0], sd[1]);
-    const __m256d sd01 = sel(m1, sd[1], sd[0]);
-    const __m256d m2 = lt(sd01, sd[2]);
-    const __m256d sdk = sel(m2, sd[2], sd01);
-    const __m256d k_in = sel(m2, bc(2.0), sel(m1, one, zero));
-    const __m256d nkx = pick(m1, m2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x());
-    const __m256d nky = pick(m1, m2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y());
-    __m256d t_in = sel(m2, t_raw[2], sel(m1, t_raw[1], t_raw[0]));
-    t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
-    dist_out = sel(inside, sdk, dist_out);
-    qx = sel(inside, sub(px, mul(sdk, nkx)), qx);
-    qy = sel(inside, sub(py, mul(sdk, nky)), qy);
-    nx = sel(inside, nkx, nx);
-    ny = sel(inside, nky, ny);
-    edge = sel(inside, k_in, edge);
-    vertex = sel(inside, k_in, vertex);
-    t = sel(inside, t_in, t);
-  } else {
-    inside = zero;
-  }
-  // Far lanes: CoreClosest{} with an infinite distance.
+  if (!(_mm256_movemask_pd(inside) & ~far_bits & 7)) return zero;
+  const __m256d m1 = lt(sd[0], sd[1]);
+  const __m256d sd01 = sel(m1, sd[1], sd[0]);
+  const __m256d m2 = lt(sd01, sd[2]);
+  const __m256d sdk = sel(m2, sd[2], sd01);
+  const __m256d k_in = sel(m2, bc(2.0), sel(m1, one, zero));
+  const __m256d nkx = pick(m1, m2, ce.n_out[0].x(), ce.n_out[1].x(), ce.n_out[2].x());
+  const __m256d nky = pick(m1, m2, ce.n_out[0].y(), ce.n_out[1].y(), ce.n_out[2].y());
+  __m256d t_in = sel(m2, t_raw[2], sel(m1, t_raw[1], t_raw[0]));
+  t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
+  r.dist = sel(inside, sdk, r.dist);
+  r.qx = sel(inside, sub(px, mul(sdk, nkx)), r.qx);
+  r.qy = sel(inside, sub(py, mul(sdk, nky)), r.qy);
+  r.nx = sel(inside, nkx, r.nx);
+  r.ny = sel(inside, nky, r.ny);
+  r.edge = sel(inside, k_in, r.edge);
+  r.vertex = sel(inside, k_in, r.vertex);
+  r.t = sel(inside, t_in, r.t);
+  return inside;
+}
+
+// Writes lanes 0-2 to out; far lanes are CoreClosest{} with an infinite distance.
+// at_end: the outside branch's at_vertex (the edge parameter at an end).
+DSDEM_AVX2 void store_closest(const Closest4& r, __m256d far, __m256d inside, __m256d at_end,
+                              std::array<CoreClosest, 3>& out) {
   const __m256d keep = _mm256_andnot_pd(far, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
   alignas(32) double r_dist[4], r_px[4], r_py[4], r_nx[4], r_ny[4], r_edge[4], r_t[4], r_vertex[4];
-  _mm256_store_pd(r_dist, sel(far, inf, dist_out));
-  _mm256_store_pd(r_px, bit_and(keep, qx));
-  _mm256_store_pd(r_py, bit_and(keep, qy));
-  _mm256_store_pd(r_nx, bit_and(keep, nx));
-  _mm256_store_pd(r_ny, bit_and(keep, ny));
-  _mm256_store_pd(r_edge, bit_and(keep, edge));
-  _mm256_store_pd(r_t, bit_and(keep, t));
-  _mm256_store_pd(r_vertex, bit_and(keep, vertex));
+  _mm256_store_pd(r_dist, sel(far, bc(std::numeric_limits<double>::infinity()), r.dist));
+  _mm256_store_pd(r_px, bit_and(keep, r.qx));
+  _mm256_store_pd(r_py, bit_and(keep, r.qy));
+  _mm256_store_pd(r_nx, bit_and(keep, r.nx));
+  _mm256_store_pd(r_ny, bit_and(keep, r.ny));
+  _mm256_store_pd(r_edge, bit_and(keep, r.edge));
+  _mm256_store_pd(r_t, bit_and(keep, r.t));
+  _mm256_store_pd(r_vertex, bit_and(keep, r.vertex));
   const int at_vertex_bits = _mm256_movemask_pd(_mm256_andnot_pd(bit_or(far, inside), at_end));
   for (int v = 0; v < 3; ++v) {
     CoreClosest& c = out[v];
@@ -259,6 +282,32 @@ __attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 
     c.at_vertex = (at_vertex_bits >> v) & 1;
     c.vertex = static_cast<int>(r_vertex[v]);
   }
+}
+#undef DSDEM_AVX2
+
+__attribute__((target("avx2"))) void closest_within_avx2(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& core,
+                                                          const CoreEdges& ce, double reach,
+                                                          std::array<CoreClosest, 3>& out) {
+  // Lane v = vertex v; lane 3 repeats vertex 2 (not read).
+  const __m256d px = _mm256_set_pd(p[2].x(), p[2].x(), p[1].x(), p[0].x());
+  const __m256d py = _mm256_set_pd(p[2].y(), p[2].y(), p[1].y(), p[0].y());
+  const __m256d box_far = outside_box(px, py, ce, reach);
+  const Offsets4 o = offsets_to_core(px, py, core, ce);
+  const __m256d far = bit_or(box_far, beyond_edges(px, py, reach, o));
+  const int far_bits = _mm256_movemask_pd(far) & 7;
+  if (far_bits == 7) {  // all three far (common): no more work for them
+    for (CoreClosest& c : out) {
+      c = CoreClosest{};
+      c.distance = std::numeric_limits<double>::infinity();
+    }
+    return;
+  }
+  __m256d t_raw[3], best;
+  Closest4 r = nearest_on_edges(px, py, core, ce, o, t_raw, best);
+  outside_result(px, py, ce, far_bits, best, r);
+  const __m256d at_end = bit_or(le(r.t, _mm256_setzero_pd()), le(bc(1.0), r.t));
+  const __m256d inside = inside_result(px, py, ce, far_bits, o, t_raw, r);
+  store_closest(r, far, inside, at_end, out);
 }
 
 bool detect_avx2() {

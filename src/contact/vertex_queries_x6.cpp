@@ -40,50 +40,70 @@ DSDEM_AVX512 V root(V a) { return _mm512_maskz_sqrt_pd(static_cast<M>(0xff), a);
 DSDEM_AVX512 V div(V a, V b) { return _mm512_maskz_div_pd(static_cast<M>(0xff), a, b); }
 // Lane-wise v[k] where k = 2 in m2, else 1 in m1, else 0 (each v two-valued).
 DSDEM_AVX512 V pick(M m1, M m2, V v0, V v1, V v2) { return sel(m2, v2, sel(m1, v1, v0)); }
-#undef DSDEM_AVX512
 
-__attribute__((target("avx512f"))) void queries_avx512(const std::array<Vec2, 3>& a, const CoreEdges& ea,
-                                                       const std::array<Vec2, 3>& b, const CoreEdges& eb,
-                                                       double reach, std::array<CoreClosest, 3>& out_a,
-                                                       std::array<CoreClosest, 3>& out_b) {
-  const V px = _mm512_set_pd(b[2].x(), b[2].x(), b[1].x(), b[0].x(), a[2].x(), a[2].x(), a[1].x(), a[0].x());
-  const V py = _mm512_set_pd(b[2].y(), b[2].y(), b[1].y(), b[0].y(), a[2].y(), a[2].y(), a[1].y(), a[0].y());
-  // The core queried in each half and its edge data: b's for lanes 0-3, a's for 4-7.
-  const std::array<Vec2, 3>& core_lo = b;
-  const std::array<Vec2, 3>& core_hi = a;
-  const CoreEdges& ce_lo = eb;
-  const CoreEdges& ce_hi = ea;
-  const V zero = _mm512_setzero_pd(), one = bc(1.0), inf = bc(std::numeric_limits<double>::infinity());
-  // The box test and the edge distances (closest_within).
-  M far = lt(px, bc2(ce_lo.lo.x() - reach, ce_hi.lo.x() - reach)) | lt(bc2(ce_lo.hi.x() + reach, ce_hi.hi.x() + reach), px) |
-          lt(py, bc2(ce_lo.lo.y() - reach, ce_hi.lo.y() - reach)) | lt(bc2(ce_lo.hi.y() + reach, ce_hi.hi.y() + reach), py);
+// The core queried in each half and its edge data, broadcast two-valued: b's for lanes 0-3
+// (a's vertices), a's for lanes 4-7 (b's vertices).
+struct CorePair {
+  const std::array<Vec2, 3>& lo;
+  const std::array<Vec2, 3>& hi;
+  const CoreEdges& ce_lo;
+  const CoreEdges& ce_hi;
+};
+DSDEM_AVX512 V corner_x(const CorePair& c, int k) { return bc2(c.lo[k].x(), c.hi[k].x()); }
+DSDEM_AVX512 V corner_y(const CorePair& c, int k) { return bc2(c.lo[k].y(), c.hi[k].y()); }
+DSDEM_AVX512 V edge_x(const CorePair& c, int k) { return bc2(c.ce_lo.e[k].x(), c.ce_hi.e[k].x()); }
+DSDEM_AVX512 V edge_y(const CorePair& c, int k) { return bc2(c.ce_lo.e[k].y(), c.ce_hi.e[k].y()); }
+DSDEM_AVX512 V n_out_x(const CorePair& c, int k) { return bc2(c.ce_lo.n_out[k].x(), c.ce_hi.n_out[k].x()); }
+DSDEM_AVX512 V n_out_y(const CorePair& c, int k) { return bc2(c.ce_lo.n_out[k].y(), c.ce_hi.n_out[k].y()); }
+DSDEM_AVX512 V inv_len2(const CorePair& c, int k) { return bc2(c.ce_lo.inv_len2[k], c.ce_hi.inv_len2[k]); }
+
+// closest_within()'s box test: outside the core's box grown by reach.
+DSDEM_AVX512 M outside_box(V px, V py, const CorePair& c, double reach) {
+  const CoreEdges &lo = c.ce_lo, &hi = c.ce_hi;
+  return lt(px, bc2(lo.lo.x() - reach, hi.lo.x() - reach)) | lt(bc2(lo.hi.x() + reach, hi.hi.x() + reach), px) |
+         lt(py, bc2(lo.lo.y() - reach, hi.lo.y() - reach)) | lt(bc2(lo.hi.y() + reach, hi.hi.y() + reach), py);
+}
+
+// p - core[k] (dx, dy), which serves both the edge distance and the edge parameter, and the
+// signed edge distances sd (edge_distances()).
+struct Offsets8 {
   V dx[3], dy[3], sd[3];
+};
+DSDEM_AVX512 Offsets8 offsets_to_core(V px, V py, const CorePair& c) {
+  Offsets8 o;
   for (int k = 0; k < 3; ++k) {
-    dx[k] = sub(px, bc2(core_lo[k].x(), core_hi[k].x()));
-    dy[k] = sub(py, bc2(core_lo[k].y(), core_hi[k].y()));
-    sd[k] = add(mul(dx[k], bc2(ce_lo.n_out[k].x(), ce_hi.n_out[k].x())),
-                mul(dy[k], bc2(ce_lo.n_out[k].y(), ce_hi.n_out[k].y())));
+    o.dx[k] = sub(px, corner_x(c, k));
+    o.dy[k] = sub(py, corner_y(c, k));
+    o.sd[k] = add(mul(o.dx[k], n_out_x(c, k)), mul(o.dy[k], n_out_y(c, k)));
   }
+  return o;
+}
+
+// closest_within()'s other rejection: beyond an edge line by more than reach and the margin.
+DSDEM_AVX512 M beyond_edges(V px, V py, double reach, const Offsets8& o) {
   const V beyond = add(bc(reach * (1.0 + 1e-6)), mul(bc(1e-12), add(abs_of(px), abs_of(py))));
-  far |= lt(beyond, sd[0]) | lt(beyond, sd[1]) | lt(beyond, sd[2]);
-  const M far_bits = far & kQueryLanes;
-  if (far_bits == kQueryLanes) {  // rare (examined pairs touch or nearly), cheap anyway
-    for (auto* out : {&out_a, &out_b})
-      for (CoreClosest& c : *out) {
-        c = CoreClosest{};
-        c.distance = std::numeric_limits<double>::infinity();
-      }
-    return;
-  }
-  // Outside: the nearest point of the three segments, the first edge winning a tie.
-  V t_raw[3];
-  V best = inf, edge = zero, t = zero, qx = zero, qy = zero;
+  return lt(beyond, o.sd[0]) | lt(beyond, o.sd[1]) | lt(beyond, o.sd[2]);
+}
+
+// The lanes' CoreClosest fields (edge and vertex as doubles).
+struct Closest8 {
+  V dist, qx, qy, nx, ny, edge, t, vertex;
+};
+
+// closest_from()'s outside branch: the nearest point of the three segments, the first edge
+// winning a tie. t_raw[k]: the unclamped parameter along edge k (the inside branch's);
+// best: the squared distance.
+DSDEM_AVX512 Closest8 nearest_on_edges(V px, V py, const CorePair& c, const Offsets8& o, V (&t_raw)[3], V& best) {
+  const V zero = _mm512_setzero_pd(), one = bc(1.0);
+  Closest8 r;
+  best = bc(std::numeric_limits<double>::infinity());
+  r.edge = zero, r.t = zero, r.qx = zero, r.qy = zero;
   for (int k = 0; k < 3; ++k) {
     const int k1 = (k + 1) % 3;
-    const V ax = bc2(core_lo[k].x(), core_hi[k].x()), ay = bc2(core_lo[k].y(), core_hi[k].y());
-    const V bx = bc2(core_lo[k1].x(), core_hi[k1].x()), by = bc2(core_lo[k1].y(), core_hi[k1].y());
-    const V ex = bc2(ce_lo.e[k].x(), ce_hi.e[k].x()), ey = bc2(ce_lo.e[k].y(), ce_hi.e[k].y());
-    t_raw[k] = mul(add(mul(dx[k], ex), mul(dy[k], ey)), bc2(ce_lo.inv_len2[k], ce_hi.inv_len2[k]));
+    const V ax = corner_x(c, k), ay = corner_y(c, k);
+    const V bx = corner_x(c, k1), by = corner_y(c, k1);
+    const V ex = edge_x(c, k), ey = edge_y(c, k);
+    t_raw[k] = mul(add(mul(o.dx[k], ex), mul(o.dy[k], ey)), inv_len2(c, k));
     const M at_a = le(t_raw[k], zero), at_b = le(one, t_raw[k]);
     const V cx = sel(at_a, ax, sel(at_b, bx, add(ax, mul(t_raw[k], ex))));
     const V cy = sel(at_a, ay, sel(at_b, by, add(ay, mul(t_raw[k], ey))));
@@ -92,67 +112,77 @@ __attribute__((target("avx512f"))) void queries_avx512(const std::array<Vec2, 3>
     const V d2 = add(mul(ux, ux), mul(uy, uy));
     const M better = lt(d2, best);
     best = sel(better, d2, best);
-    edge = sel(better, bc(k), edge);
-    t = sel(better, tk, t);
-    qx = sel(better, cx, qx);
-    qy = sel(better, cy, qy);
+    r.edge = sel(better, bc(k), r.edge);
+    r.t = sel(better, tk, r.t);
+    r.qx = sel(better, cx, r.qx);
+    r.qy = sel(better, cy, r.qy);
   }
-  const V dist = root(best);
-  const M apart = lt(zero, dist);
-  V nx = div(sub(px, qx), dist), ny = div(sub(py, qy), dist);
+  return r;
+}
+
+// The distance, the normal and the vertex of the outside branch, from the squared
+// distance `best` of nearest_on_edges().
+DSDEM_AVX512 void outside_result(V px, V py, const CorePair& c, M far_bits, V best, Closest8& r) {
+  const V zero = _mm512_setzero_pd(), one = bc(1.0);
+  r.dist = root(best);
+  const M apart = lt(zero, r.dist);
+  r.nx = div(sub(px, r.qx), r.dist), r.ny = div(sub(py, r.qy), r.dist);
   if (((apart | far_bits) & kQueryLanes) != kQueryLanes) {
     // p on the boundary (rare): the edge's own normal, or x on a core collapsed to a point.
-    const M e1 = eq(edge, one), e2 = eq(edge, bc(2.0));
-    const M has_edge = lt(zero, pick(e1, e2, bc2(ce_lo.inv_len2[0], ce_hi.inv_len2[0]),
-                                     bc2(ce_lo.inv_len2[1], ce_hi.inv_len2[1]), bc2(ce_lo.inv_len2[2], ce_hi.inv_len2[2])));
-    const V nox = pick(e1, e2, bc2(ce_lo.n_out[0].x(), ce_hi.n_out[0].x()), bc2(ce_lo.n_out[1].x(), ce_hi.n_out[1].x()),
-                       bc2(ce_lo.n_out[2].x(), ce_hi.n_out[2].x()));
-    const V noy = pick(e1, e2, bc2(ce_lo.n_out[0].y(), ce_hi.n_out[0].y()), bc2(ce_lo.n_out[1].y(), ce_hi.n_out[1].y()),
-                       bc2(ce_lo.n_out[2].y(), ce_hi.n_out[2].y()));
-    nx = sel(apart, nx, sel(has_edge, nox, one));
-    ny = sel(apart, ny, sel(has_edge, noy, zero));
+    const M e1 = eq(r.edge, one), e2 = eq(r.edge, bc(2.0));
+    const M has_edge = lt(zero, pick(e1, e2, inv_len2(c, 0), inv_len2(c, 1), inv_len2(c, 2)));
+    const V nox = pick(e1, e2, n_out_x(c, 0), n_out_x(c, 1), n_out_x(c, 2));
+    const V noy = pick(e1, e2, n_out_y(c, 0), n_out_y(c, 1), n_out_y(c, 2));
+    r.nx = sel(apart, r.nx, sel(has_edge, nox, one));
+    r.ny = sel(apart, r.ny, sel(has_edge, noy, zero));
   }
-  // Outside lanes: an edge end is a vertex (closest_from's at_vertex and vertex).
-  const M at_end = le(t, zero) | le(one, t);
-  V vertex = sel(le(one, t), sel(eq(edge, bc(2.0)), zero, add(edge, one)), edge);
-  V dist_out = dist;
-  // Inside a proper core (closest_from's first branch): the least deep edge k.
-  const M proper = static_cast<M>((ce_lo.proper ? 0x0f : 0) | (ce_hi.proper ? 0xf0 : 0));
-  M inside = le(sd[0], zero) & le(sd[1], zero) & le(sd[2], zero) & proper;
-  if (inside & ~far_bits & kQueryLanes) {  // rare: a vertex inside the other core
-    const M m1 = lt(sd[0], sd[1]);
-    const V sd01 = sel(m1, sd[1], sd[0]);
-    const M m2 = lt(sd01, sd[2]);
-    const V sdk = sel(m2, sd[2], sd01);
-    const V k_in = sel(m2, bc(2.0), sel(m1, one, zero));
-    const V nkx = pick(m1, m2, bc2(ce_lo.n_out[0].x(), ce_hi.n_out[0].x()), bc2(ce_lo.n_out[1].x(), ce_hi.n_out[1].x()),
-                       bc2(ce_lo.n_out[2].x(), ce_hi.n_out[2].x()));
-    const V nky = pick(m1, m2, bc2(ce_lo.n_out[0].y(), ce_hi.n_out[0].y()), bc2(ce_lo.n_out[1].y(), ce_hi.n_out[1].y()),
-                       bc2(ce_lo.n_out[2].y(), ce_hi.n_out[2].y()));
-    V t_in = sel(m2, t_raw[2], sel(m1, t_raw[1], t_raw[0]));
-    t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
-    dist_out = sel(inside, sdk, dist_out);
-    qx = sel(inside, sub(px, mul(sdk, nkx)), qx);
-    qy = sel(inside, sub(py, mul(sdk, nky)), qy);
-    nx = sel(inside, nkx, nx);
-    ny = sel(inside, nky, ny);
-    edge = sel(inside, k_in, edge);
-    vertex = sel(inside, k_in, vertex);
-    t = sel(inside, t_in, t);
-  } else {
-    inside = 0;
-  }
-  // Far lanes: CoreClosest{} with an infinite distance.
+  // An edge end is a vertex (closest_from's vertex).
+  r.vertex = sel(le(one, r.t), sel(eq(r.edge, bc(2.0)), zero, add(r.edge, one)), r.edge);
+}
+
+// closest_from()'s first branch, in the lanes whose vertex is inside a proper core (rare):
+// the least deep edge k. Returns those lanes (none when no near lane is inside).
+DSDEM_AVX512 M inside_result(V px, V py, const CorePair& c, M far_bits, const Offsets8& o, const V (&t_raw)[3],
+                             Closest8& r) {
+  const V zero = _mm512_setzero_pd(), one = bc(1.0);
+  const V* sd = o.sd;
+  const M proper = static_cast<M>((c.ce_lo.proper ? 0x0f : 0) | (c.ce_hi.proper ? 0xf0 : 0));
+  const M inside = le(sd[0], zero) & le(sd[1], zero) & le(sd[2], zero) & proper;
+  if (!(inside & ~far_bits & kQueryLanes)) return 0;
+  const M m1 = lt(sd[0], sd[1]);
+  const V sd01 = sel(m1, sd[1], sd[0]);
+  const M m2 = lt(sd01, sd[2]);
+  const V sdk = sel(m2, sd[2], sd01);
+  const V k_in = sel(m2, bc(2.0), sel(m1, one, zero));
+  const V nkx = pick(m1, m2, n_out_x(c, 0), n_out_x(c, 1), n_out_x(c, 2));
+  const V nky = pick(m1, m2, n_out_y(c, 0), n_out_y(c, 1), n_out_y(c, 2));
+  V t_in = sel(m2, t_raw[2], sel(m1, t_raw[1], t_raw[0]));
+  t_in = sel(lt(t_in, zero), zero, sel(lt(one, t_in), one, t_in));  // std::clamp(t, 0, 1)
+  r.dist = sel(inside, sdk, r.dist);
+  r.qx = sel(inside, sub(px, mul(sdk, nkx)), r.qx);
+  r.qy = sel(inside, sub(py, mul(sdk, nky)), r.qy);
+  r.nx = sel(inside, nkx, r.nx);
+  r.ny = sel(inside, nky, r.ny);
+  r.edge = sel(inside, k_in, r.edge);
+  r.vertex = sel(inside, k_in, r.vertex);
+  r.t = sel(inside, t_in, r.t);
+  return inside;
+}
+
+// Writes lanes 0-2 to out_a and 4-6 to out_b; far lanes are CoreClosest{} with an infinite
+// distance. at_end: the outside branch's at_vertex (the edge parameter at an end).
+DSDEM_AVX512 void store_closest(const Closest8& r, M far, M inside, M at_end, std::array<CoreClosest, 3>& out_a,
+                                std::array<CoreClosest, 3>& out_b) {
   const M keep = static_cast<M>(~far);
   alignas(64) double r_dist[8], r_px[8], r_py[8], r_nx[8], r_ny[8], r_edge[8], r_t[8], r_vertex[8];
-  _mm512_store_pd(r_dist, sel(far, inf, dist_out));
-  _mm512_store_pd(r_px, _mm512_maskz_mov_pd(keep, qx));
-  _mm512_store_pd(r_py, _mm512_maskz_mov_pd(keep, qy));
-  _mm512_store_pd(r_nx, _mm512_maskz_mov_pd(keep, nx));
-  _mm512_store_pd(r_ny, _mm512_maskz_mov_pd(keep, ny));
-  _mm512_store_pd(r_edge, _mm512_maskz_mov_pd(keep, edge));
-  _mm512_store_pd(r_t, _mm512_maskz_mov_pd(keep, t));
-  _mm512_store_pd(r_vertex, _mm512_maskz_mov_pd(keep, vertex));
+  _mm512_store_pd(r_dist, sel(far, bc(std::numeric_limits<double>::infinity()), r.dist));
+  _mm512_store_pd(r_px, _mm512_maskz_mov_pd(keep, r.qx));
+  _mm512_store_pd(r_py, _mm512_maskz_mov_pd(keep, r.qy));
+  _mm512_store_pd(r_nx, _mm512_maskz_mov_pd(keep, r.nx));
+  _mm512_store_pd(r_ny, _mm512_maskz_mov_pd(keep, r.ny));
+  _mm512_store_pd(r_edge, _mm512_maskz_mov_pd(keep, r.edge));
+  _mm512_store_pd(r_t, _mm512_maskz_mov_pd(keep, r.t));
+  _mm512_store_pd(r_vertex, _mm512_maskz_mov_pd(keep, r.vertex));
   const unsigned at_vertex_bits = at_end & ~(far | inside) & 0xffu;
   for (int side = 0; side < 2; ++side) {
     std::array<CoreClosest, 3>& out = side == 0 ? out_a : out_b;
@@ -168,6 +198,34 @@ __attribute__((target("avx512f"))) void queries_avx512(const std::array<Vec2, 3>
       c.vertex = static_cast<int>(r_vertex[l]);
     }
   }
+}
+#undef DSDEM_AVX512
+
+__attribute__((target("avx512f"))) void queries_avx512(const std::array<Vec2, 3>& a, const CoreEdges& ea,
+                                                       const std::array<Vec2, 3>& b, const CoreEdges& eb,
+                                                       double reach, std::array<CoreClosest, 3>& out_a,
+                                                       std::array<CoreClosest, 3>& out_b) {
+  const V px = _mm512_set_pd(b[2].x(), b[2].x(), b[1].x(), b[0].x(), a[2].x(), a[2].x(), a[1].x(), a[0].x());
+  const V py = _mm512_set_pd(b[2].y(), b[2].y(), b[1].y(), b[0].y(), a[2].y(), a[2].y(), a[1].y(), a[0].y());
+  const CorePair c{b, a, eb, ea};
+  const M box_far = outside_box(px, py, c, reach);
+  const Offsets8 o = offsets_to_core(px, py, c);
+  const M far = box_far | beyond_edges(px, py, reach, o);
+  const M far_bits = far & kQueryLanes;
+  if (far_bits == kQueryLanes) {  // rare (examined pairs touch or nearly), cheap anyway
+    for (auto* out : {&out_a, &out_b})
+      for (CoreClosest& q : *out) {
+        q = CoreClosest{};
+        q.distance = std::numeric_limits<double>::infinity();
+      }
+    return;
+  }
+  V t_raw[3], best;
+  Closest8 r = nearest_on_edges(px, py, c, o, t_raw, best);
+  outside_result(px, py, c, far_bits, best, r);
+  const M at_end = le(r.t, _mm512_setzero_pd()) | le(bc(1.0), r.t);
+  const M inside = inside_result(px, py, c, far_bits, o, t_raw, r);
+  store_closest(r, far, inside, at_end, out_a, out_b);
 }
 
 bool detect_avx512() {

@@ -101,6 +101,18 @@ class NodeScatter {
   }
 
  private:
+  // The steps of build(), in order.
+  void assign_triangle_joints(std::size_t n_triangles, std::span<const Index> tri_a, std::span<const Index> tri_b);
+  void share_triangles_with_shared_nodes(std::span<const std::array<Index, 3>> conn, std::size_t n_nodes);
+  void encode_own_corners(std::span<const std::array<Index, 3>> conn, std::span<const std::array<Index, 4>> joint_nodes,
+                          std::span<const Index> tri_b);
+  void list_shared_and_gathered(std::span<const std::array<Index, 3>> conn, std::size_t n_nodes);
+  void build_shared_gather(std::span<const std::array<Index, 3>> conn, std::vector<Index>& fill);
+  void build_joint_gather(std::span<const std::array<Index, 4>> joint_nodes, std::vector<Index>& fill);
+  void check_joints_covered(std::size_t n_joints) const;
+  // Position of node in gathered_nodes_, or kNoIndex.
+  Index gathered_slot(Index node) const;
+
   // own_corners_[t]: kSharedTriangle for a shared triangle; for an own one, per joint
   // slot s of triangle_joints_[t], bits 5s..5s+4: the corner of the joint's end 0 (2
   // bits), of its end 1 (2 bits), and 1 when t is the joint's face b (minus the force).

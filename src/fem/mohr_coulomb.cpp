@@ -199,6 +199,126 @@ Trial try_return(const MohrCoulombModel& mc, const P3& sB, const Candidate& cand
   return t;
 }
 
+// Principal stresses of the trial: the in-plane pair sa >= sb along the angle 2theta (cos
+// c2, sin s2) and S_zz, sorted into s; `zpos` is where S_zz sits in s (scalars rather than
+// an indexed store, which the loads after it would stall on).
+struct PrincipalTrial {
+  P3 s;
+  double c2, s2;
+  int zpos;
+};
+
+PrincipalTrial principal_trial(const Vec3& S, double S_zz) {
+  const double C = 0.5 * (S[0] + S[1]);
+  const double d = 0.5 * (S[0] - S[1]);
+  const double R = std::sqrt(d * d + S[2] * S[2]);
+  PrincipalTrial p;
+  p.c2 = R > 0.0 ? d / R : 1.0;
+  p.s2 = R > 0.0 ? S[2] / R : 0.0;
+  const double sa = C + R, sb = C - R;
+  p.zpos = S_zz > sa ? 0 : (S_zz > sb ? 1 : 2);
+  p.s = p.zpos == 0 ? P3{S_zz, sa, sb} : (p.zpos == 1 ? P3{sa, S_zz, sb} : P3{sa, sb, S_zz});
+  return p;
+}
+
+// The returned principal stresses and the region they were returned to.
+struct Returned {
+  P3 s;
+  MohrCoulombRegion region;
+};
+
+// Closed-form return of sB (f_shear = k s1 - s3 - sc > 0) to the shear plane k s1 - s3 = sc;
+// violation 0 when the order s1 >= s2 >= s3 and the cut-off hold, else 1.
+Trial shear_plane_return(const MohrCoulombModel& mc, const P3& sB, double f_shear) {
+  const PrincipalPlane& shear = mc.plane[0];
+  const double dl = f_shear * shear.inv_ar;
+  Trial t;
+  t.s = {sB[0] - dl * shear.r[0], sB[1] - dl * shear.r[1], sB[2] - dl * shear.r[2]};
+  t.violation = t.s[0] >= t.s[1] && t.s[1] >= t.s[2] && t.s[0] <= mc.ft ? 0.0 : 1.0;
+  return t;
+}
+
+// Closed-form return of sB (s1 > ft) to the cut-off plane s1 = ft; violation 0 when s2
+// stays below the cut-off and s is inside the shear envelope, else 1.
+Trial tension_plane_return(const MohrCoulombModel& mc, const P3& sB) {
+  const PrincipalPlane& tension = mc.plane[3];
+  const double dl = (sB[0] - mc.ft) * tension.inv_ar;
+  Trial t;
+  t.s = {mc.ft, sB[1] - dl * tension.r[1], sB[2] - dl * tension.r[2]};
+  t.violation = t.s[1] <= mc.ft && mc.k * t.s[0] - t.s[2] - mc.sc <= 0.0 ? 0.0 : 1.0;
+  return t;
+}
+
+// The first candidate whose conditions hold to round-off (1e-13 of the stress scale, some
+// hundred ulps); the regions tile the plastic domain, so one does up to that round-off.
+// Without a cut-off the apex takes what no candidate does. `region` is the result's
+// region when no candidate's system can be solved. Out of line, so that the common
+// closed-form returns are not slowed by this loop's registers.
+[[gnu::noinline]] Returned candidate_return(const MohrCoulombModel& mc, const P3& sB, MohrCoulombRegion region) {
+  const double tol = 1e-13 * (std::abs(sB[0]) + std::abs(sB[2]) + mc.sc + (mc.cutoff ? std::abs(mc.ft) : 0.0));
+  const Candidate* begin = mc.cutoff ? std::begin(kWithCutoff) : std::begin(kShearOnly);
+  const Candidate* stop = mc.cutoff ? std::end(kWithCutoff) : std::end(kShearOnly);
+  Trial best{sB, std::numeric_limits<double>::infinity()};
+  for (const Candidate* cand = begin; cand != stop; ++cand) {
+    const Trial t = try_return(mc, sB, *cand);
+    if (t.violation < best.violation) {
+      best = t;
+      region = cand->region;
+    }
+    if (t.violation <= tol) break;
+  }
+  if (best.violation > tol && !mc.cutoff && mc.k > 1.0)
+    return {{mc.apex, mc.apex, mc.apex}, MohrCoulombRegion::ShearApex};
+  return {best.s, region};
+}
+
+// Return of the trial sB (outside the envelope) onto it. The two plane returns first, in
+// closed form: the common cases, and their conditions hold strictly, so the candidate
+// search would return the same.
+Returned return_to_envelope(const MohrCoulombModel& mc, const P3& sB) {
+  Trial best{sB, std::numeric_limits<double>::infinity()};
+  MohrCoulombRegion region = MohrCoulombRegion::ShearPlane;
+  const double f_shear = mc.k * sB[0] - sB[2] - mc.sc;
+  if (f_shear > 0.0) best = shear_plane_return(mc, sB, f_shear);
+  if (best.violation > 0.0 && mc.cutoff && sB[0] > mc.ft) {
+    best = tension_plane_return(mc, sB);
+    region = MohrCoulombRegion::TensionPlane;
+  }
+  if (best.violation > 0.0) return candidate_return(mc, sB, region);
+  return {best.s, region};
+}
+
+// Rotates the returned principal stresses s back to (S_xx, S_yy, S_xy) and S_zz: the return
+// keeps the principal directions (isotropic D).
+void rotate_back(const PrincipalTrial& trial, const P3& s, Vec3& S, double& S_zz) {
+  const double ra = trial.zpos == 0 ? s[1] : s[0];
+  const double rb = trial.zpos == 2 ? s[1] : s[2];
+  const double Cn = 0.5 * (ra + rb);
+  const double Rn = 0.5 * (ra - rb);
+  S = Vec3(Cn + Rn * trial.c2, Cn - Rn * trial.c2, Rn * trial.s2);
+  S_zz = s[trial.zpos];
+}
+
+// end.ep = start.ep + D^-1 (S_trial - S), engineering shear (`end` may be `start`).
+void add_plastic_strain(const MohrCoulombModel& mc, const Vec3& S_trial, double S_trial_zz, const Vec3& S,
+                        double S_zz, const MohrCoulombState& start, MohrCoulombState& end) {
+  const double dxx = S_trial[0] - S[0], dyy = S_trial[1] - S[1], dxy = S_trial[2] - S[2], dzz = S_trial_zz - S_zz;
+  const double vol = mc.inv_vol * (dxx + dyy + dzz);
+  end.ep_xx = start.ep_xx + (mc.inv_2mu * dxx - vol);
+  end.ep_yy = start.ep_yy + (mc.inv_2mu * dyy - vol);
+  end.ep_xy = start.ep_xy + dxy / mc.elastic.mu;
+  end.ep_zz = start.ep_zz + (mc.inv_2mu * dzz - vol);
+}
+
+// S : dEp at the returned stress s, in principal space (coaxial). It is sum dl_j s . b_j
+// >= 0 for admissible s and 0 <= psi; the clamp removes round-off at the apex.
+double plastic_dissipation(const MohrCoulombModel& mc, const P3& sB, const P3& s) {
+  const double pvol = mc.inv_vol * ((sB[0] - s[0]) + (sB[1] - s[1]) + (sB[2] - s[2]));
+  double diss = 0.0;
+  for (int q = 0; q < 3; ++q) diss += s[q] * (mc.inv_2mu * (sB[q] - s[q]) - pvol);
+  return std::max(0.0, diss);
+}
+
 }  // namespace
 
 namespace detail {
@@ -206,86 +326,14 @@ namespace detail {
 MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E, const Vec3& S0, double S0_zz,
                                       const Vec3& S, double S_zz, const MohrCoulombState& start,
                                       MohrCoulombState& end) {
-  const ElasticConstants& c = mc.elastic;
-  // Principal stresses of the trial: in-plane pair sa >= sb along the angle 2theta with
-  // cos = c2, sin = s2, and S_zz; `zpos` is where S_zz sits in the sorted triple (scalars
-  // rather than an indexed store, which the loads after it would stall on).
-  const double C = 0.5 * (S[0] + S[1]);
-  const double d = 0.5 * (S[0] - S[1]);
-  const double R = std::sqrt(d * d + S[2] * S[2]);
-  const double c2 = R > 0.0 ? d / R : 1.0;
-  const double s2 = R > 0.0 ? S[2] / R : 0.0;
-  const double sa = C + R, sb = C - R;
-  const int zpos = S_zz > sa ? 0 : (S_zz > sb ? 1 : 2);
-  const P3 sB = zpos == 0 ? P3{S_zz, sa, sb} : (zpos == 1 ? P3{sa, S_zz, sb} : P3{sa, sb, S_zz});
-
-  Trial best{sB, std::numeric_limits<double>::infinity()};
-  MohrCoulombRegion region = MohrCoulombRegion::ShearPlane;
-  // The two plane returns first, in closed form: the common cases, and their conditions
-  // hold strictly, so the candidate search below would return the same.
-  const PrincipalPlane& shear = mc.plane[0];
-  const double f_shear = mc.k * sB[0] - sB[2] - mc.sc;
-  if (f_shear > 0.0) {
-    const double dl = f_shear * shear.inv_ar;
-    best.s = {sB[0] - dl * shear.r[0], sB[1] - dl * shear.r[1], sB[2] - dl * shear.r[2]};
-    best.violation = best.s[0] >= best.s[1] && best.s[1] >= best.s[2] && best.s[0] <= mc.ft ? 0.0 : 1.0;
-  }
-  if (best.violation > 0.0 && mc.cutoff && sB[0] > mc.ft) {
-    const PrincipalPlane& tension = mc.plane[3];
-    const double dl = (sB[0] - mc.ft) * tension.inv_ar;
-    best.s = {mc.ft, sB[1] - dl * tension.r[1], sB[2] - dl * tension.r[2]};
-    best.violation = best.s[1] <= mc.ft && mc.k * best.s[0] - best.s[2] - mc.sc <= 0.0 ? 0.0 : 1.0;
-    region = MohrCoulombRegion::TensionPlane;
-  }
-  if (best.violation > 0.0) {
-    // The first candidate whose conditions hold to round-off (1e-13 of the stress scale,
-    // some hundred ulps); the regions tile the plastic domain, so one does up to that
-    // round-off.
-    const double tol =
-        1e-13 * (std::abs(sB[0]) + std::abs(sB[2]) + mc.sc + (mc.cutoff ? std::abs(mc.ft) : 0.0));
-    const Candidate* begin = mc.cutoff ? std::begin(kWithCutoff) : std::begin(kShearOnly);
-    const Candidate* stop = mc.cutoff ? std::end(kWithCutoff) : std::end(kShearOnly);
-    best = Trial{sB, std::numeric_limits<double>::infinity()};
-    for (const Candidate* cand = begin; cand != stop; ++cand) {
-      const Trial t = try_return(mc, sB, *cand);
-      if (t.violation < best.violation) {
-        best = t;
-        region = cand->region;
-      }
-      if (t.violation <= tol) break;
-    }
-    if (best.violation > tol && !mc.cutoff && mc.k > 1.0) {
-      best.s = {mc.apex, mc.apex, mc.apex};
-      region = MohrCoulombRegion::ShearApex;
-    }
-  }
-  const P3& s = best.s;
-
-  // Rotate back: the return keeps the principal directions (isotropic D).
-  const double ra = zpos == 0 ? s[1] : s[0];
-  const double rb = zpos == 2 ? s[1] : s[2];
-  const double Cn = 0.5 * (ra + rb);
-  const double Rn = 0.5 * (ra - rb);
+  const PrincipalTrial trial = principal_trial(S, S_zz);
+  const Returned ret = return_to_envelope(mc, trial.s);
   MohrCoulombResult out;
-  out.S = Vec3(Cn + Rn * c2, Cn - Rn * c2, Rn * s2);
-  out.S_zz = s[zpos];
-  out.region = region;
-
-  // dEp = D^-1 (S_trial - S), engineering shear.
-  const double dxx = S[0] - out.S[0], dyy = S[1] - out.S[1], dxy = S[2] - out.S[2], dzz = S_zz - out.S_zz;
-  const double vol = mc.inv_vol * (dxx + dyy + dzz);
-  end.ep_xx = start.ep_xx + (mc.inv_2mu * dxx - vol);
-  end.ep_yy = start.ep_yy + (mc.inv_2mu * dyy - vol);
-  end.ep_xy = start.ep_xy + dxy / c.mu;
-  end.ep_zz = start.ep_zz + (mc.inv_2mu * dzz - vol);
-  // S : dEp at the returned stress, in principal space (coaxial). It is sum dl_j s . b_j
-  // >= 0 for admissible s and 0 <= psi; the clamp removes round-off at the apex.
-  const double pvol = mc.inv_vol * ((sB[0] - s[0]) + (sB[1] - s[1]) + (sB[2] - s[2]));
-  double diss = 0.0;
-  for (int q = 0; q < 3; ++q) diss += s[q] * (mc.inv_2mu * (sB[q] - s[q]) - pvol);
-  out.dissipation = std::max(0.0, diss);
+  rotate_back(trial, ret.s, out.S, out.S_zz);
+  out.region = ret.region;
+  add_plastic_strain(mc, S, S_zz, out.S, out.S_zz, start, end);
+  out.dissipation = plastic_dissipation(mc, trial.s, ret.s);
   end.plastic_work = start.plastic_work + out.dissipation;
-
   const Vec3 Ee(E[0] - end.ep_xx, E[1] - end.ep_yy, E[2] - end.ep_xy);
   out.strain_energy = mohr_coulomb_energy(S0, S0_zz, Ee, -end.ep_zz, out.S - S0, out.S_zz - S0_zz);
   return out;
