@@ -264,7 +264,8 @@ void add_water(std::vector<KeySpec>& s) {
     s.push_back(of(base + ".cracks", KeyType::List, "", "Water standing in named cracks at their own level."));
     s.push_back(of(base + ".cracks[]", KeyType::Map, "", "One crack."));
     s.push_back(of(base + ".cracks[].curve", KeyType::String, "required",
-                   "A named mesh curve with joints (e.g. a back crack); its faces take rho_w g (level - z)."));
+                   "A named mesh curve with joints (e.g. a back crack); its faces take rho_w g (level - z) while "
+                   "they are within the joint's length of each other (opened farther, the crack has drained)."));
     s.push_back(num(base + ".cracks[].level", "m", "required", -kInf, kInf, "Water level in the crack."));
     s.push_back(of(base + ".dry", KeyType::Boolean, "false",
                    base == "water" ? "No water: the section's values are kept and checked but do not act (one switch "

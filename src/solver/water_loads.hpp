@@ -57,7 +57,7 @@ class WaterLoads {
   [[gnu::always_inline]] void add(std::size_t t, const std::array<Vec2, 3>& x, const std::array<Index, 3>& c,
                                   Index material, const Nodes& n, const Joints& J, double dt, bool book,
                                   std::array<Vec2, 3>& force) {
-    const std::array<Vec2, 3> f = has_water_ ? water::triangle_forces(input(t, x, J), setup_.line,
+    const std::array<Vec2, 3> f = has_water_ ? water::triangle_forces(input(t, x, n, J), setup_.line,
                                                                       setup_.unit_weight(material))
                                              : std::array<Vec2, 3>{};
     double w = 0.0;
@@ -80,7 +80,7 @@ class WaterLoads {
   void restore_previous_forces(std::vector<std::array<Vec2, 3>> f) { previous_ = std::move(f); }
 
  private:
-  water::TriangleWater input(std::size_t t, const std::array<Vec2, 3>& x, const Joints& J) const {
+  water::TriangleWater input(std::size_t t, const std::array<Vec2, 3>& x, const Nodes& n, const Joints& J) const {
     water::TriangleWater in;
     in.x = x;
     in.pore_pressure = setup_.pore_pressure_in_matrix;
@@ -90,6 +90,7 @@ class WaterLoads {
       const Index j = edge_joint_[t][k];
       const double level = j == kNoIndex ? kNoLevel : crack_level_of_curve(J.curve_group[j]);
       if (!std::isnan(level)) {
+        if (!holds_water(j, n, J)) continue;
         in.edge[k] = water::EdgeWater::level;
         in.level[k] = level;
       } else if (setup_.pore_pressure_in_matrix || j == kNoIndex || J.broken[j] || J.curve_group[j] != kNoIndex) {
@@ -97,6 +98,13 @@ class WaterLoads {
       }
     }
     return in;
+  }
+  // A crack holds its water while its faces stay within the joint's own length of each
+  // other; opened farther (the block behind it has slid away) the water has drained.
+  static bool holds_water(Index j, const Nodes& n, const Joints& J) {
+    const auto& jn = J.nodes[j];
+    const double l2 = J.length0[j] * J.length0[j];
+    return (n.x(jn[0]) - n.x(jn[2])).squaredNorm() <= l2 && (n.x(jn[1]) - n.x(jn[3])).squaredNorm() <= l2;
   }
   double crack_level_of_curve(Index g) const {
     return g == kNoIndex || static_cast<std::size_t>(g) >= crack_level_.size() ? kNoLevel : crack_level_[g];

@@ -200,3 +200,30 @@ TEST(WaterOnSolids, DrawdownLowersTheFloatingBlock) {
   EXPECT_NEAR(0.6 - bottom(m), 0.25, 0.0025);
   EXPECT_LT(s.energy().balance_error(), 1e-3);
 }
+
+// Water standing in a crack pushes its faces apart while they are close; once the block
+// in front has moved away by more than the joint's length the crack has drained.
+TEST(WaterOnSolids, CrackWaterDrainsOnceTheCrackOpensWide) {
+  Model m = test::impact_block(4, 2);  // jointed block: its joints' faces are the "crack" below
+  const Index g = static_cast<Index>(m.groups.size());
+  m.groups.push_back(Group{});
+  m.groups.back().name = "crack";
+  for (auto& cg : m.joints.curve_group) cg = g;
+  for (auto& b : m.joints.broken) b = 1;
+  solver::Solver s(m);
+  s.set_settings({Vec2::Zero(), 0.0, 0.0, 1e-6, true});
+  solver::WaterSetup w = level(-100.0);  // the pool far below: only the crack's water acts
+  w.pore_pressure_in_matrix = false;
+  w.crack_levels = {{g, 1.0}};
+  s.set_water(w);
+  s.initialise();
+  auto net_on_first_triangle = [&] {
+    Vec2 f = Vec2::Zero();
+    for (Index i : m.triangles.conn[0]) f += m.nodes.m[i] * m.nodes.a[i];
+    return f.norm();
+  };
+  EXPECT_GT(net_on_first_triangle(), 0.0);
+  for (Index i : m.triangles.conn[0]) m.nodes.u[i] += Vec2(0.0, 0.5);  // far beyond its joints' 1 cm
+  s.initialise();
+  EXPECT_EQ(net_on_first_triangle(), 0.0);
+}
