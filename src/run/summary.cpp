@@ -29,6 +29,7 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   energies["friction_dissipated"] = e.friction_dissipated;
   energies["contact_damping_dissipated"] = e.contact_damping_dissipated;
   energies["plastic_dissipated"] = e.plastic_dissipated;
+  energies["verlet_kinetic_offset"] = e.verlet_kinetic_offset;
   return energies;
 }
 
