@@ -146,6 +146,36 @@ void ContactForces::build(const ContactInput& in) {
   update_shapes(in, true);
 }
 
+void ContactForces::restore(const std::vector<ContactHistory::Entry>& entries, double last_elastic_energy,
+                            double skin, std::vector<DashpotRecord> dashpots) {
+  pending_ = std::move(dashpots);
+  if (late_blocks_.empty()) late_blocks_.resize(1);
+  reserve_with_headroom(late_blocks_[0], pending_.size() + 4);
+  history_.clear();
+  history_.begin_step();
+  for (const auto& e : entries) history_.record(e.key, e.ft);
+  history_.end_step();
+  last_elastic_energy_ = last_elastic_energy;
+  if (skin > 0.0) settings_.skin = skin;
+  invalidated_ = true;
+}
+
+void ContactForces::set_partition_bounds(const ContactInput& in, std::size_t nn, int nt) {
+  // The nt parts: triangles [tri_bound_[u], tri_bound_[u + 1]) and their first nodes.
+  tri_bound_.resize(static_cast<std::size_t>(nt) + 1);
+  node_bound_.resize(static_cast<std::size_t>(nt) + 1);
+  for (int u = 0; u <= nt; ++u) {
+    const Index tri = partition_begin(u, nt);
+    tri_bound_[static_cast<std::size_t>(u)] = tri;
+    Index node = static_cast<Index>(nn);
+    if (u == 0) node = 0;
+    else if (tri < static_cast<Index>(in.conn.size()))
+      node = std::min({in.conn[tri][0], in.conn[tri][1], in.conn[tri][2]});
+    node_bound_[static_cast<std::size_t>(u)] = u > 0 ? std::max(node, node_bound_[static_cast<std::size_t>(u) - 1]) : 0;
+  }
+  node_split_partitioned_ = true;
+}
+
 int ContactForces::partition_threads() const {
   if (settings_.parallel && settings_.one_partition && broad_.pairs().size() >= settings_.min_pairs_per_parallel_run &&
       static_cast<std::ptrdiff_t>(shape_slots_.size() + other_slots_.size()) > kMinParallelTriangles)

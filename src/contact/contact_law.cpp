@@ -85,11 +85,13 @@ ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_r
     // the force actually applied, not the trial one) minus the change of the stored
     // spring energy. Steady sliding gives exactly mu*Fn*slip; a stick step gives 0.
     // (The trial-state formula (trial^2 - cap^2)/(2 ks) adds ks*slip^2/2 per step, which
-    // is no work of any force and breaks the energy balance of run-out runs.)
+    // is no work of any force and breaks the energy balance of run-out runs.) It is
+    // negative on a step where the force swings across zero to a smaller cap: kept, so
+    // the ledger books the work velocity Verlet applies (DESIGN.md §6).
     if (p.ks > 0.0) {
       const double work = 0.5 * (prev + r.ft).dot(trial - prev) / p.ks;
       const double d_elastic = 0.5 * (r.ft.squaredNorm() - prev.squaredNorm()) / p.ks;
-      r.friction_dissipation = std::max(0.0, work - d_elastic);
+      r.friction_dissipation = work - d_elastic;
     }
   } else {
     r.ft = trial;

@@ -42,6 +42,7 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
                                          {"friction_dissipated", energy_unit},
                                          {"contact_damping_dissipated", energy_unit},
                                          {"plastic_dissipated", energy_unit},
+                                         {"verlet_kinetic_offset", energy_unit},
                                          {"broken_joints", ""},
                                          {"fragments", ""},
                                          {"contacts", ""}};
@@ -108,6 +109,7 @@ void RunOutputs::write_history(int stage_index) {
   row_[k++] = e.friction_dissipated;
   row_[k++] = e.contact_damping_dissipated;
   row_[k++] = e.plastic_dissipated;
+  row_[k++] = e.verlet_kinetic_offset;
   row_[k++] = static_cast<double>(solver_.broken_joints());
   row_[k++] = solver::count_fragments(model_, fragment_label_);
   row_[k++] = static_cast<double>(solver_.active_contacts());

@@ -31,6 +31,7 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   energies["contact_damping_dissipated"] = e.contact_damping_dissipated;
   energies["plastic_dissipated"] = e.plastic_dissipated;
   energies["water_work"] = e.water_work;
+  energies["verlet_kinetic_offset"] = e.verlet_kinetic_offset;
   return energies;
 }
 

@@ -156,7 +156,9 @@ class Solver {
   void add_damping_forces();           // 7: Rayleigh mass part (the stiffness part is in 3)
   void apply_constraints();            // reactions at prescribed dofs
   void finish_velocities();            // 8: a = f/m, velocity Verlet's second half
-  void update_energy();                // the energy ledger
+  // The energy ledger; book_offset = false (initialise) takes the accelerations as the
+  // start of verlet_kinetic_offset without booking a step.
+  void update_energy(bool book_offset = true);
   void check_stability();
   void end_step();
 
@@ -217,6 +219,7 @@ class Solver {
   long broken_joints_ = 0;
   int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
   double created_prev_ = 0.0;    // energy created (not put in) at the previous step
+  double mass_accel2_ = 0.0;     // sum m |a|^2 at the last update_energy (EnergyLedger::verlet_kinetic_offset)
 
   // Contact: driver, pair parameters. The contact phase reads the positions as X + u.
   std::unique_ptr<contact::ContactForces> contact_;

@@ -82,7 +82,8 @@ void Solver::save(io::CheckpointWriter& out) const {
   const EnergyLedger& e = energy_;
   const std::vector<double> energies{e.kinetic, e.strain, e.gravity_potential, e.joint_elastic, e.contact_elastic,
                                      e.external_work, e.damping_dissipated, e.fracture_dissipated,
-                                     e.friction_dissipated, e.initial_total, e.contact_damping_dissipated};
+                                     e.friction_dissipated, e.initial_total, e.contact_damping_dissipated,
+                                     e.verlet_kinetic_offset, mass_accel2_};
   out.put("energy", energies);
   if (water_.size() > 0) {  // the water's work so far and its last forces (their work's first half)
     out.put("water/work", energy_.water_work);
@@ -222,8 +223,9 @@ void Solver::restore(const io::CheckpointReader& in) {
   step_ = in.integer("step");
   broken_joints_ = in.integer("broken_joints");
   const auto e = in.doubles("energy");
-  // 10 values before contact damping had a term of its own (it was in friction then).
-  if (e.size() != 10) check_size("energy", e.size(), 11);
+  // 10 values before contact damping had a term of its own (it was in friction then), 11
+  // before the Verlet kinetic offset (and the sum m|a|^2 it continues from).
+  if (e.size() != 10 && e.size() != 11) check_size("energy", e.size(), 13);
   energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9], e.size() > 10 ? e[10] : 0.0};
   if (in.has("water/work")) {
     energy_.water_work = in.scalar("water/work");
@@ -234,7 +236,15 @@ void Solver::restore(const io::CheckpointReader& in) {
       for (int k = 0; k < 3; ++k) prev[t][k] = Vec2(f[6 * t + 2 * k], f[6 * t + 2 * k + 1]);
     water_.restore_previous_forces(std::move(prev));
   }
+  if (e.size() > 11) energy_.verlet_kinetic_offset = e[11];
+  const bool has_accel2 = e.size() > 12;
+  if (has_accel2) mass_accel2_ = e[12];
   restore_nodes(in);
+  if (!has_accel2) {  // an older file: the offset starts from the restored accelerations
+    const Nodes& n = model_.nodes;
+    mass_accel2_ = 0.0;
+    for (std::size_t i = 0; i < n.size(); ++i) mass_accel2_ += n.m[i] * n.a[i].squaredNorm();
+  }
   restore_triangles(in);
   restore_joints(in);
   restore_supports(in);

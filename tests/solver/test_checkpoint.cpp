@@ -87,6 +87,9 @@ TEST(Checkpoint, RestartContinuesBitIdentically) {
   // The dashpot work of the step before the checkpoint is completed after the restart.
   EXPECT_GT(sa.energy().contact_damping_dissipated, 0.0);
   EXPECT_EQ(sa.energy().contact_damping_dissipated, sb.energy().contact_damping_dissipated);
+  // Velocity Verlet's kinetic offset continues from the checkpoint's sum m|a|^2.
+  EXPECT_NE(sa.energy().verlet_kinetic_offset, 0.0);
+  EXPECT_EQ(sa.energy().verlet_kinetic_offset, sb.energy().verlet_kinetic_offset);
   EXPECT_EQ(sa.energy().balance_error(), sb.energy().balance_error());
   // The joint state (checkpoint version 2): histories, end modes, break records.
   const Joints &ja = a.joints, &jb = b.joints;

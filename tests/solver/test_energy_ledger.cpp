@@ -66,24 +66,37 @@ Vec2 group_velocity(const Model& m, const std::string& group) {
 
 
 // The work of each part of the contact forces as velocity Verlet applies it, from the
-// records after each step: 0.5 dt f . (v_rel(n+1/2) + v_rel(n+3/2)) at the record's shape
-// functions, with v(n+1/2) = v(n+1) - dt/2 a(n+1) and v(n+3/2) = v(n+1) + dt/2 a(n+1)
-// (no prescribed nodes in contact). An independent check of the ledger's booking.
+// records after each step: half of each force's work over the step's displacement, at the
+// half-step velocity v(n+1/2) = v(n+1) - dt/2 a(n+1) it was computed with, and half over
+// the next step's (no prescribed nodes in contact). An independent check of the ledger's
+// booking; start() takes the records of initialise().
 struct ContactWork {
   double elastic = 0.0, dashpot = 0.0, tangential = 0.0;  // J/m, on the bodies
   double tangential_energy = 0.0;                         // sum |ft|^2 / (2 ks) now
+  std::vector<contact::ContactRecord> last;               // the previous step's records
+  void start(const solver::Solver& s) {
+    last.clear();
+    s.contact()->for_each_contact([&](const contact::ContactRecord& r) { last.push_back(r); });
+  }
   void add(const solver::Solver& s, const Model& model) {
     const double dt = s.settings().dt, ks = model.contact.defaults.ks;
     const auto& nd = model.nodes;
-    tangential_energy = 0.0;
-    s.contact()->for_each_contact([&](const contact::ContactRecord& r) {
+    auto half = [&](const contact::ContactRecord& r) {  // the halves over this step
       const auto& ci = model.triangles.conn[r.key.i];
       const auto& cj = model.triangles.conn[r.key.j];
-      Vec2 dv = Vec2::Zero();  // (v_rel(n+1/2) + v_rel(n+3/2)) = 2 v_rel(n+1)
-      for (int k = 0; k < 3; ++k) dv += 2.0 * (r.Ni[k] * nd.v[ci[k]] - r.Nj[k] * nd.v[cj[k]]);
-      elastic += 0.5 * dt * (r.fn - r.dashpot_force) * r.normal.dot(dv);
-      dashpot += 0.5 * dt * r.dashpot_force * r.normal.dot(dv);
-      tangential += 0.5 * dt * r.ft.dot(dv);
+      Vec2 du = Vec2::Zero();  // relative displacement of the step at the record's point
+      for (int k = 0; k < 3; ++k)
+        du += dt * (r.Ni[k] * (nd.v[ci[k]] - 0.5 * dt * nd.a[ci[k]]) - r.Nj[k] * (nd.v[cj[k]] - 0.5 * dt * nd.a[cj[k]]));
+      elastic += 0.5 * (r.fn - r.dashpot_force) * r.normal.dot(du);
+      dashpot += 0.5 * r.dashpot_force * r.normal.dot(du);
+      tangential += 0.5 * r.ft.dot(du);
+    };
+    for (const contact::ContactRecord& r : last) half(r);
+    last.clear();
+    tangential_energy = 0.0;
+    s.contact()->for_each_contact([&](const contact::ContactRecord& r) {
+      half(r);
+      last.push_back(r);
       if (ks > 0.0) tangential_energy += 0.5 * r.ft.squaredNorm() / ks;
     });
   }
@@ -113,6 +126,7 @@ Collision head_on(double safety, double e, double y_offset) {
   const double approach = (group_velocity(model, "left") - group_velocity(model, "right")).x();
   Collision c;
   ContactWork work;
+  work.start(s);
   bool touched = false;
   int after = -1;  // steps since the last contact ended
   while (s.time() < 0.1 && after < 200) {
@@ -140,7 +154,8 @@ Collision head_on(double safety, double e, double y_offset) {
 // Restitution 0.5, default contact kn, mu = 0: the contact damping booked is the work of
 // the dashpot forces as velocity Verlet applies them, at any step; the mechanical energy
 // lost is that, less the work of the contact springs, which velocity Verlet does not make
-// vanish where contacts start and end (a few per cent of it at safety 0.3).
+// vanish where contacts start and end (a few per cent of it at safety 0.3). That work is
+// what the balance error is left with: O(dt^2), it falls ninefold from safety 0.3 to 0.1.
 TEST(EnergyLedger, HeadOnCollisionBooksTheDampingItApplies) {
   for (double safety : {0.3, 0.1, 0.03}) {
     const Collision c = head_on(safety, 0.5, 0.05);
@@ -152,6 +167,8 @@ TEST(EnergyLedger, HeadOnCollisionBooksTheDampingItApplies) {
     EXPECT_EQ(c.friction, 0.0) << "a frictionless collision books no friction";
     EXPECT_NEAR(c.booked, -c.dashpot_work, 1e-9 * c.booked) << "safety " << safety;
     if (safety == 0.3) EXPECT_LT(c.balance_final, 0.005);
+    if (safety == 0.1) EXPECT_LT(c.balance_final, 0.001);
+    if (safety == 0.03) EXPECT_LT(c.balance_final, 1e-4);
     if (safety == 0.03) EXPECT_NEAR(c.booked / c.lost, 1.0, 0.005);
   }
 }
@@ -167,7 +184,9 @@ TEST(EnergyLedger, MeshedBlocksReboundLivelierThanTheSetRestitution) {
 
 // Five blocks stacked (staggered) on a fixed ground, gravity, friction and contact damping,
 // from touching at zero overlap: they settle; contact damping and friction are booked as
-// applied, and the balance closes but for the work of the contact springs (under 1 %).
+// applied, and the balance closes but for the work of the contact springs where contacts
+// open and close. The nodes at the contacts keep vibrating near the stable step, so the
+// ledger needs velocity Verlet's kinetic offset (EnergyLedger::verlet_kinetic_offset).
 TEST(EnergyLedger, StackOfFiveBlocksBooksDampingAndFrictionAsApplied) {
   std::vector<Block> blocks{{"ground", 4, 1, 0.4, 0.1, -0.1, -0.1}};
   for (int k = 0; k < 5; ++k) blocks.push_back({"b" + std::to_string(k), 4, 2, 0.2, 0.1, 0.03 * (k % 2), 0.1 * k});
@@ -182,6 +201,7 @@ TEST(EnergyLedger, StackOfFiveBlocksBooksDampingAndFrictionAsApplied) {
   double balance_max = 0.0;
   const int steps = 20000;
   ContactWork work;
+  work.start(s);
   for (int i = 0; i < steps; ++i) {
     s.step();
     work.add(s, model);
@@ -189,16 +209,18 @@ TEST(EnergyLedger, StackOfFiveBlocksBooksDampingAndFrictionAsApplied) {
   }
   const solver::EnergyLedger& L = s.energy();
   std::printf("stack: kinetic %.3e, gravity %.4e, strain %.4e, contact elastic %.4e, contact damping %.4e, "
-              "friction %.4e J/m; balance error %.4f %% (largest after the first tenth %.4f %%)\n",
+              "friction %.4e, Verlet kinetic offset %.4e J/m; balance error %.4f %% (largest after the first "
+              "tenth %.4f %%)\n",
               L.kinetic, L.gravity_potential, L.strain, L.contact_elastic, L.contact_damping_dissipated,
-              L.friction_dissipated, 100.0 * L.balance_error(), 100.0 * balance_max);
+              L.friction_dissipated, L.verlet_kinetic_offset, 100.0 * L.balance_error(), 100.0 * balance_max);
   std::printf("stack: work of the dashpots %.4e, springs %.4e (contact elastic %.4e), tangential %.4e, tangential "
               "energy %.4e J/m: friction by the integrator %.4e J/m\n", work.dashpot, work.elastic, L.contact_elastic,
               work.tangential, work.tangential_energy, -work.tangential - work.tangential_energy);
   EXPECT_LT(L.kinetic, 1e-3 * std::abs(L.gravity_potential)) << "not at rest";
-  // The dashpots' work as applied, but for the second half of the last step's, booked next step.
-  EXPECT_NEAR(L.contact_damping_dissipated, -work.dashpot, 0.1 * L.contact_damping_dissipated);
+  // The dashpots' work as applied (the last step's second halves are booked next step).
+  EXPECT_NEAR(L.contact_damping_dissipated, -work.dashpot, 1e-9 * L.contact_damping_dissipated);
   // Friction: the tangential forces' work as applied less the energy their springs hold.
   EXPECT_NEAR(L.friction_dissipated, -work.tangential - work.tangential_energy, 0.01 * L.friction_dissipated);
-  EXPECT_LT(L.balance_error(), 0.01);
+  EXPECT_LT(L.balance_error(), 0.005);
+  EXPECT_LT(balance_max, 0.005);
 }

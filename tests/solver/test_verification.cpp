@@ -154,7 +154,9 @@ TEST(Verification, UndampedEnergyDriftBelowPointOnePercentOver1e4Steps) {
   }
   std::printf("[ measured ] energy drift over 1e4 steps: max %.3e, balance error %.3e\n", worst, s.energy().balance_error());
   EXPECT_LT(worst, 1e-3) << "worst " << worst;
-  EXPECT_LT(s.energy().balance_error(), 1e-3) << s.energy().balance_error();
+  // The ledger books velocity Verlet's kinetic offset, so its balance closes but for the
+  // elements' geometric nonlinearity and rounding.
+  EXPECT_LT(s.energy().balance_error(), 1e-7) << s.energy().balance_error();
   EXPECT_GT(s.energy().strain, 0.01 * e0);  // energy really did move between kinetic and strain
 }
 
