@@ -177,7 +177,7 @@ void add_stability_command(CLI::App& app, StabilityArgs& a) {
       "mass damping (stability.damping or the stage's alpha). A trial STANDS when the largest unbalanced nodal "
       "force |m a + alpha m v| falls below stability.equilibrium_ratio (1e-5) times the mean nodal weight; it "
       "FAILS when a monitored point (stability.monitor, else any node) moves stability.failure_displacement "
-      "(default: the mean element size) from the settled state, when no equilibrium comes within "
+      "(default: the mean element size of the discrete zone) from the settled state, when no equilibrium comes within "
       "stability.max_steps, or when the run goes unstable. FS is the largest F that stood, to "
       "stability.tolerance (0.005). With kh/kv also the pseudo-static FS: body force |g| (kh, kv) m, kh > 0 "
       "toward +x (give the sign of the free face), kv > 0 upward.\n"

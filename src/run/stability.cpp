@@ -47,7 +47,8 @@ double unbalanced_force_ratio(const Model& model, double alpha, double gravity) 
 
 namespace {
 
-constexpr long kCheckEvery = 50;  // steps between equilibrium / failure checks
+constexpr long kCheckEvery = 50;      // steps between equilibrium / failure checks
+constexpr long kMinAutoSteps = 5000;  // floor of the automatic step budget
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -152,14 +153,26 @@ void StabilityRunner::check_setup() {
         "(1/s, about critical for the slope's first mode: 4 pi / T1)",
         st.name))});
   if (!(g_ > 0.0)) throw io::ScenarioError({fmt::format("{}: gravity: the factor of safety needs gravity", sc_.file)});
-  double mean_size = 0.0;
-  for (double a : model_.triangles.area0) mean_size += std::sqrt(2.0 * a);
-  mean_size /= static_cast<double>(std::max<std::size_t>(1, model_.triangles.size()));
+  // Default failure displacement: the mean element size of the breakable zone A (where
+  // the slide is), of the whole mesh without one.
+  const auto& tri = model_.triangles;
+  double size_a = 0.0, size_all = 0.0;
+  std::size_t n_a = 0;
+  for (std::size_t t = 0; t < tri.size(); ++t) {
+    const double h = std::sqrt(2.0 * tri.area0[t]);
+    size_all += h;
+    if (tri.zone[t] == Zone::Discrete) {
+      size_a += h;
+      ++n_a;
+    }
+  }
+  const double mean_size = n_a > 0 ? size_a / static_cast<double>(n_a)
+                                   : size_all / static_cast<double>(std::max<std::size_t>(1, tri.size()));
   failure_displacement_ = spec_.failure_displacement > 0.0 ? spec_.failure_displacement : mean_size;
   // Automatic budget: 40/alpha of simulated time takes an underdamped mode's amplitude
   // down by e^-20 (mass damping: exp(-alpha t / 2)).
   max_steps_ = spec_.max_steps > 0 ? spec_.max_steps
-                                   : std::max<long>(20000, static_cast<long>(std::ceil(40.0 / (alpha_ * prepared_.dt))));
+                                   : std::max<long>(kMinAutoSteps, static_cast<long>(std::ceil(40.0 / (alpha_ * prepared_.dt))));
   if (spec_.kh || spec_.kv) {
     if (sc_.gravity.x() != 0.0)
       throw io::ScenarioError({spec_.where.describe("kh and kv need gravity along -y (gravity: [0, -g])")});

@@ -12,7 +12,7 @@
 //      equilibrium: largest |m a + alpha m v| over the nodes (the unbalanced force, the
 //        damping force left out) / mean |m g| < stability.equilibrium_ratio (1e-5); or
 //      failure: a monitored point (every node without stability.monitor) has moved
-//        stability.failure_displacement (default: the mean element size) from the settled
+//        stability.failure_displacement (default: the mean element size of zone A) from the settled
 //        state, or no equilibrium within the step budget, or the run went unstable.
 //    Checked every 50 steps.
 // 3. Bisection on F between stability.bounds (the slope must stand at F_low and fail at
