@@ -48,7 +48,7 @@ def plot_fs(out: Path, s: dict) -> None:
     ax.set_ylabel("largest displacement since the settled state [m]")
     ax.set_title(f"Strength reduction: {s.get('title') or out.name}")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="lower right")
     fig.savefig(out / "fs_displacement.png", dpi=120)
     plt.close(fig)
 

@@ -279,7 +279,7 @@ void add_stability(std::vector<KeySpec>& s) {
   s.push_back(num("stability.max_steps", "", "auto", 0, kInf,
                   "Step budget of one trial; a trial that reaches no equilibrium within it failed (auto: 40 / alpha "
                   "of simulated time, in which mass damping takes an underdamped mode's amplitude down e^20 times; "
-                  "at least 5000). The trials closest to the factor of safety creep: the budget decides them, so "
+                  "at least 10000). The trials closest to the factor of safety creep: the budget decides them, so "
                   "a mesh study keeps max_steps x dt the same."));
   s.push_back(num("stability.failure_displacement", "m", "mean element size", 0, kInf,
                   "A trial failed once a monitored point (or any node without monitor) has moved this far from "

@@ -48,7 +48,7 @@ double unbalanced_force_ratio(const Model& model, double alpha, double gravity) 
 namespace {
 
 constexpr long kCheckEvery = 50;      // steps between equilibrium / failure checks
-constexpr long kMinAutoSteps = 5000;  // floor of the automatic step budget
+constexpr long kMinAutoSteps = 10000;  // floor of the automatic step budget
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
