@@ -6,6 +6,7 @@
 #include <csignal>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <unistd.h>
 
 #include "app/post_commands.hpp"
@@ -14,6 +15,7 @@
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
 #include "run/runner.hpp"
+#include "run/stability.hpp"
 #include "solver/solver.hpp"
 
 namespace {
@@ -155,6 +157,77 @@ int check_command(const CheckArgs& a) {
   return 0;
 }
 
+struct StabilityArgs {
+  CLI::App* cmd = nullptr;
+  std::string scenario_path, out_dir = "out";
+  std::vector<std::string> sets;
+  int threads = 0;
+  bool quiet = false, no_plots = false;
+  std::optional<double> kh, kv, tolerance;
+  std::vector<double> bounds;
+};
+
+void add_stability_command(CLI::App& app, StabilityArgs& a) {
+  a.cmd = app.add_subcommand(
+      "stability",
+      "Factor of safety by strength reduction (DESIGN.md §12): c/F, tan(phi)/F and ft/F for every joint, "
+      "Mohr-Coulomb material and contact friction; bisection on F.\n"
+      "The scenario's static stages (before its first earthquake stage) settle the slope at full strength with "
+      "elastic joints; each trial F starts from that state with reduced strengths and failure allowed, under "
+      "mass damping (stability.damping or the stage's alpha). A trial STANDS when the largest unbalanced nodal "
+      "force |m a + alpha m v| falls below stability.equilibrium_ratio (1e-5) times the mean nodal weight; it "
+      "FAILS when a monitored point (stability.monitor, else any node) moves stability.failure_displacement "
+      "(default: the mean element size of the discrete zone) from the settled state, when no equilibrium comes within "
+      "stability.max_steps, or when the run goes unstable. FS is the largest F that stood, to "
+      "stability.tolerance (0.005). With kh/kv also the pseudo-static FS: body force |g| (kh, kv) m, kh > 0 "
+      "toward +x (give the sign of the free face), kv > 0 upward.\n"
+      "Writes OUT/summary.json (factor_of_safety[, factor_of_safety_pseudo_static], the trials), "
+      "OUT/fs_displacement.png, OUT/mechanism*.vtu (the lowest F that failed) and mechanism*.png, OUT/stability.log.");
+  a.cmd->add_option("scenario", a.scenario_path, "Scenario YAML file")->required();
+  a.cmd->add_option("-o,--output", a.out_dir, "Output directory")->capture_default_str();
+  a.cmd->add_option("--threads", a.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  a.cmd->add_option("--set", a.sets, "Override a scenario value: key.path=value (repeatable)");
+  a.cmd->add_option("--kh", a.kh, "Pseudo-static horizontal coefficient (stability.kh), > 0 toward +x");
+  a.cmd->add_option("--kv", a.kv, "Pseudo-static vertical coefficient (stability.kv), > 0 upward");
+  a.cmd->add_option("--bounds", a.bounds, "F_low F_high (stability.bounds)")->expected(2);
+  a.cmd->add_option("--tolerance", a.tolerance, "Bisection tolerance on F (stability.tolerance)");
+  a.cmd->add_flag("-q,--quiet", a.quiet, "No progress on the terminal (OUT/stability.log still gets it)");
+  a.cmd->add_flag("--no-plots", a.no_plots, "Do not make fs_displacement.png and the mechanism picture");
+}
+
+int stability_command(StabilityArgs& a) {
+  install_stop_handlers();
+  // The flags are overrides of the stability section: errors then name the flag.
+  std::vector<std::string> sets = a.sets;
+  auto num = [](double v) { return fmt::format("{:.17g}", v); };
+  if (a.kh) sets.push_back("stability.kh=" + num(*a.kh));
+  if (a.kv) sets.push_back("stability.kv=" + num(*a.kv));
+  if (a.tolerance) sets.push_back("stability.tolerance=" + num(*a.tolerance));
+  if (a.bounds.size() == 2) sets.push_back(fmt::format("stability.bounds=[{}, {}]", num(a.bounds[0]), num(a.bounds[1])));
+  const auto sc = dsdem::io::load_scenario(a.scenario_path, sets);
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+  const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-stability-mesh-{}", ::getpid());
+  ScratchDir cleanup{work};
+  auto prepared = dsdem::run::prepare_run(sc, work.string());
+  std::error_code ec;
+  std::filesystem::remove_all(work, ec);
+  dsdem::run::StabilityOptions options;
+  options.output_dir = a.out_dir.empty() ? "." : a.out_dir;
+  options.threads = a.threads;
+  options.quiet = a.quiet;
+  options.stop_signal = &g_stop_signal;
+  const auto result = dsdem::run::find_factor_of_safety(prepared, options);
+  if (result.stopped_by_signal) return 128 + result.stopped_by_signal;
+  fmt::print("factor of safety {:.3f}", result.factor_of_safety);
+  if (result.factor_of_safety_pseudo_static)
+    fmt::print(", pseudo-static {:.3f}", *result.factor_of_safety_pseudo_static);
+  fmt::print(" ({} trials, {:.1f} s wall); results in {}\n", result.trials.size(), result.wall_time_s,
+             options.output_dir);
+  if (!a.no_plots && dsdem::app::run_python_script("plot_stability.py", {options.output_dir}) != 0)
+    fmt::print(stderr, "warning: the stability plots were not made\n");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -166,6 +239,8 @@ int main(int argc, char** argv) {
   add_run_command(app, run_args);
   CheckArgs check_args;
   add_check_command(app, check_args);
+  StabilityArgs stability_args;
+  add_stability_command(app, stability_args);
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
   dsdem::app::add_wave_commands(app);
   dsdem::app::add_post_commands(app);
@@ -182,6 +257,7 @@ int main(int argc, char** argv) {
   }
   if (*run_args.cmd) return guarded([&] { return run_command(run_args); });
   if (*check_args.cmd) return guarded([&] { return check_command(check_args); });
+  if (*stability_args.cmd) return guarded([&] { return stability_command(stability_args); });
   if (*schema_cmd) {
     fmt::print("{}", dsdem::io::schema_markdown());
     return 0;

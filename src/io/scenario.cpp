@@ -186,6 +186,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
     r.error(root, "joints", "a discrete (breakable) zone needs joint properties: add joints.default with ft, c, phi, GI, GII");
 
   detail::read_output(r, root, sc);
+  detail::read_stability(r, root, sc);
   const double total = sc.end_time();
   if (sc.output.field_interval <= 0.0) sc.output.field_interval = total / 50.0;
   if (sc.output.history_interval <= 0.0) sc.output.history_interval = total / 1000.0;

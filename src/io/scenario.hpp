@@ -170,6 +170,23 @@ struct OutputSpec {
   std::vector<GaugeSpec> gauges;
 };
 
+// Factor of safety by strength reduction (`dsdem stability`, DESIGN.md §12).
+struct StabilitySpec {
+  bool present = false;
+  // Pseudo-static coefficients: a body force |g| (kh, kv) m per node on top of gravity,
+  // kh > 0 toward +x, kv > 0 upward. Absent: static only.
+  std::optional<double> kh, kv;
+  double F_low = 0.5, F_high = 4.0;  // bisection bounds on F
+  double tolerance = 0.005;          // bisection stops when F_high - F_low <= this
+  double equilibrium_ratio = 1e-5;   // largest unbalanced nodal force / mean gravity force
+  long max_steps = 0;                // per trial; 0: automatic (see run/stability.hpp)
+  double failure_displacement = 0.0; // m; 0: the mean element size
+  std::optional<double> damping_alpha;  // 1/s, trials and settling; absent: the static stage's
+  bool keep_tension = false;         // ft is not divided by F
+  std::vector<GaugeSpec> monitor;    // monitored points; none: every node
+  SourceLocation where, where_bounds;
+};
+
 struct Scenario {
   std::string file;       // path of the scenario file
   std::string directory;  // its folder: relative paths are resolved from here
@@ -193,6 +210,7 @@ struct Scenario {
   JointsSection joints;
   ContactSpec contact;
   EarthquakeSpec earthquake;
+  StabilitySpec stability;
   SourceLocation where_mesh;
 
   double end_time() const;

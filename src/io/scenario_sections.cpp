@@ -527,4 +527,48 @@ void read_output(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   }
 }
 
+// Strength reduction (DESIGN.md §12): bounds, criteria, pseudo-static coefficients, monitored points.
+void read_stability(SchemaReader& r, YAML::Node& root, Scenario& sc) {
+  const KeyPath top{"", ""};
+  YAML::Node s = r.section(root, top, "stability", YAML::NodeType::Map);
+  if (!s.IsDefined()) return;
+  const KeyPath p = top.child("stability");
+  r.check_keys(s, p);
+  StabilitySpec& st = sc.stability;
+  st.present = true;
+  st.where = location(r, s, p.actual);
+  st.kh = r.number(s, p, "kh");
+  st.kv = r.number(s, p, "kv");
+  if (auto b = r.vector2(s, p, "bounds")) {
+    st.F_low = (*b)[0];
+    st.F_high = (*b)[1];
+    if (!(st.F_low > 0.0 && st.F_high > st.F_low))
+      r.error(s["bounds"], p.child("bounds").actual,
+              fmt::format("[{}, {}]: give [F_low, F_high] with 0 < F_low < F_high", st.F_low, st.F_high));
+  }
+  st.where_bounds = location(r, s["bounds"].IsDefined() ? s["bounds"] : s, p.child("bounds").actual);
+  st.tolerance = r.number(s, p, "tolerance").value_or(0.005);
+  st.equilibrium_ratio = r.number(s, p, "equilibrium_ratio").value_or(1e-5);
+  st.max_steps = static_cast<long>(r.integer(s, p, "max_steps").value_or(0));
+  st.failure_displacement = r.number(s, p, "failure_displacement").value_or(0.0);
+  st.damping_alpha = r.number(s, p, "damping");
+  st.keep_tension = r.boolean(s, p, "keep_tension").value_or(false);
+  if (YAML::Node ms = r.section(s, p, "monitor", YAML::NodeType::Sequence); ms.IsDefined()) {
+    const KeyPath mp = p.child("monitor");
+    for (std::size_t i = 0; i < ms.size(); ++i) {
+      const KeyPath ip = mp.index(i);
+      if (!ms[i].IsMap()) {
+        r.error(ms[i], ip.actual, "expected a map with name and at");
+        continue;
+      }
+      r.check_keys(ms[i], ip);
+      GaugeSpec g;
+      g.name = r.string(ms[i], ip, "name").value_or("");
+      if (auto at = r.vector2(ms[i], ip, "at")) g.at = Vec2((*at)[0], (*at)[1]);
+      g.where = location(r, ms[i]["at"].IsDefined() ? ms[i]["at"] : ms[i], ip.child("at").actual);
+      st.monitor.push_back(g);
+    }
+  }
+}
+
 }  // namespace dsdem::io::detail

@@ -15,5 +15,6 @@ void read_joints(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_contact(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_earthquake(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_output(SchemaReader& r, YAML::Node& root, Scenario& sc);
+void read_stability(SchemaReader& r, YAML::Node& root, Scenario& sc);
 
 }  // namespace dsdem::io::detail

@@ -292,6 +292,49 @@ void add_output(std::vector<KeySpec>& s) {
                  "Reference position; the gauge follows the material point there.", "m"));
 }
 
+// Factor of safety by strength reduction: `dsdem stability` (DESIGN.md §12).
+void add_stability(std::vector<KeySpec>& s) {
+  s.push_back(of("stability", KeyType::Map, "",
+                 "Factor of safety by strength reduction (`dsdem stability`, DESIGN.md §12): c/F, tan(phi)/F and "
+                 "ft/F for every joint, Mohr-Coulomb material and contact friction, bisection on F. Ignored by "
+                 "`dsdem run`."));
+  s.push_back(num("stability.kh", "", "", -kInf, kInf,
+                  "Pseudo-static horizontal coefficient: a body force kh g m at every node (g = |gravity|), toward +x for kh > 0 "
+                  "(give the sign that pushes toward the free face). With kh or kv the pseudo-static factor is "
+                  "found too."));
+  s.push_back(num("stability.kv", "", "", -kInf, kInf,
+                  "Pseudo-static vertical coefficient: a body force kv g m, upward for kv > 0."));
+  s.push_back(of("stability.bounds", KeyType::Vector2, "[0.5, 4]",
+                 "[F_low, F_high]: the bisection's bounds. The slope must stand at F_low and fail at F_high, else "
+                 "the command stops with an error that says which."));
+  s.push_back(num("stability.tolerance", "", "0.005", 0, kInf,
+                  "Bisection stops when F_high - F_low is at most this; the factor of safety is F_low, the largest "
+                  "F at which the slope stood.", true));
+  s.push_back(num("stability.equilibrium_ratio", "", "1e-5", 0, 1,
+                  "Equilibrium: the largest unbalanced nodal force (without the damping force) over the mean "
+                  "gravity force of the nodes is below this (FLAC's default).", true, true));
+  s.push_back(num("stability.max_steps", "", "auto", 0, kInf,
+                  "Step budget of one trial; a trial that reaches no equilibrium within it failed (auto: 40 / alpha "
+                  "of simulated time, in which mass damping takes an underdamped mode's amplitude down e^20 times; "
+                  "at least 10000). The trials closest to the factor of safety creep: the budget decides them, so "
+                  "a mesh study keeps max_steps x dt the same."));
+  s.push_back(num("stability.failure_displacement", "m", "mean element size", 0, kInf,
+                  "A trial failed once a monitored point (or any node without monitor) has moved this far from "
+                  "the settled state: the strength-reduced slope slides instead of settling (default: the mean "
+                  "element size of the discrete zone, of the whole mesh without one).", true));
+  s.push_back(num("stability.damping", "1/s", "the static stage's alpha", 0, kInf,
+                  "Mass-proportional damping alpha of the trials (about critical for the slope's first mode).",
+                  true));
+  s.push_back(of("stability.keep_tension", KeyType::Boolean, "false", "Do not divide the tensile strengths by F."));
+  s.push_back(of("stability.monitor", KeyType::List, "",
+                 "Monitored points (their displacement decides failure and is plotted against F); default: every "
+                 "node."));
+  s.push_back(of("stability.monitor[]", KeyType::Map, "", "One monitored point."));
+  s.push_back(of("stability.monitor[].name", KeyType::String, "required", "Name of the point."));
+  s.push_back(of("stability.monitor[].at", KeyType::Vector2, "required",
+                 "Reference position; it must lie in the mesh.", "m"));
+}
+
 }  // namespace
 
 // Keys in the order of docs/scenario-reference.md.
@@ -304,6 +347,7 @@ std::vector<KeySpec> build_schema() {
   add_earthquake(s);
   add_water(s);
   add_output(s);
+  add_stability(s);
   return s;
 }
 

@@ -62,7 +62,8 @@ struct JointForceResult {
 
 // One intact joint. length0: reference length (tractions are per reference length).
 // The joint breaks (failed_now) when both end points have failed: a failed end point
-// carries no tension and no cohesion, so breaking then removes no finite force. The
+// carries no tension and no cohesion, so breaking then removes no finite force. A damaged
+// joint also breaks once the separation at an end point exceeds length0 (see joint_update). The
 // caller sets the break time and position and stops evaluating a broken joint.
 // modes: how the end points failed so far (an end that failed earlier keeps its mode).
 JointForceResult joint_force(const JointNodePositions& x, const JointSeparations& delta,
@@ -145,6 +146,22 @@ double joint_stable_dt(double m_a, double m_b, double k);
     r.fa[i] = w * (c.sn * r.kin.n + c.ss * r.kin.t);
   }
   r.failed_now = any_failed_now && state[0].damage >= 1.0 && state[1].damage >= 1.0;
+  // A damaged joint whose faces have moved apart by more than its reference length no
+  // longer joins the two edges it was made for: their ends now face other edges, and the
+  // equal and opposite end forces, that far apart, exert a couple that no potential gives
+  // (the law's frame is the mid-line's, exact for separations small next to L0 only).
+  // It breaks, whatever strength a ductile law has left; contact takes over (DESIGN.md §3).
+  if (!r.failed_now && (state[0].damage > 0.0 || state[1].damage > 0.0)) [[unlikely]] {
+    const double l2 = length0 * length0;
+    if (delta[0].squaredNorm() > l2 || delta[1].squaredNorm() > l2) {
+      for (int i = 0; i < 2; ++i)
+        if (state[i].damage < 1.0) {
+          state[i].damage = 1.0;
+          modes[i] = std::abs(r.kin.ds[i]) >= std::abs(r.kin.dn[i]) ? BreakMode::Shear : BreakMode::Tension;
+        }
+      r.failed_now = true;
+    }
+  }
   if (r.failed_now) r.mode = modes[0] == modes[1] ? modes[0] : BreakMode::Mixed;
   return r;
 }

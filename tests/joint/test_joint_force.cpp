@@ -247,6 +247,60 @@ TEST(JointForce, JointBreaksOnlyWhenBothEndsHaveFailed) {
   EXPECT_NEAR(r.f[1].norm(), 0.0, 1e-9 * p.ft * L);
 }
 
+TEST(JointForce, DuctileJointBreaksOnceSlidFartherThanItsLength) {
+  // A plane made ductile (GII so large that 2 GII / c is metres) still holds after its
+  // peak; once face b has slid past the joint's own length its ends face other edges
+  // and the end forces, that far apart, would form a couple no potential gives: it breaks.
+  JointProperties p = test::disc_rock();
+  p.GII = 1e9;  // wsII = 2 GII / c = 100 m
+  const double L = 0.5, alpha = 0.3;
+  const JointNodePositions X = bonded(alpha, L);
+  const Vec2 t = tangent(alpha), n = normal(alpha);
+  std::array<JointPointState, 2> st{};
+  JointEndModes modes{};
+  const double squeeze = -1e-3 * p.c / p.kn;  // a little compression: residual friction stays
+  const int steps = 600;
+  int broke_at = -1;
+  double slip_at_break = 0.0;
+  for (int i = 1; i <= steps && broke_at < 0; ++i) {
+    const double slip = 1.5 * L * i / steps;
+    JointNodePositions x = X;
+    x[2] += slip * t + squeeze * n;
+    x[3] += slip * t + squeeze * n;
+    const JointForceResult r = joint_force(x, L, p, st, true, modes);
+    st = r.state;
+    modes = r.end_mode;
+    if (r.failed_now) {
+      broke_at = i;
+      slip_at_break = slip;
+      EXPECT_EQ(r.mode, BreakMode::Shear);
+    } else {
+      EXPECT_LT(st[0].damage, 1.0);  // the law alone would hold on for metres
+    }
+  }
+  ASSERT_GT(broke_at, 0) << "a joint slid 1.5 times its length still holds";
+  EXPECT_GT(slip_at_break, L);
+  EXPECT_LT(slip_at_break, L * (1.0 + 2.0 / steps));
+  EXPECT_EQ(st[0].damage, 1.0);
+  EXPECT_EQ(st[1].damage, 1.0);
+}
+
+TEST(JointForce, UndamagedJointIsNotBrokenByTheLengthRule) {
+  // The length rule is for damaged joints only: an intact bond far inside its limits (a
+  // long, very stiff-strength joint) is left to the law.
+  JointProperties p = test::disc_rock();
+  p.c = 1e30;
+  p.ft = 1e29;
+  const double L = 1e-9;  // shorter than the elastic slip below
+  const JointNodePositions X = bonded(0.0, L, Vec2::Zero());
+  JointNodePositions x = X;
+  x[2].x() += 2e-9;
+  x[3].x() += 2e-9;
+  const JointForceResult r = joint_force(x, L, p, {}, true, {});
+  EXPECT_FALSE(r.failed_now);
+  EXPECT_EQ(r.state[0].damage, 0.0);
+}
+
 TEST(JointForce, StableTimeStepIsTheTwoMassSpringLimitOfVelocityVerlet) {
   const JointProperties p = test::disc_rock();
   const double L = 0.01;

@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Plots of `dsdem stability OUT`: OUT/fs_displacement.png and OUT/mechanism*.png.
+
+    plot_stability.py OUT
+
+fs_displacement.png: the largest displacement since the settled state at the end of each
+trial against the trial's F (stood: filled, failed: open), one curve per variant, the
+factor of safety marked. mechanism[_pseudo_static].png: the lowest F that failed, the
+mesh coloured by the displacement since the settled state, broken joints in black (needs
+meshio; skipped without it).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def plot_fs(out: Path, s: dict) -> None:
+    fig, ax = plt.subplots(figsize=(8, 5), layout="constrained")
+    colours = {"static": "tab:blue", "pseudo_static": "tab:red"}
+    keys = {"static": "factor_of_safety", "pseudo_static": "factor_of_safety_pseudo_static"}
+    for variant in ("static", "pseudo_static"):
+        tr = sorted((t for t in s["trials"] if t["variant"] == variant), key=lambda t: t["F"])
+        if not tr:
+            continue
+        F = np.array([t["F"] for t in tr])
+        d = np.maximum(np.array([t["max_displacement_m"] for t in tr]), 1e-12)
+        ok = np.array([t["result"] == "equilibrium" for t in tr])
+        c = colours[variant]
+        ax.plot(F, d, "-", color=c, lw=1, label=variant.replace("_", "-"))
+        ax.plot(F[ok], d[ok], "o", color=c, label=f"{variant.replace('_', '-')}: stands")
+        ax.plot(F[~ok], d[~ok], "o", mfc="none", color=c, label=f"{variant.replace('_', '-')}: fails")
+        if keys[variant] in s:
+            fs = s[keys[variant]]
+            ax.axvline(fs, color=c, ls="--", lw=1)
+            ax.annotate(f"FS = {fs:.3f}", (fs, 0.98), xycoords=("data", "axes fraction"), color=c,
+                        ha="right", va="top", rotation=90)
+    ax.set_yscale("log")
+    ax.set_xlabel("strength reduction factor F")
+    ax.set_ylabel("largest displacement since the settled state [m]")
+    ax.set_title(f"Strength reduction: {s.get('title') or out.name}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.savefig(out / "fs_displacement.png", dpi=120)
+    plt.close(fig)
+
+
+def plot_mechanism(out: Path, suffix: str, s: dict) -> None:
+    try:
+        import meshio
+    except ImportError:
+        return
+    vtu = out / f"mechanism{suffix}.vtu"
+    if not vtu.exists():
+        return
+    m = meshio.read(vtu)
+    tri = next(c.data for c in m.cells if c.type == "triangle")
+    du = m.point_data["displacement_since_settled_m"][:, :2]
+    mag = np.linalg.norm(du, axis=1)
+    fig, ax = plt.subplots(figsize=(9, 6), layout="constrained")
+    tpc = ax.tripcolor(m.points[:, 0], m.points[:, 1], tri, mag, shading="gouraud", cmap="viridis")
+    fig.colorbar(tpc, ax=ax, label="displacement since the settled state [m]")
+    cracks = out / f"mechanism_cracks{suffix}.vtu"
+    if cracks.exists():
+        c = meshio.read(cracks)
+        lines = next((b.data for b in c.cells if b.type == "line"), None)
+        broken = None
+        for k in ("broken", "state"):
+            if k in c.cell_data:
+                broken = np.asarray(c.cell_data[k][0]).ravel() > 0
+                break
+        if lines is not None and broken is not None:
+            for a, b in lines[broken]:
+                ax.plot(c.points[[a, b], 0], c.points[[a, b], 1], "k-", lw=0.8)
+    F = m.field_data.get("TimeValue")
+    ftxt = f" at F = {float(np.ravel(F)[0]):.3f}" if F is not None else ""
+    ax.set_title(f"Mechanism{ftxt} ({suffix.strip('_') or 'static'}): broken joints in black")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    fig.savefig(out / f"mechanism{suffix}.png", dpi=120)
+    plt.close(fig)
+
+
+def main() -> int:
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    out = Path(sys.argv[1])
+    try:
+        s = json.loads((out / "summary.json").read_text())
+    except (OSError, ValueError) as e:
+        print(f"error: {out / 'summary.json'}: {e}", file=sys.stderr)
+        return 2
+    plot_fs(out, s)
+    for suffix in ("", "_pseudo_static"):
+        plot_mechanism(out, suffix, s)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

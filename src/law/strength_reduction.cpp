@@ -1,0 +1,70 @@
+#include "law/strength_reduction.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "law/laws.hpp"
+
+namespace dsdem::law {
+
+double reduced_angle(double phi, double F) { return std::atan(std::tan(phi) / F); }
+
+JointProperties reduce_joint(const JointProperties& p, double F, const ReductionOptions& o) {
+  JointProperties r = p;
+  r.c = p.c / F;
+  r.phi = reduced_angle(p.phi, F);
+  if (!o.keep_tension) {
+    r.ft = p.ft / F;
+    // F < 1 may raise ft past c'/tan(phi'), where eq. 8 has no shear strength left.
+    const double tan_phi = std::tan(r.phi);
+    if (tan_phi > 0.0) r.ft = std::min(r.ft, 0.99 * r.c / tan_phi);
+  }
+  // Softening lengths kept: wn = 2 GI/ft and wsII = 2 GII/c (see the header).
+  r.GI = p.GI * (r.ft / p.ft);
+  r.GII = p.GII / F;
+  return r;
+}
+
+Material reduce_material(const Material& m, double F, const ReductionOptions& o) {
+  if (m.model != "mohr_coulomb") return m;
+  namespace mc = mohr_coulomb;
+  Material r = m;
+  if (r.params.size() != mc::kParams) return r;  // made in code without parameters: nothing to reduce
+  constexpr double deg = std::numbers::pi / 180.0;
+  auto& v = r.params;
+  const double phi = m.params[mc::friction_angle] * deg;
+  v[mc::cohesion] = m.params[mc::cohesion] / F;
+  v[mc::friction_angle] = reduced_angle(phi, F) / deg;
+  v[mc::dilation_angle] = reduced_angle(m.params[mc::dilation_angle] * deg, F) / deg;
+  const double ft = m.params[mc::tensile_strength];
+  if (!o.keep_tension && std::isfinite(ft)) v[mc::tensile_strength] = ft / F;
+  // The apex c/tan(phi) does not change with F; a cut-off above it means none.
+  if (phi > 0.0) v[mc::tensile_strength] = std::min(v[mc::tensile_strength], m.params[mc::cohesion] / std::tan(phi));
+  return r;
+}
+
+ContactProperties reduce_contact(const ContactProperties& p, double F) {
+  ContactProperties r = p;
+  r.mu = p.mu / F;
+  return r;
+}
+
+FullStrengths full_strengths(const Model& model) {
+  FullStrengths s;
+  s.joints = model.joint_properties;
+  s.materials = model.materials;
+  s.contact_defaults = model.contact.defaults;
+  for (const auto& pair : model.contact.pairs) s.contact_pairs.push_back(pair.props);
+  return s;
+}
+
+void apply_reduction(const FullStrengths& full, double F, const ReductionOptions& o, Model& model) {
+  for (std::size_t k = 0; k < full.joints.size(); ++k) model.joint_properties[k] = reduce_joint(full.joints[k], F, o);
+  for (std::size_t k = 0; k < full.materials.size(); ++k) model.materials[k] = reduce_material(full.materials[k], F, o);
+  model.contact.defaults = reduce_contact(full.contact_defaults, F);
+  for (std::size_t k = 0; k < full.contact_pairs.size(); ++k)
+    model.contact.pairs[k].props = reduce_contact(full.contact_pairs[k], F);
+}
+
+}  // namespace dsdem::law

@@ -1,0 +1,132 @@
+// `dsdem stability` (DESIGN.md §12) against closed forms: Hoek & Bray plane failure
+// (examples/plane_failure) within 3 %, the vertical cut in cohesive ground
+// (examples/vertical_cut, Pastor et al. 2000) within 5 %; and its bad input.
+// The bounds are the closed form's FS times (1 -+ the tolerance) and the bisection
+// tolerance is wider than them: the command then runs just the two bound trials, and it
+// succeeds only if the slope stands at the lower one and fails at the upper one, i.e.
+// dsdem's FS lies within the tolerance. The full bisections are in the examples' READMEs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.hpp"
+
+using namespace dsdem::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Hoek & Bray (1981) plane failure, DESIGN.md §12, per unit width, dry.
+double hoek_bray(double H, double psi_f, double psi_p, double z, double c, double phi, double gamma) {
+  const double d = std::numbers::pi / 180.0;
+  const double A = (H - z) / std::sin(psi_p * d);
+  const double W = gamma * H * H * ((1 - (z / H) * (z / H)) / std::tan(psi_p * d) - 1 / std::tan(psi_f * d)) / 2;
+  return (c * A + W * std::cos(psi_p * d) * std::tan(phi * d)) / (W * std::sin(psi_p * d));
+}
+
+std::string fmt_args(const std::string& scenario, double fs, double tol, const fs::path& out) {
+  char b[256];
+  std::snprintf(b, sizeof b, " --bounds %.6f %.6f --tolerance 1 ", fs * (1 - tol), fs * (1 + tol));
+  return "stability " + scenario + b + "-q --no-plots --threads 1 -o " + out.string();
+}
+
+nlohmann::json bracket(const std::string& scenario, double fs, double tol, const std::string& name,
+                       const std::string& extra = "") {
+  const fs::path out = fresh_dir(name);
+  const auto c = run_dsdem(fmt_args(scenario, fs, tol, out) + extra);
+  EXPECT_EQ(c.exit_code, 0) << c.output;
+  std::ifstream in(out / "summary.json");
+  nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
+  fs::remove_all(out);
+  return s;
+}
+
+}  // namespace
+
+TEST(Stability, PlaneFailureDryWithinThreePercentOfHoekBray) {
+  const double fs = hoek_bray(20, 60, 35, 0, 3e4, 30, 2500 * 9.81);
+  EXPECT_NEAR(fs, 1.2616, 1e-4);  // examples/plane_failure/README.md
+  const auto s = bracket(example("plane_failure/dry.yaml"), fs, 0.03, "stab_dry");
+  ASSERT_TRUE(s.is_object());
+  ASSERT_EQ(s["trials"].size(), 2u);
+  EXPECT_EQ(s["trials"][0]["result"], "equilibrium");
+  EXPECT_EQ(s["trials"][1]["result"], "failed");
+  EXPECT_DOUBLE_EQ(s["factor_of_safety"].get<double>(), s["trials"][0]["F"].get<double>());
+}
+
+TEST(Stability, PlaneFailureDryTensionCrackWithinThreePercentOfHoekBray) {
+  const double fs = hoek_bray(20, 60, 35, 8, 3e4, 30, 2500 * 9.81);
+  EXPECT_NEAR(fs, 1.1830, 1e-4);
+  const auto s = bracket(example("plane_failure/crack_dry.yaml"), fs, 0.03, "stab_crack");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s["trials"][0]["result"], "equilibrium");
+  EXPECT_EQ(s["trials"][1]["result"], "failed");
+}
+
+TEST(Stability, VerticalCutWithinFivePercentOfPastor) {
+  // gamma H / c = 3.78 (Pastor, Thai & Francescato 2000): FS = 3.78 c / (gamma H).
+  const double fs = 3.78 * 80e3 / (2038.74 * 9.81 * 10);
+  const auto s = bracket(example("vertical_cut/scenario.yaml"), fs, 0.05, "stab_cut",
+                         " --set stability.failure_displacement=0.1");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s["trials"][0]["result"], "equilibrium");
+  EXPECT_EQ(s["trials"][1]["result"], "failed");
+}
+
+TEST(Stability, BoundsThatBracketNothingAreAnErrorNamingTheKey) {
+  const fs::path out = fresh_dir("stab_bounds");
+  // Stands at both bounds.
+  auto c = run_dsdem("stability " + example("plane_failure/dry.yaml") + " --bounds 0.5 0.6 -q --no-plots -o " +
+                     out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("stability.bounds"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("still stands at F_high = 0.6: raise the bounds"), std::string::npos) << c.output;
+  // Fails at both (a step budget too short for any equilibrium).
+  c = run_dsdem("stability " + example("plane_failure/dry.yaml") +
+                " --bounds 1.5 2 --set stability.max_steps=100 -q --no-plots -o " + out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("already fails at F_low = 1.5"), std::string::npos) << c.output;
+  fs::remove_all(out);
+}
+
+TEST(Stability, BadStabilityInputNamesFileLineAndKey) {
+  const fs::path dir = fresh_dir("stab_bad");
+  fs::create_directories(dir);
+  const std::string text = read_text(example("plane_failure/dry.yaml"));
+  auto variant = [&](const std::string& name, const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find("file: slope.geo"), 15, "file: " + example("plane_failure/slope.geo"));
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    std::ofstream(dir / name) << t;
+    return (dir / name).string();
+  };
+  const fs::path out = dir / "out";
+  // A monitored point outside the mesh: found after meshing, before anything is written.
+  auto c = run_dsdem("stability " + variant("far.yaml", "at: [48.0, 25.0]", "at: [500.0, 22.0]") + " -q -o " +
+                     out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("far.yaml:"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("stability.monitor[0].at: monitored point 'block' at (500, 22) m lies outside the mesh"),
+            std::string::npos)
+      << c.output;
+  EXPECT_FALSE(fs::exists(out));
+  // An unknown key, reversed bounds, a tolerance <= 0: all at once, each with its line.
+  c = run_dsdem("stability " +
+                variant("keys.yaml", "  bounds: [0.8, 2.0]\n", "  bounds: [2.0, 0.8]\n  kx: 0.1\n  tolerance: 0\n") +
+                " -q -o " + out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("stability.bounds: [2, 0.8]: give [F_low, F_high] with 0 < F_low < F_high"),
+            std::string::npos)
+      << c.output;
+  EXPECT_NE(c.output.find("stability.kx"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("stability.tolerance"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("keys.yaml:"), std::string::npos) << c.output;
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(dir);
+}
