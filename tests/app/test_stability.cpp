@@ -67,6 +67,21 @@ TEST(Stability, PlaneFailureDryTensionCrackWithinThreePercentOfHoekBray) {
   EXPECT_EQ(s["trials"][1]["result"], "failed");
 }
 
+// The crack full of water (DESIGN.md §11, §12): U = g_w z_w A / 2 on the plane and
+// V = g_w z_w^2 / 2 in the crack, from the scenario's piezometric line.
+TEST(Stability, PlaneFailureWaterFilledCrackWithinThreePercentOfHoekBray) {
+  const double d = std::numbers::pi / 180.0, H = 20, z = 8, zw = 8, gr = 2500 * 9.81, gw = 1000 * 9.81;
+  const double A = (H - z) / std::sin(35 * d), U = gw * zw * A / 2, V = gw * zw * zw / 2;
+  const double W = gr * H * H * ((1 - (z / H) * (z / H)) / std::tan(35 * d) - 1 / std::tan(60 * d)) / 2;
+  const double fs = (3e4 * A + (W * std::cos(35 * d) - U - V * std::sin(35 * d)) * std::tan(30 * d)) /
+                    (W * std::sin(35 * d) + V * std::cos(35 * d));
+  EXPECT_NEAR(fs, 0.7437, 1e-4);  // examples/plane_failure/README.md
+  const auto s = bracket(example("plane_failure/crack_water.yaml"), fs, 0.03, "stab_crack_water");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s["trials"][0]["result"], "equilibrium");
+  EXPECT_EQ(s["trials"][1]["result"], "failed");
+}
+
 TEST(Stability, VerticalCutWithinFivePercentOfPastor) {
   // gamma H / c = 3.78 (Pastor, Thai & Francescato 2000): FS = 3.78 c / (gamma H).
   const double fs = 3.78 * 80e3 / (2038.74 * 9.81 * 10);
