@@ -191,6 +191,23 @@ def key_cards(summary: dict) -> str:
     return f'<div class="cards">{"".join(cards)}</div>' if cards else ""
 
 
+def stability_section(out: Path, summary: dict) -> str:
+    """The output of `dsdem stability` (DESIGN.md §12): FS, displacement against F, the mechanism."""
+    if "factor_of_safety" not in summary:
+        return ""
+    rows = [("factor of safety (static)", "", summary["factor_of_safety"])]
+    if "factor_of_safety_pseudo_static" in summary:
+        rows.append(("factor of safety (pseudo-static)", "", summary["factor_of_safety_pseudo_static"]))
+    body = kv_table(rows)
+    for name, cap in (("fs_displacement.png", "Largest displacement against the strength-reduction factor F"),
+                      ("mechanism.png", "The mechanism at the lowest F that failed (static)"),
+                      ("mechanism_pseudo_static.png", "The mechanism at the lowest F that failed (pseudo-static)")):
+        p = out / name
+        if p.is_file():
+            body += f"<figure>{img_tag(p, cap)}<figcaption>{esc(cap)} (<code>{esc(name)}</code>)</figcaption></figure>"
+    return body
+
+
 def ensure_plots(out: Path, quiet: bool) -> list[Path]:
     hist = out / "history.csv"
     plots = out / "plots"
@@ -253,6 +270,7 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
             sec.append(f'<section id="{anchor}"><h2>{esc(heading)}</h2>\n{body}\n</section>')
 
     section("key", "Key results", key_cards(summary))
+    section("stability", "Factor of safety", stability_section(out, summary))
 
     model_rows = []
     for k in MODEL_KEYS:
@@ -264,6 +282,8 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
     gauges = [g for g in summary.get("gauges", []) if isinstance(g, dict)]
     section("gauges", "Gauges", dict_list_table(gauges) if gauges else "")
 
+    if "factor_of_safety" in summary:  # dsdem stability: no histories
+        plots = []
     if plots:
         figs = []
         captions = dict(PLOT_ORDER)
@@ -272,7 +292,7 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
             figs.append(f"<figure>{img_tag(p, cap)}<figcaption>{esc(cap)} (<code>plots/{esc(p.name)}</code>)"
                         f"</figcaption></figure>")
         section("plots", "Histories", "\n".join(figs))
-    else:
+    elif "factor_of_safety" not in summary:
         section("plots", "Histories", '<p class="note">No history plots (history.csv missing or empty).</p>')
 
     if snap is not None:
