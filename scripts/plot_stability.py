@@ -25,15 +25,16 @@ import numpy as np  # noqa: E402
 
 def plot_fs(out: Path, s: dict) -> None:
     fig, ax = plt.subplots(figsize=(8, 5), layout="constrained")
-    colours = {"static": "tab:blue", "pseudo_static": "tab:red"}
-    keys = {"static": "factor_of_safety", "pseudo_static": "factor_of_safety_pseudo_static"}
-    for variant in ("static", "pseudo_static"):
+    colours = {"static": "tab:blue", "pseudo_static": "tab:red", "dynamic": "tab:green"}
+    keys = {"static": "factor_of_safety", "pseudo_static": "factor_of_safety_pseudo_static",
+            "dynamic": "factor_of_safety_dynamic"}
+    for variant in ("static", "pseudo_static", "dynamic"):
         tr = sorted((t for t in s["trials"] if t["variant"] == variant), key=lambda t: t["F"])
         if not tr:
             continue
         F = np.array([t["F"] for t in tr])
         d = np.maximum(np.array([t["max_displacement_m"] for t in tr]), 1e-12)
-        ok = np.array([t["result"] == "equilibrium" for t in tr])
+        ok = np.array([t["result"] != "failed" for t in tr])
         c = colours[variant]
         ax.plot(F, d, "-", color=c, lw=1, label=variant.replace("_", "-"))
         ax.plot(F[ok], d[ok], "o", color=c, label=f"{variant.replace('_', '-')}: stands")

@@ -198,6 +198,8 @@ def stability_section(out: Path, summary: dict) -> str:
     rows = [("factor of safety (static)", "", summary["factor_of_safety"])]
     if "factor_of_safety_pseudo_static" in summary:
         rows.append(("factor of safety (pseudo-static)", "", summary["factor_of_safety_pseudo_static"]))
+    if "factor_of_safety_dynamic" in summary:
+        rows.append(("factor of safety (dynamic: survives the earthquake)", "", summary["factor_of_safety_dynamic"]))
     body = kv_table(rows)
     for name, cap in (("fs_displacement.png", "Largest displacement against the strength-reduction factor F"),
                       ("mechanism.png", "The mechanism at the lowest F that failed (static)"),

@@ -162,7 +162,7 @@ struct StabilityArgs {
   std::string scenario_path, out_dir = "out";
   std::vector<std::string> sets;
   int threads = 0;
-  bool quiet = false, no_plots = false;
+  bool quiet = false, no_plots = false, dynamic = false;
   std::optional<double> kh, kv, tolerance;
   std::vector<double> bounds;
 };
@@ -181,7 +181,9 @@ void add_stability_command(CLI::App& app, StabilityArgs& a) {
       "stability.max_steps, or when the run goes unstable. FS is the largest F that stood, to "
       "stability.tolerance (0.005). With kh/kv also the pseudo-static FS: body force |g| (kh, kv) m, kh > 0 "
       "toward +x (give the sign of the free face), kv > 0 upward.\n"
-      "Writes OUT/summary.json (factor_of_safety[, factor_of_safety_pseudo_static], the trials), "
+      "With --dynamic also the dynamic FS: the scenario's earthquake stages at strengths 1/F from the settled "
+      "state; a trial fails when a monitored point moves failure_displacement during them.\n"
+      "Writes OUT/summary.json (factor_of_safety[, factor_of_safety_pseudo_static, factor_of_safety_dynamic], the trials), "
       "OUT/fs_displacement.png, OUT/mechanism*.vtu (the lowest F that failed) and mechanism*.png, OUT/stability.log.");
   a.cmd->add_option("scenario", a.scenario_path, "Scenario YAML file")->required();
   a.cmd->add_option("-o,--output", a.out_dir, "Output directory")->capture_default_str();
@@ -189,6 +191,9 @@ void add_stability_command(CLI::App& app, StabilityArgs& a) {
   a.cmd->add_option("--set", a.sets, "Override a scenario value: key.path=value (repeatable)");
   a.cmd->add_option("--kh", a.kh, "Pseudo-static horizontal coefficient (stability.kh), > 0 toward +x");
   a.cmd->add_option("--kv", a.kv, "Pseudo-static vertical coefficient (stability.kv), > 0 upward");
+  a.cmd->add_flag("--dynamic", a.dynamic,
+                  "Also the dynamic FS (stability.dynamic): the earthquake stages at strengths 1/F from the settled "
+                  "state; a trial fails when a monitored point moves failure_displacement");
   a.cmd->add_option("--bounds", a.bounds, "F_low F_high (stability.bounds)")->expected(2);
   a.cmd->add_option("--tolerance", a.tolerance, "Bisection tolerance on F (stability.tolerance)");
   a.cmd->add_flag("-q,--quiet", a.quiet, "No progress on the terminal (OUT/stability.log still gets it)");
@@ -203,6 +208,7 @@ int stability_command(StabilityArgs& a) {
   if (a.kh) sets.push_back("stability.kh=" + num(*a.kh));
   if (a.kv) sets.push_back("stability.kv=" + num(*a.kv));
   if (a.tolerance) sets.push_back("stability.tolerance=" + num(*a.tolerance));
+  if (a.dynamic) sets.push_back("stability.dynamic=true");
   if (a.bounds.size() == 2) sets.push_back(fmt::format("stability.bounds=[{}, {}]", num(a.bounds[0]), num(a.bounds[1])));
   const auto sc = dsdem::io::load_scenario(a.scenario_path, sets);
   if (a.threads > 0) omp_set_num_threads(a.threads);
@@ -221,6 +227,7 @@ int stability_command(StabilityArgs& a) {
   fmt::print("factor of safety {:.3f}", result.factor_of_safety);
   if (result.factor_of_safety_pseudo_static)
     fmt::print(", pseudo-static {:.3f}", *result.factor_of_safety_pseudo_static);
+  if (result.factor_of_safety_dynamic) fmt::print(", dynamic {:.3f}", *result.factor_of_safety_dynamic);
   fmt::print(" ({} trials, {:.1f} s wall); results in {}\n", result.trials.size(), result.wall_time_s,
              options.output_dir);
   if (!a.no_plots && dsdem::app::run_python_script("plot_stability.py", {options.output_dir}) != 0)

@@ -183,6 +183,7 @@ struct StabilitySpec {
   double failure_displacement = 0.0; // m; 0: the mean element size
   std::optional<double> damping_alpha;  // 1/s, trials and settling; absent: the static stage's
   bool keep_tension = false;         // ft is not divided by F
+  bool dynamic = false;              // also the dynamic FS: the earthquake stages at strengths 1/F
   std::vector<GaugeSpec> monitor;    // monitored points; none: every node
   SourceLocation where, where_bounds;
 };

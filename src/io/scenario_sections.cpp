@@ -553,6 +553,7 @@ void read_stability(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   st.failure_displacement = r.number(s, p, "failure_displacement").value_or(0.0);
   st.damping_alpha = r.number(s, p, "damping");
   st.keep_tension = r.boolean(s, p, "keep_tension").value_or(false);
+  st.dynamic = r.boolean(s, p, "dynamic").value_or(false);
   if (YAML::Node ms = r.section(s, p, "monitor", YAML::NodeType::Sequence); ms.IsDefined()) {
     const KeyPath mp = p.child("monitor");
     for (std::size_t i = 0; i < ms.size(); ++i) {

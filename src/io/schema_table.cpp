@@ -326,6 +326,9 @@ void add_stability(std::vector<KeySpec>& s) {
                   "Mass-proportional damping alpha of the trials (about critical for the slope's first mode).",
                   true));
   s.push_back(of("stability.keep_tension", KeyType::Boolean, "false", "Do not divide the tensile strengths by F."));
+  s.push_back(of("stability.dynamic", KeyType::Boolean, "false",
+                 "Also the dynamic factor of safety: from the static settled state, the scenario's earthquake stages "
+                 "run at strengths 1/F; a trial fails when a monitored point moves failure_displacement during them."));
   s.push_back(of("stability.monitor", KeyType::List, "",
                  "Monitored points (their displacement decides failure and is plotted against F); default: every "
                  "node."));

@@ -82,10 +82,18 @@ class StabilityRunner {
   void settle_pseudo_static(const Variant& from, Variant& v);
   void keep_settled(Variant& v);
   StabilityTrial trial(Variant& v, double F);
+  // The dynamic variant's trial: the earthquake stages at strengths 1/F from the settled state.
+  StabilityTrial dynamic_trial(Variant& v, double F);
+  void record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0);
   double max_displacement(const Variant& v) const;
   void write_mechanism(const Variant& v, double F);
   double bisect(Variant& v);
   void write_summary(StabilityResult& r);
+  double settled_stage_end() const {  // s: the end of the static stages
+    double t = 0.0;
+    for (std::size_t si = 0; si <= last_static_; ++si) t += sc_.stages[si].duration;
+    return t;
+  }
 
   PreparedRun& prepared_;
   const StabilityOptions& options_;
@@ -99,6 +107,7 @@ class StabilityRunner {
   std::optional<solver::Solver> solver_;
   std::vector<solver::Gauge> monitors_;
   std::size_t last_static_ = 0;  // index of the last static stage
+  bool has_quake_ = false;       // the scenario has earthquake stages (after last_static_)
   double alpha_ = 0.0;           // trial damping, 1/s
   long max_steps_ = 0;
   double failure_displacement_ = 0.0;
@@ -145,6 +154,10 @@ void StabilityRunner::check_setup() {
                                          "needs a static stage (gravity) before it to settle in",
                                          sc_.file, sc_.stages[0].name)});
   last_static_ = first_quake - 1;
+  has_quake_ = first_quake < sc_.stages.size();
+  if (spec_.dynamic && !has_quake_)
+    throw io::ScenarioError({spec_.where.describe(
+        "stability.dynamic needs an earthquake stage (stages[].earthquake: true) after the static ones")});
   const io::StageSpec& st = sc_.stages[last_static_];
   alpha_ = spec_.damping_alpha.value_or(st.damping.alpha);
   if (!(alpha_ > 0.0))
@@ -359,6 +372,13 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F) {
     t.reason = fmt::format("went unstable: {}", e.what());
   }
   t.broken_joints = s.broken_joints() - v.broken_settled;
+  record(v, t, t0);
+  return t;
+}
+
+// Books a finished trial: its mechanism when it is the lowest F that failed, the log line.
+void StabilityRunner::record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0) {
+  const double F = t.F;
   t.wall_time_s = seconds_since(t0);
   if (!t.stands && (v.lowest_failed == 0.0 || F < v.lowest_failed)) {
     v.lowest_failed = F;
@@ -369,6 +389,58 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F) {
                   v.name, trials_.size() + 1, F, t.stands ? "stands" : "FAILS", t.reason, t.max_displacement,
                   t.broken_joints, t.steps, t.unbalanced_ratio, human_time(t.wall_time_s)));
   trials_.push_back(t);
+}
+
+// From the static settled state (its supports and reactions), the scenario's earthquake
+// stages as they are, failure on, at strengths 1/F: the slope survives the earthquake
+// when no monitored point moves failure_displacement before they end.
+StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
+  const auto t0 = Clock::now();
+  StabilityTrial t;
+  t.variant = v.name;
+  t.F = F;
+  law::ReductionOptions ro;
+  ro.keep_tension = spec_.keep_tension;
+  law::apply_reduction(full_, F, ro, model_);
+  for (const auto& p : model_.joint_properties)
+    if (const std::string why = validate(p); !why.empty())
+      throw io::ScenarioError({spec_.where_bounds.describe(fmt::format("at F = {}: {}", F, why))});
+  solver::Solver& s = new_solver();
+  io::StageSpec settled_stage = sc_.stages[last_static_];
+  settled_stage.failure = false;
+  settled_stage.damping.alpha = alpha_;
+  apply_stage(s, settled_stage, sc_, prepared_.dt, settled_time_, &prepared_);
+  s.initialise();
+  s.restore(io::CheckpointReader(v.settled));
+  t.stands = true;
+  t.reason = "survived the earthquake stages";
+  try {
+    double stage_end = s.time();
+    for (std::size_t si = last_static_ + 1; si < sc_.stages.size() && t.stands && !stopped(); ++si) {
+      apply_stage(s, sc_.stages[si], sc_, prepared_.dt, s.time(), &prepared_);
+      stage_end += sc_.stages[si].duration;
+      while (s.time() < stage_end - 0.5 * s.settings().dt && !stopped()) {
+        s.step();
+        ++t.steps;
+        if (t.steps % kCheckEvery != 0) continue;
+        t.max_displacement = std::max(t.max_displacement, max_displacement(v));
+        if (t.max_displacement > failure_displacement_) {
+          t.stands = false;
+          t.reason = fmt::format("moved {:.3g} m (> {:.3g} m) at t = {:.3g} s in stage '{}'", t.max_displacement,
+                                 failure_displacement_, s.time(), sc_.stages[si].name);
+          break;
+        }
+      }
+    }
+    t.max_displacement = std::max(t.max_displacement, max_displacement(v));
+  } catch (const solver::InstabilityError& e) {
+    t.stands = false;
+    t.max_displacement = max_displacement(v);
+    t.reason = fmt::format("went unstable: {}", e.what());
+  }
+  t.unbalanced_ratio = unbalanced_force_ratio(model_, 0.0, g_);
+  t.broken_joints = s.broken_joints() - v.broken_settled;
+  record(v, t, t0);
   return t;
 }
 
@@ -388,6 +460,7 @@ void StabilityRunner::write_mechanism(const Variant& v, double F) {
 }
 
 double StabilityRunner::bisect(Variant& v) {
+  auto trial = [&](Variant& var, double F) { return var.name == "dynamic" ? dynamic_trial(var, F) : this->trial(var, F); };
   double lo = spec_.F_low, hi = spec_.F_high;
   const StabilityTrial at_lo = trial(v, lo);
   if (stopped()) return lo;
@@ -417,6 +490,7 @@ void StabilityRunner::write_summary(StabilityResult& r) {
   s["title"] = sc_.title;
   s["factor_of_safety"] = r.factor_of_safety;
   if (r.factor_of_safety_pseudo_static) s["factor_of_safety_pseudo_static"] = *r.factor_of_safety_pseudo_static;
+  if (r.factor_of_safety_dynamic) s["factor_of_safety_dynamic"] = *r.factor_of_safety_dynamic;
   nlohmann::ordered_json m;
   m["method"] = "strength reduction (DESIGN.md §12): c/F, tan(phi)/F" +
                 std::string(spec_.keep_tension ? "" : ", ft/F") + " for joints, Mohr-Coulomb materials and contact "
@@ -428,6 +502,7 @@ void StabilityRunner::write_summary(StabilityResult& r) {
   m["max_steps"] = max_steps_;
   m["damping_alpha_per_s"] = alpha_;
   m["keep_tension"] = spec_.keep_tension;
+  m["dynamic"] = spec_.dynamic;
   if (spec_.kh) m["kh"] = *spec_.kh;
   if (spec_.kv) m["kv"] = *spec_.kv;
   nlohmann::ordered_json mon = nlohmann::ordered_json::array();
@@ -438,7 +513,7 @@ void StabilityRunner::write_summary(StabilityResult& r) {
   for (const auto& t : r.trials)
     tr.push_back({{"variant", t.variant},
                   {"F", t.F},
-                  {"result", t.stands ? "equilibrium" : "failed"},
+                  {"result", !t.stands ? "failed" : t.variant == "dynamic" ? "survived" : "equilibrium"},
                   {"reason", t.reason},
                   {"max_displacement_m", t.max_displacement},
                   {"broken_joints", t.broken_joints},
@@ -480,6 +555,14 @@ StabilityResult StabilityRunner::run() {
     settle_pseudo_static(stat, ps);
     if (!stopped()) r.factor_of_safety_pseudo_static = bisect(ps);
   }
+  if (spec_.dynamic && !stopped()) {
+    Variant dyn = stat;
+    dyn.name = "dynamic";
+    dyn.lowest_failed = 0.0;
+    log(fmt::format("[dynamic] each trial runs the earthquake stages ({} s) from the static settled state",
+                    sc_.end_time() - settled_stage_end()));
+    r.factor_of_safety_dynamic = bisect(dyn);
+  }
   law::apply_reduction(full_, 1.0, {}, model_);
   r.trials = trials_;
   r.wall_time_s = seconds_since(wall_start_);
@@ -492,7 +575,8 @@ StabilityResult StabilityRunner::run() {
   log(fmt::format("done in {}: factor of safety {:.4f}{}", human_time(r.wall_time_s), r.factor_of_safety,
                   r.factor_of_safety_pseudo_static
                       ? fmt::format(", pseudo-static {:.4f}", *r.factor_of_safety_pseudo_static)
-                      : std::string()));
+                      : std::string()) +
+      (r.factor_of_safety_dynamic ? fmt::format(", dynamic {:.4f}", *r.factor_of_safety_dynamic) : std::string()));
   return r;
 }
 

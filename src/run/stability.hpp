@@ -54,6 +54,7 @@ struct StabilityTrial {
 struct StabilityResult {
   double factor_of_safety = 0.0;
   std::optional<double> factor_of_safety_pseudo_static;
+  std::optional<double> factor_of_safety_dynamic;  // stability.dynamic: the earthquake at strengths 1/F
   std::vector<StabilityTrial> trials;
   double wall_time_s = 0.0;
   std::string summary_path;

@@ -92,6 +92,32 @@ TEST(Stability, VerticalCutWithinFivePercentOfPastor) {
   EXPECT_EQ(s["trials"][1]["result"], "failed");
 }
 
+// The dynamic variant (DESIGN.md §12): the Dr2 column at 16 m under 4 s of the design
+// earthquake from the static settled state survives at strengths 1/0.3 and falls apart at
+// 1/2; the two bound trials are the dynamic ones after the static pair. Without an
+// earthquake stage it is an error naming the key.
+TEST(Stability, DynamicVariantRunsTheEarthquakeAtReducedStrength) {
+  const fs::path out = fresh_dir("stab_dynamic");
+  auto c = run_dsdem("stability " + example("dr2/shear_sliding.yaml") +
+                     " --set mesh.element_size=16 --set stages.1.duration=4 --bounds 0.3 2 --tolerance 5 --dynamic"
+                     " -q --no-plots --threads 1 -o " + out.string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_TRUE(s.is_object());
+  EXPECT_DOUBLE_EQ(s["factor_of_safety_dynamic"].get<double>(), 0.3);
+  ASSERT_EQ(s["trials"].size(), 4u);
+  EXPECT_EQ(s["trials"][2]["variant"], "dynamic");
+  EXPECT_EQ(s["trials"][2]["result"], "survived");
+  EXPECT_EQ(s["trials"][3]["result"], "failed");
+  EXPECT_GT(s["trials"][3]["max_displacement_m"].get<double>(), s["settings"]["failure_displacement_m"].get<double>());
+  fs::remove_all(out);
+  c = run_dsdem("stability " + example("plane_failure/dry.yaml") + " --dynamic -q --no-plots -o " + out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("stability.dynamic needs an earthquake stage"), std::string::npos) << c.output;
+  fs::remove_all(out);
+}
+
 TEST(Stability, BoundsThatBracketNothingAreAnErrorNamingTheKey) {
   const fs::path out = fresh_dir("stab_bounds");
   // Stands at both bounds.
