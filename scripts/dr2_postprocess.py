@@ -209,6 +209,19 @@ def surface_profile(P, tri, xs):
     return top
 
 
+def final_water_line(summary: dict) -> np.ndarray | None:
+    """The last stage's piezometric line from summary.json's water block, over the plot's x range."""
+    stages = summary.get("water") if isinstance(summary.get("water"), list) else []
+    pts = stages[-1].get("piezometric_line_m") if stages else None
+    if not pts:
+        return None
+    if len(pts) == 1:
+        return np.array([[PLOT_X[0], pts[0][1]], [PLOT_X[1], pts[0][1]]])
+    pts = np.array(pts, dtype=float)
+    xs = np.unique(np.concatenate([[PLOT_X[0], PLOT_X[1]], pts[(pts[:, 0] > PLOT_X[0]) & (pts[:, 0] < PLOT_X[1]), 0]]))
+    return np.column_stack([xs, np.interp(xs, pts[:, 0], pts[:, 1])])
+
+
 def make_movie(out: Path, dsdem: str | None, quiet: bool) -> None:
     """Animation of the run: `dsdem render OUT --field material --movie` over the slope."""
     import shutil
@@ -431,6 +444,9 @@ def main(argv=None) -> int:
                      edgecolors="none", alpha=0.6)
         ax.fill(*channel_polygon().T, color="tab:blue", alpha=0.2, label="river channel (< 790 m)")
         ax.plot(*INTAKE, "k^", label="intake")
+        line = final_water_line(summary)
+        if line is not None:  # the last stage's piezometric line (DESIGN.md §11)
+            ax.plot(line[:, 0], line[:, 1], color=(0.1, 0.35, 0.75), lw=1.2, label="piezometric line")
         ax.set_xlim(*PLOT_X)
         ax.set_ylim(720, 1100)
         ax.set_aspect("equal")
