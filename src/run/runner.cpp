@@ -268,7 +268,7 @@ bool Runner::step(const io::StageSpec& stage, std::size_t si) {
   outputs_->update_gauge_stats(state_.gauges);
   const double t = solver.time();
   write_due_outputs(si, t);
-  state_.peak_kinetic = std::max(state_.peak_kinetic, solver.energy().kinetic);
+  state_.peak_kinetic = std::max(state_.peak_kinetic, solver.kinetic_energy());
   if (at_rest(stage, t)) {
     log_->info("stage '{}' at rest at t = {:.4g} s (kinetic energy below {} of its peak)", stage.name, t,
                stage.stop_kinetic_ratio);
@@ -301,7 +301,7 @@ void Runner::write_due_outputs(std::size_t si, double t) {
 
 // The stage's kinetic energy fell below stop_kinetic_ratio of its peak (after its first 5 %).
 bool Runner::at_rest(const io::StageSpec& stage, double t) const {
-  return stage.stop_kinetic_ratio > 0 && solver_->energy().kinetic < stage.stop_kinetic_ratio * state_.peak_kinetic &&
+  return stage.stop_kinetic_ratio > 0 && solver_->kinetic_energy() < stage.stop_kinetic_ratio * state_.peak_kinetic &&
          t > 0.05 * stage.duration + (state_.stage_end - stage.duration);
 }
 

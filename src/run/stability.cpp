@@ -264,8 +264,8 @@ void StabilityRunner::settle_static(Variant& v) {
     while (s.time() < stage_end - 0.5 * s.settings().dt && !stopped()) {
       s.step();
       ++steps;
-      peak = std::max(peak, s.energy().kinetic);
-      if (st.stop_kinetic_ratio > 0 && s.energy().kinetic < st.stop_kinetic_ratio * peak &&
+      peak = std::max(peak, s.kinetic_energy());
+      if (st.stop_kinetic_ratio > 0 && s.kinetic_energy() < st.stop_kinetic_ratio * peak &&
           s.time() > stage_start + 0.05 * st.duration)
         break;
     }

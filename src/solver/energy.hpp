@@ -28,8 +28,8 @@ struct EnergyLedger {
   // Velocity Verlet's kinetic offset (DESIGN.md §1, §6): with the trapezoidal work of the
   // forces the integrator conserves 1/2 m v(n-1/2).v(n+1/2) = 1/2 m v(n)^2 - dt^2/8 m |a(n)|^2,
   // not the kinetic energy at the full step. This is the change of sum dt^2/8 m |a|^2 since
-  // the start, booked step by step with each step's dt; large where nodes vibrate near the
-  // stable step.
+  // the start, each step's with its dt (Solver sums it per stretch of constant dt, settled
+  // when the ledger is read: Solver::energy()); large where nodes vibrate near the stable step.
   double verlet_kinetic_offset = 0.0;
 
   double mechanical() const { return kinetic + strain + gravity_potential + joint_elastic + contact_elastic; }

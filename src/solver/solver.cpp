@@ -84,6 +84,7 @@ void Solver::release_damping_buffers_if_unused() {
 }
 
 void Solver::initialise() {
+  restart_verlet_segment(0.0);  // the steps so far booked; the new accelerations start afresh
   clear_forces();
   add_gravity();
   water_booking_ = false;  // no step taken: the water forces do no work yet
@@ -97,7 +98,9 @@ void Solver::initialise() {
   // The forces summed in n.a become the accelerations f/m, in place (as finish_kick()).
   exec::parallel_for(team_, n.size(), [&](std::size_t i) { n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero()); });
   if (damped()) damping_force_prev_ = damping_force_;
-  update_energy(/*book_offset=*/false);
+  update_energy();
+  restart_verlet_segment(settings_.dt);
+  settle_verlet_offset();
   energy_.initial_total =
       energy_.mechanical() - energy_.verlet_kinetic_offset + energy_.dissipated() - energy_.work_in();
 }
@@ -124,6 +127,7 @@ void Solver::begin_step() {
   team_.begin_step();
   time_step_.update(model_, broken_joints_);
   settings_.dt = time_step_.dt();
+  if (settings_.dt != verlet_offset_.dt) restart_verlet_segment(settings_.dt);
   if (any_plastic_) commit_plastic_state();
   const auto& n = model_.nodes;
   // The displacements before the drift that the work of the supports and of the viscous
@@ -277,7 +281,7 @@ void Solver::apply_constraints() {
   }
 }
 
-void Solver::update_energy(bool book_offset) {
+void Solver::update_energy() {
   auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
   // The node sums and the strain energy in one region, fixed chunks: deterministic. Each
@@ -285,47 +289,61 @@ void Solver::update_energy(bool book_offset) {
   // A node pass deferred to here (the velocities) runs first on the nodes each thread
   // sums: node-local, so no barrier.
   const exec::NodePass pass = team_.take_node_pass();
-  double mass_accel2 = 0.0;
   auto prepare = [&](std::size_t begin, std::size_t end) {
     if (pass) pass(begin, end);
   };
   auto strain = [&](std::size_t t) { return std::array<double, 1>{element_strain_energy_[t]}; };
   const std::size_t nt = element_strain_energy_.size();
   if (damped()) {
-    const auto [node_sums, strain_sum] = exec::deterministic_sums<4, 1>(
+    const auto [node_sums, strain_sum] = exec::deterministic_sums<3, 1>(
         n.size(), prepare,
         [&](std::size_t i) {
-          return std::array<double, 4>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
-                                       n.m[i] * n.a[i].squaredNorm(),
+          return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
                                        0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
         },
         nt, strain, reduction_scratch_, team_.parallel(), team_.node_chunks());
     energy_.kinetic = node_sums[0];
     energy_.gravity_potential = node_sums[1];
-    mass_accel2 = node_sums[2];
-    energy_.damping_dissipated -= node_sums[3];
+    energy_.damping_dissipated -= node_sums[2];
     energy_.strain = strain_sum[0];
   } else {
-    const auto [node_sums, strain_sum] = exec::deterministic_sums<3, 1>(
+    const auto [node_sums, strain_sum] = exec::deterministic_sums<2, 1>(
         n.size(), prepare,
         [&](std::size_t i) {
-          return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
-                                       n.m[i] * n.a[i].squaredNorm()};
+          return std::array<double, 2>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i])};
         },
         nt, strain, reduction_scratch_, team_.parallel(), team_.node_chunks());
     energy_.kinetic = node_sums[0];
     energy_.gravity_potential = node_sums[1];
-    mass_accel2 = node_sums[2];
     energy_.strain = strain_sum[0];
   }
-  // The step's kinetic energy change is the trapezoidal work of the forces plus
-  // dt^2/8 (sum m|a(n+1)|^2 - sum m|a(n)|^2), both kicks with this step's dt (DESIGN.md §1).
-  if (book_offset) energy_.verlet_kinetic_offset += 0.125 * settings_.dt * settings_.dt * (mass_accel2 - mass_accel2_);
-  mass_accel2_ = mass_accel2;
+  offset_settled_ = false;  // the accelerations are this step's: energy() settles the offset
   if (any_plastic_) energy_.plastic_dissipated = plastic_dissipation_sum();
   if (water_.active()) energy_.water_work += water_work_sum();
   std::swap(damping_force_prev_, damping_force_);
   release_damping_buffers_if_unused();
+}
+
+double Solver::mass_accel2() const {
+  const Nodes& n = model_.nodes;
+  double s = 0.0;
+  for (std::size_t i = 0; i < n.size(); ++i) s += n.m[i] * n.a[i].squaredNorm();
+  return s;
+}
+
+// Each step's kinetic energy change is the trapezoidal work of the forces plus
+// dt^2/8 (S(n+1) - S(n)), both kicks with that step's dt (DESIGN.md §1): over the open
+// segment's steps that sums to dt^2/8 (S - s_start).
+void Solver::restart_verlet_segment(double dt) {
+  const double s = mass_accel2();
+  const double closed = verlet_offset_.closed + 0.125 * verlet_offset_.dt * verlet_offset_.dt * (s - verlet_offset_.s_start);
+  verlet_offset_ = {closed, s, dt};
+}
+
+void Solver::settle_verlet_offset() const {
+  const VerletOffset& o = verlet_offset_;
+  energy_.verlet_kinetic_offset = o.closed + 0.125 * o.dt * o.dt * (mass_accel2() - o.s_start);
+  offset_settled_ = true;
 }
 
 Vec2 Solver::reaction_on(const std::vector<Index>& nodes) const {

@@ -97,8 +97,14 @@ class Solver {
 
   double time() const { return time_; }
   long step_count() const { return step_; }
-  const EnergyLedger& energy() const { return energy_; }
-  EnergyLedger& energy() { return energy_; }
+  // The ledger at the current state. Its Verlet kinetic offset is brought up to date on
+  // the first read after a step (an O(N) sum; see VerletOffset).
+  const EnergyLedger& energy() const {
+    if (!offset_settled_) settle_verlet_offset();
+    return energy_;
+  }
+  // The full step's kinetic energy, for per-step checks: no O(N) sum.
+  double kinetic_energy() const { return energy_.kinetic; }
   Model& model() { return model_; }
   const Model& model() const { return model_; }
   // Reaction force on a group's constrained nodes (sum), N.
@@ -156,9 +162,8 @@ class Solver {
   void add_damping_forces();           // 7: Rayleigh mass part (the stiffness part is in 3)
   void apply_constraints();            // reactions at prescribed dofs
   void finish_velocities();            // 8: a = f/m, velocity Verlet's second half
-  // The energy ledger; book_offset = false (initialise) takes the accelerations as the
-  // start of verlet_kinetic_offset without booking a step.
-  void update_energy(bool book_offset = true);
+  // The energy ledger but its Verlet kinetic offset, which energy() settles.
+  void update_energy();
   void check_stability();
   void end_step();
 
@@ -212,14 +217,28 @@ class Solver {
   bool setup_memory_released_ = false;  // after the first step of this solver (a restart's too)
   StepSettings settings_;
   std::vector<PrescribedDof> constraints_;
-  EnergyLedger energy_;
+  mutable EnergyLedger energy_;  // mutable: energy() settles its verlet_kinetic_offset
   double time_ = 0.0;
   double kick_from_ = 0.0;  // time_ at the step's start (begin_step)
   long step_ = 0;
   long broken_joints_ = 0;
   int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
   double created_prev_ = 0.0;    // energy created (not put in) at the previous step
-  double mass_accel2_ = 0.0;     // sum m |a|^2 at the last update_energy (EnergyLedger::verlet_kinetic_offset)
+  // Velocity Verlet's kinetic offset (EnergyLedger::verlet_kinetic_offset) is the sum of each
+  // step's dt^2/8 (S(n+1) - S(n)), S = sum m |a|^2 (DESIGN.md §1). Over steps of one dt it
+  // telescopes, so S is summed only where dt changes and when the ledger is read: the
+  // offset is the closed segments' sum plus dt^2/8 (S - s_start) of the open one.
+  struct VerletOffset {
+    double closed = 0.0;   // J/m: the segments before the open one
+    double s_start = 0.0;  // S at the open segment's start
+    double dt = 0.0;       // the open segment's step, s (0 before initialise(): books nothing)
+  };
+  VerletOffset verlet_offset_;
+  mutable bool offset_settled_ = false;  // energy_.verlet_kinetic_offset is that of the current state
+  double mass_accel2() const;            // S at the current state, summed in node order
+  // Closes the open segment at the current state and opens one with step dt.
+  void restart_verlet_segment(double dt);
+  void settle_verlet_offset() const;
 
   // Contact: driver, pair parameters. The contact phase reads the positions as X + u.
   std::unique_ptr<contact::ContactForces> contact_;

@@ -83,7 +83,7 @@ void Solver::save(io::CheckpointWriter& out) const {
   const std::vector<double> energies{e.kinetic, e.strain, e.gravity_potential, e.joint_elastic, e.contact_elastic,
                                      e.external_work, e.damping_dissipated, e.fracture_dissipated,
                                      e.friction_dissipated, e.initial_total, e.contact_damping_dissipated,
-                                     e.verlet_kinetic_offset, mass_accel2_};
+                                     verlet_offset_.closed, verlet_offset_.s_start, verlet_offset_.dt};
   out.put("energy", energies);
   if (water_.size() > 0) {  // the water's work so far and its last forces (their work's first half)
     out.put("water/work", energy_.water_work);
@@ -224,8 +224,10 @@ void Solver::restore(const io::CheckpointReader& in) {
   broken_joints_ = in.integer("broken_joints");
   const auto e = in.doubles("energy");
   // 10 values before contact damping had a term of its own (it was in friction then), 11
-  // before the Verlet kinetic offset (and the sum m|a|^2 it continues from).
-  if (e.size() != 10 && e.size() != 11) check_size("energy", e.size(), 13);
+  // before the Verlet kinetic offset, 13 while it was booked every step (the offset and S
+  // at the saved state). 14: the Verlet offset's closed segments, S at the open segment's
+  // start and its dt (Solver::VerletOffset).
+  if (e.size() != 10 && e.size() != 11 && e.size() != 13) check_size("energy", e.size(), 14);
   energy_ = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8], e[9], e.size() > 10 ? e[10] : 0.0};
   if (in.has("water/work")) {
     energy_.water_work = in.scalar("water/work");
@@ -236,15 +238,7 @@ void Solver::restore(const io::CheckpointReader& in) {
       for (int k = 0; k < 3; ++k) prev[t][k] = Vec2(f[6 * t + 2 * k], f[6 * t + 2 * k + 1]);
     water_.restore_previous_forces(std::move(prev));
   }
-  if (e.size() > 11) energy_.verlet_kinetic_offset = e[11];
-  const bool has_accel2 = e.size() > 12;
-  if (has_accel2) mass_accel2_ = e[12];
   restore_nodes(in);
-  if (!has_accel2) {  // an older file: the offset starts from the restored accelerations
-    const Nodes& n = model_.nodes;
-    mass_accel2_ = 0.0;
-    for (std::size_t i = 0; i < n.size(); ++i) mass_accel2_ += n.m[i] * n.a[i].squaredNorm();
-  }
   restore_triangles(in);
   restore_joints(in);
   restore_supports(in);
@@ -253,6 +247,12 @@ void Solver::restore(const io::CheckpointReader& in) {
   // earlier state may have fewer joints broken than this solver has seen).
   time_step_.restart(model_, broken_joints_);
   settings_.dt = time_step_.dt();
+  if (e.size() == 14) {
+    verlet_offset_ = {e[11], e[12], e[13]};
+  } else {  // an older file: the open segment starts at the restored state
+    verlet_offset_ = {e.size() > 11 ? e[11] : 0.0, mass_accel2(), settings_.dt};
+  }
+  offset_settled_ = false;
 }
 
 void Solver::restore_nodes(const io::CheckpointReader& in) {
