@@ -81,6 +81,7 @@ class StabilityRunner {
   void settle_static(Variant& v);
   void settle_pseudo_static(const Variant& from, Variant& v);
   void keep_settled(Variant& v);
+  solver::Solver& start_trial(const Variant& v, double F);
   StabilityTrial trial(Variant& v, double F);
   // The dynamic variant's trial: the earthquake stages at strengths 1/F from the settled state.
   StabilityTrial dynamic_trial(Variant& v, double F);
@@ -327,11 +328,9 @@ double StabilityRunner::max_displacement(const Variant& v) const {
   return m;
 }
 
-StabilityTrial StabilityRunner::trial(Variant& v, double F) {
-  const auto t0 = Clock::now();
-  StabilityTrial t;
-  t.variant = v.name;
-  t.F = F;
+// A trial's start: the strengths divided by F (checked), a new solver on the last static
+// stage's supports with failure on, restored to the variant's settled state.
+solver::Solver& StabilityRunner::start_trial(const Variant& v, double F) {
   law::ReductionOptions ro;
   ro.keep_tension = spec_.keep_tension;
   law::apply_reduction(full_, F, ro, model_);
@@ -342,6 +341,15 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F) {
   apply_stage(s, trial_stage(), scenario_with(v.gravity), prepared_.dt, settled_time_, &prepared_);
   s.initialise();
   s.restore(io::CheckpointReader(v.settled));
+  return s;
+}
+
+StabilityTrial StabilityRunner::trial(Variant& v, double F) {
+  const auto t0 = Clock::now();
+  StabilityTrial t;
+  t.variant = v.name;
+  t.F = F;
+  solver::Solver& s = start_trial(v, F);
   bool decided = false;
   try {
     while (t.steps < max_steps_ && !stopped()) {
@@ -399,19 +407,7 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
-  law::ReductionOptions ro;
-  ro.keep_tension = spec_.keep_tension;
-  law::apply_reduction(full_, F, ro, model_);
-  for (const auto& p : model_.joint_properties)
-    if (const std::string why = validate(p); !why.empty())
-      throw io::ScenarioError({spec_.where_bounds.describe(fmt::format("at F = {}: {}", F, why))});
-  solver::Solver& s = new_solver();
-  io::StageSpec settled_stage = sc_.stages[last_static_];
-  settled_stage.failure = false;
-  settled_stage.damping.alpha = alpha_;
-  apply_stage(s, settled_stage, sc_, prepared_.dt, settled_time_, &prepared_);
-  s.initialise();
-  s.restore(io::CheckpointReader(v.settled));
+  solver::Solver& s = start_trial(v, F);  // the settled supports: the earthquake stages start from them
   t.stands = true;
   t.reason = "survived the earthquake stages";
   try {
