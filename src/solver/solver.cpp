@@ -187,9 +187,9 @@ void Solver::clear_forces() {
 }
 
 void Solver::add_gravity() {
-  auto& n = model_.nodes;
+  const auto& n = model_.nodes;
   const Vec2 g = settings_.gravity;
-  exec::parallel_for(team_, n.size(), [&](std::size_t i) { n.a[i] += n.m[i] * g; });
+  forces_.add_per_node(team_, [&](std::size_t i) { return Vec2(n.m[i] * g); });
 }
 
 bool Solver::bonded(Index i, Index j) const {
@@ -208,7 +208,7 @@ void Solver::add_contact_forces() {
   const contact::ContactInput in{n.X, n.v, n.m, model_.triangles.conn, cs.active, cs.radius,
                                  model_.triangles.group, cs.body, n.u};
   contact_stats_ = contact_->compute(in, contact_params_, settings_.dt,
-                                     [this](Index i, Index j) { return bonded(i, j); }, n.a,
+                                     [this](Index i, Index j) { return bonded(i, j); }, forces_.scatter(),
                                      broken_joints_);  // bonded() changes only when a joint breaks
   energy_.contact_elastic = contact_stats_.elastic_energy;
   energy_.friction_dissipated += contact_stats_.friction_dissipation;
@@ -251,9 +251,9 @@ void Solver::add_boundary_forces() {
       if (quake_v_.record) ff += boundary::free_field_column(boundary::IncidentWave::P, quake_v_, bn.medium, bn.y, bn.H, tq);
       F += boundary::free_field_input_force(bn.coef, bn.area, bn.normal, ff);
     }
-    n.a[i] += F;  // the force sum (Nodes::a)
+    forces_.add_at(i, F);
     // Everything the boundary does (springs, dashpots, input) is booked as external work.
-    work += 0.5 * (boundary_force_prev_[k] + F).dot(n.u[i] - bn.u_prev);
+    work += drift_work(boundary_force_prev_[k], F, n.u[i] - bn.u_prev);
     boundary_force_prev_[k] = F;
   }
   energy_.external_work += work;
@@ -262,11 +262,11 @@ void Solver::add_boundary_forces() {
 void Solver::add_damping_forces() {
   const double alpha = settings_.alpha;
   if (alpha <= 0.0) return;
-  auto& n = model_.nodes;
-  exec::parallel_for(team_, n.size(), [&](std::size_t i) {
+  const auto& n = model_.nodes;
+  forces_.add_per_node(team_, [&](std::size_t i) {
     const Vec2 fd = -alpha * n.m[i] * n.v[i];
-    n.a[i] += fd;
-    damping_force_[i] += fd;
+    damping_force_[i] += fd;  // booked with drift_work in update_energy()
+    return fd;
   });
 }
 
@@ -274,9 +274,9 @@ void Solver::apply_constraints() {
   auto& n = model_.nodes;
   for (auto& d : constraints_) {
     // The reaction makes the node follow its prescribed acceleration.
-    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - n.a[d.node][d.dir];  // force sum
-    n.a[d.node][d.dir] += reaction;
-    energy_.external_work += 0.5 * (d.reaction_prev + reaction) * (n.u[d.node][d.dir] - d.u_prev);
+    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - forces_.at(d.node)[d.dir];
+    forces_.add_at(d.node, d.dir, reaction);
+    energy_.external_work += drift_work(d.reaction_prev, reaction, n.u[d.node][d.dir] - d.u_prev);
     d.reaction_prev = reaction;
   }
 }
@@ -299,7 +299,7 @@ void Solver::update_energy() {
         n.size(), prepare,
         [&](std::size_t i) {
           return std::array<double, 3>{0.5 * n.m[i] * n.v[i].squaredNorm(), -n.m[i] * g.dot(n.u[i]),
-                                       0.5 * (damping_force_prev_[i] + damping_force_[i]).dot(n.u[i] - u_prev_[i])};
+                                       drift_work(damping_force_prev_[i], damping_force_[i], n.u[i] - u_prev_[i])};
         },
         nt, strain, reduction_scratch_, team_.parallel(), team_.node_chunks());
     energy_.kinetic = node_sums[0];

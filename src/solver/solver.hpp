@@ -19,6 +19,7 @@
 #include "solver/constraints.hpp"
 #include "solver/energy.hpp"
 #include "solver/integrator.hpp"
+#include "solver/node_forces.hpp"
 #include "solver/time_step.hpp"
 #include "solver/water_loads.hpp"
 
@@ -213,6 +214,7 @@ class Solver {
 
   Model& model_;
   exec::Team team_;
+  NodeForces forces_{model_.nodes.a};  // every phase's forces into the force sum
   TimeStepControl time_step_;
   bool setup_memory_released_ = false;  // after the first step of this solver (a restart's too)
   StepSettings settings_;

@@ -72,11 +72,11 @@ struct ElementKernels {
       std::array<Vec2, 3> df;
       const fem::TriangleResponse r = element(t, df);
       if (!(r.detF > 0.0)) bits |= kInverted;
-      s.scatter_.add_own(t, tri.conn[t], r.force, df, element_damping, joint_force, n.a.data(), damping_sum);
+      s.scatter_.add_own(t, tri.conn[t], r.force, df, element_damping, joint_force, s.forces_.scatter().data(), damping_sum);
     }
     return bits;
   }
-  void gathered(std::size_t g) const { s.scatter_.gather(g, joint_force, n.a.data(), damping_sum); }
+  void gathered(std::size_t g) const { s.scatter_.gather(g, joint_force, s.forces_.scatter().data(), damping_sum); }
 };
 
 void Solver::add_element_and_joint_forces() {

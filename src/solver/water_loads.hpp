@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "solver/node_forces.hpp"
 #include "water/hydrostatic.hpp"
 
 namespace dsdem::solver {
@@ -62,7 +63,7 @@ class WaterLoads {
                                              : std::array<Vec2, 3>{};
     double w = 0.0;
     if (book)
-      for (int k = 0; k < 3; ++k) w += 0.5 * (previous_[t][k] + f[k]).dot(dt * n.v[c[k]]);
+      for (int k = 0; k < 3; ++k) w += drift_work(previous_[t][k], f[k], dt * n.v[c[k]]);
     work_[t] = w;
     previous_[t] = f;
     for (int k = 0; k < 3; ++k) force[k] += f[k];
