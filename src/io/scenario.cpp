@@ -31,14 +31,7 @@ JointSpec JointSpec::merged(const JointSpec& over) const {
     if (theirs) mine = theirs;
   };
   take(j.law, over.law);
-  take(j.kn, over.kn);
-  take(j.ks, over.ks);
-  take(j.penalty, over.penalty);
-  take(j.ft, over.ft);
-  take(j.c, over.c);
-  take(j.phi_deg, over.phi_deg);
-  take(j.GI, over.GI);
-  take(j.GII, over.GII);
+  j.params = params.merged(over.params);
   take(j.broken, over.broken);
   j.where = over.where;
   return j;

@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -86,10 +87,26 @@ struct DampingSpec {
   double beta = 0.0;   // s
 };
 
+// A law's parameters as the scenario gives them, by their declared names (law::ParamDecl),
+// in the units the declaration states; absent ones are not in the map.
+struct GivenParams {
+  std::map<std::string, double, std::less<>> values;
+  std::optional<double> get(std::string_view name) const {
+    const auto it = values.find(name);
+    return it == values.end() ? std::nullopt : std::optional<double>(it->second);
+  }
+  // These, with the values of `over` where it gives them.
+  GivenParams merged(const GivenParams& over) const {
+    GivenParams g = *this;
+    for (const auto& [k, v] : over.values) g.values[k] = v;
+    return g;
+  }
+};
+
 // Joint properties as given; absent values fall back to joints.default (DESIGN.md §3).
 struct JointSpec {
   std::optional<std::string> law;  // joint law by name (law/registry); joints.default's when absent
-  std::optional<double> kn, ks, penalty, ft, c, phi_deg, GI, GII;
+  GivenParams params;              // the joint law's parameters (law::joint_laws())
   std::optional<bool> broken;
   SourceLocation where;
   // Values of `over` where given, else these.
@@ -107,7 +124,7 @@ struct JointsSection {
 
 struct ContactPairSpec {
   std::string group_a, group_b;
-  std::optional<double> friction, restitution, kn;
+  GivenParams params;  // the contact law's parameters declared per pair (law::ParamDecl::per_pair)
   SourceLocation where;
 };
 

@@ -136,25 +136,32 @@ std::vector<double> read_law_params(SchemaReader& r, const YAML::Node& m, const 
   return values;
 }
 
+// The parameters of `decl` that `m` gives (and the required ones, which the schema
+// reports when missing), by declared name.
+GivenParams read_given_params(SchemaReader& r, const YAML::Node& m, const KeyPath& p, const law::LawDecl& decl,
+                              bool per_pair_only) {
+  GivenParams g;
+  for (const auto& param : decl.params) {
+    if (per_pair_only && !param.per_pair) continue;
+    if (!m[param.name].IsDefined() && !param.required()) continue;  // an absent one keeps the other sets' value
+    if (const std::optional<double> v = r.number(m, p, param.name)) g.values[param.name] = *v;
+  }
+  return g;
+}
+
 JointSpec read_joint_spec(SchemaReader& r, const YAML::Node& m, const KeyPath& p, const std::string& inherited_law) {
   JointSpec j;
   j.where = location(r, m, p.actual);
   if (!m.IsMap()) {
-    r.error(m, p.actual, "expected a map of joint properties (kn, ks, ft, c, phi, GI, GII, broken)");
+    r.error(m, p.actual, "expected a map of joint properties (the joint law's parameters and broken)");
     return j;
   }
   r.check_keys(m, p);
   if (m["law"].IsDefined()) j.law = r.string(m, p, "law");
-  if (const law::LawDecl* decl = law::joint_laws().find(j.law.value_or(inherited_law)))
+  if (const law::LawDecl* decl = law::joint_laws().find(j.law.value_or(inherited_law))) {
     check_law_keys(r, m, p, *decl, law::joint_laws(), "law");
-  j.kn = r.number(m, p, "kn");
-  j.ks = r.number(m, p, "ks");
-  j.penalty = m["penalty"].IsDefined() ? r.number(m, p, "penalty") : std::nullopt;
-  j.ft = r.number(m, p, "ft");
-  j.c = r.number(m, p, "c");
-  j.phi_deg = r.number(m, p, "phi");
-  j.GI = r.number(m, p, "GI");
-  j.GII = r.number(m, p, "GII");
+    j.params = read_given_params(r, m, p, *decl, false);
+  }
   if (m["broken"].IsDefined()) j.broken = r.boolean(m, p, "broken");
   return j;
 }
@@ -427,7 +434,7 @@ void read_contact(SchemaReader& r, YAML::Node& root, Scenario& sc) {
       for (std::size_t i = 0; i < pl.size(); ++i) {
         const KeyPath ip = p.child("pairs").index(i);
         if (!pl[i].IsMap()) {
-          r.error(pl[i], ip.actual, "expected a map with groups and friction / restitution / kn");
+          r.error(pl[i], ip.actual, "expected a map with groups and the contact law's pair parameters");
           continue;
         }
         r.check_keys(pl[i], ip);
@@ -440,9 +447,8 @@ void read_contact(SchemaReader& r, YAML::Node& root, Scenario& sc) {
           ps.group_b = g[1].Scalar();
         }
         ps.where = location(r, g.IsDefined() ? g : pl[i], ip.child("groups").actual);
-        ps.friction = pl[i]["friction"].IsDefined() ? r.number(pl[i], ip, "friction") : std::nullopt;
-        ps.restitution = pl[i]["restitution"].IsDefined() ? r.number(pl[i], ip, "restitution") : std::nullopt;
-        ps.kn = pl[i]["kn"].IsDefined() ? r.number(pl[i], ip, "kn") : std::nullopt;
+        if (const law::LawDecl* decl = law::contact_laws().find(cs.law))
+          ps.params = read_given_params(r, pl[i], ip, *decl, true);
         cs.pairs.push_back(ps);
       }
     }

@@ -200,9 +200,15 @@ void add_contact(std::vector<KeySpec>& s) {
   s.push_back(of("contact.pairs", KeyType::List, "", "Friction / restitution / stiffness for particular pairs of surface groups."));
   s.push_back(of("contact.pairs[]", KeyType::Map, "", "One pair of groups."));
   s.push_back(of("contact.pairs[].groups", KeyType::List, "required", "Two surface group names (the same name twice: within one group)."));
-  s.push_back(num("contact.pairs[].friction", "", "contact.friction", 0, kInf, "Coulomb friction coefficient."));
-  s.push_back(num("contact.pairs[].restitution", "", "contact.restitution", 0, 1, "Coefficient of restitution.", true));
-  s.push_back(num("contact.pairs[].kn", "Pa", "contact.kn", 0, kInf, "Normal stiffness.", true));
+  // A law's parameters declared per pair, defaulting to the contact section's value.
+  std::vector<std::string> per_pair;
+  for (const auto& l : law::contact_laws().laws())
+    for (const auto& p : l.params) {
+      if (!p.per_pair || std::find(per_pair.begin(), per_pair.end(), p.name) != per_pair.end()) continue;
+      per_pair.push_back(p.name);
+      s.push_back(num("contact.pairs[]." + p.name, p.unit, "contact." + p.name, p.min, p.max,
+                      "contact." + p.name + " for this pair of groups.", p.min_exclusive, p.max_exclusive));
+    }
 }
 
 // Earthquake input (DESIGN.md §5; paper §2.2) and the stage switches after it.

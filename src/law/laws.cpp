@@ -132,6 +132,8 @@ LawDecl spring_dashpot_coulomb_decl() {
             "livelier than e: two blocks of 4 x 4 cells meeting face to face with the default kn rebound with an "
             "effective e of about 0.8 for e = 0.5.",
             true)};
+  for (auto& p : d.params)  // what one pair of surface groups may set for itself (contact.pairs[])
+    p.per_pair = p.name == "kn" || p.name == "friction" || p.name == "restitution";
   d.module_state = "per touching feature pair: tangential force (the contact history)";
   return d;
 }

@@ -30,6 +30,8 @@ struct ParamDecl {
   bool min_exclusive = false;
   bool max_exclusive = false;
   std::string doc;
+  // A contact parameter that contact.pairs[] may set for one pair of surface groups.
+  bool per_pair = false;
   // The default when default_text is a rule: computed from the parameters declared before
   // this one (values in declaration order). Empty when the caller applies the rule itself.
   std::function<double(const LawDecl&, std::span<const double>)> rule;

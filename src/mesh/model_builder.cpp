@@ -89,20 +89,21 @@ JointProperties make_joint_property(const std::string& name, const io::JointSpec
   JointProperties p;
   p.name = name;
   p.law = static_cast<Index>(law::joint_laws().index(spec.law.value_or(std::string(law::kDefaultJointLaw))));
-  if (spec.kn) {
-    p.kn = *spec.kn;
+  const io::GivenParams& g = spec.params;
+  if (const auto kn = g.get("kn")) {
+    p.kn = *kn;
   } else {
-    const double penalty = spec.penalty.value_or(10.0);
+    const double penalty = g.get("penalty").value_or(10.0);
     p.kn = penalty * E / h;
     p.penalty_h = h;
   }
-  p.ks = spec.ks.value_or(p.kn);
-  p.ks_given = spec.ks.has_value();
-  p.ft = spec.ft.value_or(0.0);
-  p.c = spec.c.value_or(0.0);
-  p.phi = spec.phi_deg.value_or(0.0) * kPi / 180.0;
-  p.GI = spec.GI.value_or(0.0);
-  p.GII = spec.GII.value_or(0.0);
+  p.ks = g.get("ks").value_or(p.kn);
+  p.ks_given = g.get("ks").has_value();
+  p.ft = g.get("ft").value_or(0.0);
+  p.c = g.get("c").value_or(0.0);
+  p.phi = g.get("phi").value_or(0.0) * kPi / 180.0;
+  p.GI = g.get("GI").value_or(0.0);
+  p.GII = g.get("GII").value_or(0.0);
   p.initially_broken = spec.broken.value_or(false);
   const std::string problem = validate(p);
   if (!problem.empty()) errors.push_back(spec.where.describe(fmt::format("joint properties '{}': {}", name, problem)));
@@ -256,7 +257,7 @@ double set_contact_pairs(const io::Scenario& sc, Model& model, std::vector<std::
     }
     if (!ok) continue;
     const double E = std::min(group_E(ga), group_E(gb));
-    c.pairs.push_back({std::min(ga, gb), std::max(ga, gb), props(E, ps.kn, ps.friction, ps.restitution)});
+    c.pairs.push_back({std::min(ga, gb), std::max(ga, gb), props(E, ps.params.get("kn"), ps.params.get("friction"), ps.params.get("restitution"))});
   }
   for (const auto& p : c.pairs) c.max_kn = std::max(c.max_kn, p.props.kn);
   return E_min;

@@ -189,6 +189,37 @@ TEST(MaterialLaws, JointAndContactLawKeys) {
   EXPECT_TRUE(has_error(errors, "joints.default.law: 'czm' is not one of: cohesive"));
 }
 
+// Joint and pair parameters are kept by their declared names: a set of overrides gives only
+// what it names, merged over joints.default; a pair takes the contact law's per-pair
+// parameters, and a parameter the law does not declare per pair is an unknown key there.
+TEST(MaterialLaws, GivenParametersGoByTheirDeclaredNames) {
+  const std::string joints = "joints:\n  default:\n    ft: 1.0e6\n    c: 2.0e6\n    phi: 30\n    GI: 10\n    GII: 50\n"
+                             "    penalty: 20\n  curves:\n    crack:\n      ft: 1.0e5\n      kn: 3.0e12\n";
+  const std::string contact = "contact:\n  friction: 0.3\n  pairs:\n    - groups: [a, b]\n      friction: 0.6\n"
+                              "      restitution: 0.2\n";
+  const io::Scenario sc = io::parse_scenario(scenario() + joints + contact, "case.yaml");
+  const io::JointSpec& d = sc.joints.defaults;
+  for (const auto& p : law::joint_laws().get("cohesive").params)
+    EXPECT_EQ(d.params.get(p.name).has_value(), p.name != "kn" && p.name != "ks") << p.name;
+  EXPECT_EQ(d.params.get("penalty"), 20.0);
+  const io::JointSpec crack = d.merged(sc.joints.curves.at("crack"));
+  EXPECT_EQ(sc.joints.curves.at("crack").params.values.size(), 2u);
+  EXPECT_EQ(crack.params.get("ft"), 1.0e5);
+  EXPECT_EQ(crack.params.get("kn"), 3.0e12);
+  EXPECT_EQ(crack.params.get("c"), 2.0e6);
+  EXPECT_EQ(crack.params.get("penalty"), 20.0);
+  ASSERT_EQ(sc.contact.pairs.size(), 1u);
+  const io::GivenParams& pair = sc.contact.pairs[0].params;
+  EXPECT_EQ(pair.get("friction"), 0.6);
+  EXPECT_EQ(pair.get("restitution"), 0.2);
+  EXPECT_FALSE(pair.get("kn").has_value());
+  // The pair keys are the law's per-pair parameters, and only those.
+  for (const auto& p : law::contact_laws().get("spring_dashpot_coulomb").params)
+    EXPECT_EQ(io::find_spec("contact.pairs[]." + p.name) != nullptr, p.per_pair) << p.name;
+  const auto errors = errors_of(scenario() + "contact:\n  pairs:\n    - groups: [a, b]\n      ks_ratio: 0.5\n");
+  EXPECT_TRUE(has_error(errors, "contact.pairs[0].ks_ratio: unknown key"));
+}
+
 TEST(MaterialLaws, MohrCoulombIsPlaneStrainOnly) {
   const auto errors = errors_of(scenario("  element_size: 0.25\n", "  element_size: 0.25\n  plane: stress\n"));
   EXPECT_TRUE(has_error(errors, "case.yaml:7:12: materials.soil.model: mohr_coulomb is plane strain only"));
