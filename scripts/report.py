@@ -210,6 +210,31 @@ def stability_section(out: Path, summary: dict) -> str:
     return body
 
 
+def impulse_wave_section(summary: dict) -> str:
+    """The slide where it entered the reservoir and the Heller & Hager (2010) wave (DESIGN.md §13)."""
+    h = summary.get("heller_hager")
+    if not isinstance(h, dict):
+        return ""
+    rows = [("still level", "m", h.get("still_level_m")), ("water depth", "m", h.get("depth_m")),
+            ("bank slope", "deg", h.get("bank_slope_deg"))]
+    if not h.get("slide_entered_water"):
+        return kv_table(rows) + '<p class="note">The slide did not enter the reservoir in this run.</p>'
+    rows += [("impact time", "s", h.get("impact_time_s")), ("slide speed", "m/s", h.get("slide_speed_mps")),
+             ("slide thickness", "m", h.get("slide_thickness_m")),
+             ("slide mass", "kg/m", h.get("slide_mass_kg_per_m")),
+             ("impulse product parameter P", "", h.get("impulse_product")),
+             ("maximum wave amplitude a_M", "m", h.get("amplitude_m")),
+             ("maximum wave height H_M", "m", h.get("height_m")),
+             ("distance of H_M from the impact", "m", h.get("distance_of_max_height_m"))]
+    body = kv_table(rows)
+    outside = h.get("outside_validity") or []
+    if outside:
+        items = ", ".join(f"{esc(o['parameter'])} = {o['value']:.3g} (range {o['min']:g}-{o['max']:g})" for o in outside)
+        body += f'<p class="note">Outside the range of Heller &amp; Hager\'s experiments: {items}. ' \
+                'The estimate is an extrapolation.</p>'
+    return body
+
+
 def ensure_plots(out: Path, quiet: bool) -> list[Path]:
     hist = out / "history.csv"
     plots = out / "plots"
@@ -273,6 +298,7 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
 
     section("key", "Key results", key_cards(summary))
     section("stability", "Factor of safety", stability_section(out, summary))
+    section("wave", "Impulse wave (Heller & Hager estimate)", impulse_wave_section(summary))
 
     model_rows = []
     for k in MODEL_KEYS:

@@ -180,6 +180,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
 
   detail::read_output(r, root, sc);
   detail::read_stability(r, root, sc);
+  detail::read_reservoir(r, root, sc);
   const double total = sc.end_time();
   if (sc.output.field_interval <= 0.0) sc.output.field_interval = total / 50.0;
   if (sc.output.history_interval <= 0.0) sc.output.history_interval = total / 1000.0;

@@ -187,6 +187,17 @@ struct OutputSpec {
   std::vector<GaugeSpec> gauges;
 };
 
+// The reservoir at its still level, where a slide may enter it (DESIGN.md §13): the run
+// measures the slide where it meets the water and gives the Heller & Hager estimate of the
+// impulse wave it raises.
+struct ReservoirSpec {
+  bool present = false;
+  double level = 0.0;            // m, the still water level
+  double x_min = 0.0, x_max = 0.0;  // m, the reservoir's extent along the section
+  double density = 1000.0;       // kg/m^3
+  SourceLocation where;
+};
+
 // Factor of safety by strength reduction (`dsdem stability`, DESIGN.md §12).
 struct StabilitySpec {
   bool present = false;
@@ -229,6 +240,7 @@ struct Scenario {
   ContactSpec contact;
   EarthquakeSpec earthquake;
   StabilitySpec stability;
+  ReservoirSpec reservoir;
   SourceLocation where_mesh;
 
   double end_time() const;

@@ -16,5 +16,6 @@ void read_contact(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_earthquake(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_output(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_stability(SchemaReader& r, YAML::Node& root, Scenario& sc);
+void read_reservoir(SchemaReader& r, YAML::Node& root, Scenario& sc);  // scenario_reservoir.cpp
 
 }  // namespace dsdem::io::detail

@@ -280,6 +280,19 @@ void add_water(std::vector<KeySpec>& s) {
   }
 }
 
+// The reservoir a slide may enter (DESIGN.md §13).
+void add_reservoir(std::vector<KeySpec>& s) {
+  s.push_back(of("reservoir", KeyType::Map, "",
+                 "The reservoir at its still level: the run measures the slide where it enters the water (speed, "
+                 "thickness, mass, slope) and gives the Heller & Hager (2010) estimate of the impulse wave."));
+  s.push_back(num("reservoir.level", "m", "required", -kInf, kInf, "Still water level."));
+  s.push_back(of("reservoir.x", KeyType::Vector2, "required",
+                 "The reservoir's extent [x_min, x_max] along the section; the bank the slide enters is where the "
+                 "ground surface crosses the level at one end.",
+                 "m"));
+  s.push_back(num("reservoir.density", "kg/m^3", "1000", 0, kInf, "Water density.", true));
+}
+
 // Output intervals, checkpoints and gauges.
 void add_output(std::vector<KeySpec>& s) {
   s.push_back(of("output", KeyType::Map, "", "What is written and how often."));
@@ -355,6 +368,7 @@ std::vector<KeySpec> build_schema() {
   add_contact(s);
   add_earthquake(s);
   add_water(s);
+  add_reservoir(s);
   add_output(s);
   add_stability(s);
   return s;

@@ -86,6 +86,10 @@ RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, cons
   else
     history_.emplace(out / "history.csv", std::move(columns));
   fields_.emplace(open_series(out, "fields.pvd", resume_from, resume_from ? resume_from->fields_frames : 0));
+  if (prepared.shore) {
+    slide_watch_.emplace(*prepared.shore);
+    if (resume_from) slide_watch_->restore(resume_from->slide_impact);
+  }
   if (has_joints_) cracks_.emplace(open_series(out, "cracks.pvd", resume_from, resume_from ? resume_from->cracks_frames : 0));
   if (model_.contact.enabled && model_.contact.output)
     contacts_.emplace(open_series(out, "contacts.pvd", resume_from, resume_from ? resume_from->contacts_frames : 0));
@@ -128,6 +132,7 @@ void RunOutputs::write_history(int stage_index) {
     }
   }
   history_->append(row_);
+  if (slide_watch_) slide_watch_->observe(model_, solver_.time());
 }
 
 void RunOutputs::update_gauge_stats(std::vector<GaugeStats>& stats) const {
@@ -210,6 +215,7 @@ void RunOutputs::record_counts(RunnerState& s) {
   s.fields_frames = fields_->size();
   s.cracks_frames = cracks_ ? cracks_->size() : 0;
   s.contacts_frames = contacts_ ? contacts_->size() : 0;
+  s.slide_impact = slide_impact();
 }
 
 }  // namespace dsdem::run

@@ -46,6 +46,8 @@ class RunOutputs {
   std::size_t history_rows() const { return history_->rows_written(); }
   std::size_t field_frames() const { return fields_->size(); }
   int fragments();  // solver::count_fragments with this object's scratch
+  // The slide's entry into the reservoir, once seen at a history row (DESIGN.md §13).
+  std::optional<SlideAtImpact> slide_impact() const { return slide_watch_ ? slide_watch_->impact() : std::nullopt; }
   const std::string& energy_unit() const { return energy_unit_; }
 
  private:
@@ -57,7 +59,8 @@ class RunOutputs {
   std::filesystem::path out_;
   bool write_fields_ = true;
   bool has_joints_ = false;
-  bool has_water_ = false;  // some stage has water: a water_work column and a pore-pressure field
+  bool has_water_ = false;
+  std::optional<SlideImpactWatch> slide_watch_;  // with a reservoir  // some stage has water: a water_work column and a pore-pressure field
   std::string energy_unit_, force_unit_;
   ReactionGroups reactions_;
   std::optional<io::HistoryWriter> history_;

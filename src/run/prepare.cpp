@@ -125,6 +125,7 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   load_model(run, work_dir);
   locate_gauges(run);
   check_water(run.scenario, run.model);
+  if (run.scenario.reservoir.present) run.shore = find_shore(run.model, run.scenario.reservoir);
   choose_time_step(run);
   run.estimated_steps = static_cast<long>(std::ceil(scenario.end_time() / run.dt));
   load_earthquake(run);

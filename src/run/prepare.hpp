@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/scenario.hpp"
+#include "run/slide_impact.hpp"
 #include "model/model.hpp"
 #include "seismic/accelerogram.hpp"
 #include "solver/gauges.hpp"
@@ -40,6 +41,8 @@ struct PreparedRun {
     std::string text;
   };
   std::vector<LogLine> build_log;
+  // The reservoir's bank where the slide may enter it (scenario.reservoir).
+  std::optional<Shore> shore;
 };
 
 // Loads or generates one earthquake component and resamples it to dt.

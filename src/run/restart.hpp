@@ -2,6 +2,7 @@
 // The runner's part of a checkpoint: what it carries from step to step besides the
 // solver's state, so that a restarted run writes what the uninterrupted one would.
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "io/checkpoint.hpp"
@@ -25,6 +26,7 @@ struct RunnerState {
   std::size_t history_rows = 0, fields_frames = 0, cracks_frames = 0, contacts_frames = 0;
   double wall_time_before = 0.0;      // s of wall time of the run's earlier parts
   std::vector<GaugeStats> gauges;
+  std::optional<SlideAtImpact> slide_impact;  // once the slide has entered the reservoir
 };
 
 void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const PreparedRun& run);

@@ -423,6 +423,7 @@ RunResult Runner::finish() {
   facts.completed = completed;
   facts.stopped_by = stopped_by_;
   facts.stopped_at_step = stopped_at_step_;
+  facts.slide_impact = outputs_->slide_impact();
   const nlohmann::ordered_json summary = make_summary(prepared_, solver, state_.gauges, facts);
   outputs_->write_crack_log();
   io::write_json_file(out_ / "summary.json", summary);

@@ -63,6 +63,38 @@ Json water_stages(const io::Scenario& sc) {
   return stages;
 }
 
+// The slide where it entered the reservoir and the Heller & Hager (2010) wave it raises
+// (DESIGN.md §13), or that it has not entered it.
+Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>& impact) {
+  Json h = Json::object();
+  h["still_level_m"] = shore.level;
+  h["depth_m"] = shore.depth;
+  h["shoreline_m"] = Json::array({shore.shoreline.x(), shore.shoreline.y()});
+  h["bank_slope_deg"] = shore.slope_deg;
+  h["slide_entered_water"] = impact.has_value();
+  if (!impact || !(impact->slide.mass > 0.0)) return h;
+  const water::SlideImpact& sl = impact->slide;
+  h["impact_time_s"] = impact->time;
+  h["impact_point_m"] = Json::array({impact->entry.x(), impact->entry.y()});
+  h["slide_speed_mps"] = sl.speed;
+  h["slide_thickness_m"] = sl.thickness;
+  h["slide_mass_kg_per_m"] = sl.mass;
+  const water::ImpulseWave w = water::heller_hager(sl);
+  h["froude"] = w.froude;
+  h["relative_thickness"] = w.relative_thickness;
+  h["relative_mass"] = w.relative_mass;
+  h["impulse_product"] = w.impulse_product;
+  h["amplitude_m"] = w.amplitude_m;
+  h["height_m"] = w.height_m;
+  h["distance_of_max_height_m"] = w.distance_m;
+  h["inside_validity"] = w.inside_validity();
+  Json outside = Json::array();
+  for (const water::RangeCheck& c : w.checks)
+    if (!c.inside()) outside.push_back(Json::object({{"parameter", c.name}, {"value", c.value}, {"min", c.min}, {"max", c.max}}));
+  h["outside_validity"] = outside;
+  return h;
+}
+
 Json gauge_summaries(const PreparedRun& prepared, const std::vector<GaugeStats>& stats) {
   Json gauges = Json::array();
   for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
@@ -117,6 +149,7 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
   s["final_energies"] = final_energies(solver.energy(), f.energy_unit);
   s["gauges"] = gauge_summaries(prepared, gauges);
   if (has_water(sc)) s["water"] = water_stages(sc);
+  if (prepared.shore) s["heller_hager"] = heller_hager_summary(*prepared.shore, f.slide_impact);
   return s;
 }
 

@@ -2,6 +2,7 @@
 // OUT/summary.json, the record of a run (DESIGN.md §10), and OUT/diagnosis.json, what
 // made a run unstable. Keys carry their units; ordered as written here.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct RunFacts {
   bool completed = false;
   int stopped_by = 0;              // signal number
   bool stopped_at_step = false;
+  std::optional<SlideAtImpact> slide_impact;  // the slide's entry into the reservoir, if seen
 };
 
 nlohmann::ordered_json make_summary(const PreparedRun& prepared, const solver::Solver& solver,

@@ -22,7 +22,7 @@ Index crack_group(const io::CrackWaterSpec& c, const Model& model) {
 
 }  // namespace
 
-std::vector<Vec2> ground_surface(const Model& model) {
+std::vector<Vec2> ground_surface(const Model& model, bool without_discrete) {
   const auto& X = model.nodes.X;
   double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min, h_min = x_min;
   for (const Vec2& p : X) x_min = std::min(x_min, p.x()), x_max = std::max(x_max, p.x());
@@ -31,7 +31,9 @@ std::vector<Vec2> ground_surface(const Model& model) {
   const std::size_t n = std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil((x_max - x_min) / (0.5 * h_min))) + 1);
   const double dx = (x_max - x_min) / static_cast<double>(n - 1);
   std::vector<double> top(n, -std::numeric_limits<double>::infinity());
-  for (const auto& c : model.triangles.conn)
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    if (without_discrete && model.triangles.zone[t] == Zone::Discrete) continue;
+    const auto& c = model.triangles.conn[t];
     for (int k = 0; k < 3; ++k) {
       Vec2 a = X[c[k]], b = X[c[(k + 1) % 3]];
       if (a.x() > b.x()) std::swap(a, b);
@@ -44,6 +46,7 @@ std::vector<Vec2> ground_surface(const Model& model) {
         top[i] = std::max(top[i], y);
       }
     }
+  }
   std::vector<Vec2> line;
   line.reserve(n);
   for (std::size_t i = 0; i < n; ++i) line.emplace_back(x_min + static_cast<double>(i) * dx, top[i]);
