@@ -34,10 +34,10 @@ inline void add_body(RawMesh& raw, RawMesh m, const std::string& name) {
 inline io::Scenario rock_scenario() {
   io::Scenario sc = test::impact_scenario();
   sc.file = "(bench)";
-  sc.joints.defaults.c = 20e6;
-  sc.joints.defaults.phi_deg = 45;
-  sc.joints.defaults.GI = 120;
-  sc.joints.defaults.GII = 1500;
+  sc.joints.defaults.params.values["c"] = 20e6;
+  sc.joints.defaults.params.values["phi"] = 45;
+  sc.joints.defaults.params.values["GI"] = 120;
+  sc.joints.defaults.params.values["GII"] = 1500;
   sc.contact.kn = 21e9;
   return sc;
 }

@@ -30,11 +30,11 @@ inline io::Scenario impact_scenario() {
   steel.rho = 7850;
   sc.materials["steel"] = steel;
   sc.joints.present = true;
-  sc.joints.defaults.ft = 2.5e6;
-  sc.joints.defaults.c = 10e6;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 50;
-  sc.joints.defaults.GII = 500;
+  sc.joints.defaults.params.values["ft"] = 2.5e6;
+  sc.joints.defaults.params.values["c"] = 10e6;
+  sc.joints.defaults.params.values["phi"] = 30;
+  sc.joints.defaults.params.values["GI"] = 50;
+  sc.joints.defaults.params.values["GII"] = 500;
   sc.contact.friction = 0.5;
   sc.contact.restitution = 0.5;
   sc.stages.push_back(io::StageSpec{});

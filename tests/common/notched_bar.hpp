@@ -23,12 +23,12 @@ inline io::Scenario discrete_bar_scenario(double E, double ft) {
   sc.materials["rock"] = m;
   sc.regions.push_back(io::RegionSpec{"bar", "rock", Zone::Discrete, {}, {}});
   sc.joints.present = true;
-  sc.joints.defaults.ft = ft;
-  sc.joints.defaults.c = 4 * ft;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 120;
-  sc.joints.defaults.GII = 1500;
-  sc.joints.defaults.penalty = 50;
+  sc.joints.defaults.params.values["ft"] = ft;
+  sc.joints.defaults.params.values["c"] = 4 * ft;
+  sc.joints.defaults.params.values["phi"] = 30;
+  sc.joints.defaults.params.values["GI"] = 120;
+  sc.joints.defaults.params.values["GII"] = 1500;
+  sc.joints.defaults.params.values["penalty"] = 50;
   sc.stages.push_back(io::StageSpec{});
   return sc;
 }
@@ -47,10 +47,10 @@ inline Model notched_bar(double L, double H, int nx, int ny, double E, double ft
   raw.groups.push_back(notch);
   io::Scenario sc = discrete_bar_scenario(E, ft);
   io::JointSpec weak;
-  weak.ft = 0.99 * ft;
-  if (section_penalty > 0.0) weak.penalty = section_penalty;
+  weak.params.values["ft"] = 0.99 * ft;
+  if (section_penalty > 0.0) weak.params.values["penalty"] = section_penalty;
   sc.joints.curves["mid"] = weak;
-  sc.joints.defaults.penalty = penalty;
+  sc.joints.defaults.params.values["penalty"] = penalty;
   sc.contact.friction = 0.3;
   return mesh::build_model(sc, raw);
 }

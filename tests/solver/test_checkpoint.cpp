@@ -33,11 +33,11 @@ Model falling_block() {
   sc.regions = {io::RegionSpec{"ground", "rock", Zone::ContactBedrock, {}, {}},
                 io::RegionSpec{"block", "rock", Zone::Discrete, {}, {}}};
   sc.joints.present = true;
-  sc.joints.defaults.ft = 2e4;
-  sc.joints.defaults.c = 5e4;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 1;
-  sc.joints.defaults.GII = 5;
+  sc.joints.defaults.params.values["ft"] = 2e4;
+  sc.joints.defaults.params.values["c"] = 5e4;
+  sc.joints.defaults.params.values["phi"] = 30;
+  sc.joints.defaults.params.values["GI"] = 1;
+  sc.joints.defaults.params.values["GII"] = 5;
   sc.contact.friction = 0.4;
   sc.contact.restitution = 0.5;
   sc.stages.push_back(io::StageSpec{});

@@ -59,7 +59,7 @@ TEST(Fracture, DirectTensionBarBreaksAtTensileStrengthWithOneCrack) {
 TEST(Fracture, StableStepAccountsForJoints) {
   RawMesh raw = mesh::rectangle_mesh(4, 2, 0.4, 0.2, mesh::Diagonal::Alternate, 0, 0, "bar");
   io::Scenario sc = discrete_bar_scenario(21e9, 2.5e6);
-  sc.joints.defaults.penalty = 1000;
+  sc.joints.defaults.params.values["penalty"] = 1000;
   Model model = mesh::build_model(sc, raw);
   const auto st = solver::stable_time_step(model, 0.0);
   EXPECT_NE(st.controlled_by.find("joint"), std::string::npos) << st.controlled_by;
@@ -136,7 +136,7 @@ TEST(Fracture, PenaltyStiffnessFollowsTheLocalElementSize) {
   RawMesh raw = mesh::rectangle_mesh(16, 4, 1.0, 0.25, mesh::Diagonal::Alternate, 0, 0, "bar");
   for (Vec2& x : raw.nodes) x.x() = x.x() * (0.25 + 0.75 * x.x());  // dx from 0.016 to 0.11 m
   io::Scenario sc = discrete_bar_scenario(21e9, 2.5e6);
-  sc.joints.defaults.penalty = 10;
+  sc.joints.defaults.params.values["penalty"] = 10;
   Model model = mesh::build_model(sc, raw);
   const auto& J = model.joints;
   ASSERT_GT(J.size(), 100u);

@@ -26,12 +26,12 @@ io::Scenario block_scenario(Zone zone) {
   sc.regions.push_back(io::RegionSpec{"block", "rock", zone, {}, {}});
   if (zone == Zone::Discrete) {
     sc.joints.present = true;
-    sc.joints.defaults.ft = 1e9;  // strong: the joints stay elastic
-    sc.joints.defaults.c = 4e9;
-    sc.joints.defaults.phi_deg = 30;
-    sc.joints.defaults.GI = 1e6;
-    sc.joints.defaults.GII = 1e7;
-    sc.joints.defaults.penalty = 50;
+    sc.joints.defaults.params.values["ft"] = 1e9;  // strong: the joints stay elastic
+    sc.joints.defaults.params.values["c"] = 4e9;
+    sc.joints.defaults.params.values["phi"] = 30;
+    sc.joints.defaults.params.values["GI"] = 1e6;
+    sc.joints.defaults.params.values["GII"] = 1e7;
+    sc.joints.defaults.params.values["penalty"] = 50;
   }
   sc.stages.push_back(io::StageSpec{});
   return sc;

@@ -204,11 +204,11 @@ TEST(LawState, JointsOfTheCohesiveLawHoldNoLawState) {
   sc.materials["rock"] = rock;
   sc.regions = {io::RegionSpec{"block", "rock", Zone::Discrete, {}, {}}};
   sc.joints.present = true;
-  sc.joints.defaults.ft = 2e4;
-  sc.joints.defaults.c = 5e4;
-  sc.joints.defaults.phi_deg = 30;
-  sc.joints.defaults.GI = 1;
-  sc.joints.defaults.GII = 5;
+  sc.joints.defaults.params.values["ft"] = 2e4;
+  sc.joints.defaults.params.values["c"] = 5e4;
+  sc.joints.defaults.params.values["phi"] = 30;
+  sc.joints.defaults.params.values["GI"] = 1;
+  sc.joints.defaults.params.values["GII"] = 5;
   sc.stages.push_back(io::StageSpec{});
   Model m = mesh::build_model(sc, mesh::rectangle_mesh(3, 3, 0.3, 0.3, mesh::Diagonal::Alternate, 0.0, 0.0, "block"));
   ASSERT_GT(m.joints.size(), 0u);
