@@ -25,8 +25,9 @@ Grid grid_over(double xmin, double ymin, double xmax, double ymax, double cell) 
   return g;
 }
 
-void CellList::build(const Grid& grid, std::span<const double> x, std::span<const double> y) {
+void CellList::build(const Grid& grid, std::span<const double> x, std::span<const double> y, int reach) {
   grid_ = grid;
+  reach_ = reach;
   const std::size_t n = x.size(), cells = grid.cells();
   start_.assign(cells + 1, 0);
   order_.resize(n);

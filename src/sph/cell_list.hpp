@@ -30,7 +30,10 @@ class CellList {
   // Bins the points (x[i], y[i]) into `grid`'s cells, in index order within a cell (the
   // same order for any thread count). Allocates only when the grid or the point count
   // grew past what it held before.
-  void build(const Grid& grid, std::span<const double> x, std::span<const double> y);
+  // `reach`: cells searched on each side of a point's own, so that cells of size support /
+  // reach hold every neighbour within the support in the (2 reach + 1)^2 block; smaller
+  // cells, fewer candidates (reach 2: 25 cells of (s/2)^2 against 9 of s^2, 0.69 times).
+  void build(const Grid& grid, std::span<const double> x, std::span<const double> y, int reach = 1);
 
   const Grid& grid() const { return grid_; }
   // The point indices sorted by cell.
@@ -38,13 +41,13 @@ class CellList {
   // Point i's cell.
   std::int32_t cell(std::size_t i) const { return cell_[i]; }
 
-  // The candidates of a point in cell c (of this grid): f(k0, k1) for up to three ranges
-  // [k0, k1) of order(), one per row of the 3 x 3 block, bottom row first.
+  // The candidates of a point in cell c (of this grid): f(k0, k1) for up to 2 reach + 1
+  // ranges [k0, k1) of order(), one per row of the block, bottom row first.
   template <class F>
   void for_each_range(int c, F&& f) const {
     const int cx = c % grid_.nx, cy = c / grid_.nx;
-    const int x_lo = cx > 0 ? cx - 1 : 0, x_hi = cx + 1 < grid_.nx ? cx + 1 : cx;
-    const int y_lo = cy > 0 ? cy - 1 : 0, y_hi = cy + 1 < grid_.ny ? cy + 1 : cy;
+    const int x_lo = cx > reach_ ? cx - reach_ : 0, x_hi = cx + reach_ < grid_.nx ? cx + reach_ : grid_.nx - 1;
+    const int y_lo = cy > reach_ ? cy - reach_ : 0, y_hi = cy + reach_ < grid_.ny ? cy + reach_ : grid_.ny - 1;
     for (int row = y_lo; row <= y_hi; ++row) {
       const std::int32_t k0 = start_[static_cast<std::size_t>(row * grid_.nx + x_lo)];
       const std::int32_t k1 = start_[static_cast<std::size_t>(row * grid_.nx + x_hi + 1)];
@@ -54,6 +57,7 @@ class CellList {
 
  private:
   Grid grid_;
+  int reach_ = 1;
   std::vector<std::int32_t> start_;  // cells + 1: the first sorted index of each cell
   std::vector<std::int32_t> order_;
   std::vector<std::int32_t> cell_;

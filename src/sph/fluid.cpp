@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "sph/kernels.hpp"
 
@@ -33,9 +34,19 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   if (b_.mass == 0.0) b_.mass = par_.mass();
   scratch_.resize(f_.size());
   scratch_id_.resize(f_.size());
-  for (std::size_t i = 0; i < f_.size(); ++i) f_.p[i] = tait_pressure(f_.rho[i], par_.rho0, b_tait_);
+  for (std::size_t i = 0; i < f_.size(); ++i) {
+    f_.p[i] = tait_pressure(f_.rho[i], par_.rho0, b_tait_);
+    f_.vol[i] = f_.mass / f_.rho[i];
+  }
   for (std::size_t i = 0; i < b_.size(); ++i) b_.p[i] = tait_pressure(b_.rho[i], par_.rho0, b_tait_);
+  // Room for 1.6 times a square lattice's neighbours in the support (the water compresses
+  // by a few per cent at most).
+  neighbour_capacity_ = static_cast<std::size_t>(std::ceil(1.6 * kPi * 4.0 * par_.h_over_dp * par_.h_over_dp)) + 8;
+  nb_j_.resize(f_.size() * neighbour_capacity_);
+  nb_f_.resize(f_.size() * neighbour_capacity_);
+  nb_n_.resize(f_.size());
   resort_fluid();
+  density_rates();  // the neighbour lists for the first accelerations
   if (par_.boundary == BoundaryCondition::ModifiedDynamic) extrapolate_boundary_densities();
   accelerations();
   a_max_ = 0.0;
@@ -98,9 +109,10 @@ void Fluid::update_cells() {
   extend(f_.x, f_.y);
   extend(b_.x, b_.y);
   if (!(xmin <= xmax)) xmin = ymin = xmax = ymax = 0.0;
-  const Grid grid = grid_over(xmin, ymin, xmax, ymax, 2.0 * h_);
-  fluid_cells_.build(grid, f_.x, f_.y);
-  boundary_cells_.build(grid, b_.x, b_.y);
+  // Cells of h: 25 cells of h^2 searched instead of 9 of 4 h^2.
+  const Grid grid = grid_over(xmin, ymin, xmax, ymax, h_);
+  fluid_cells_.build(grid, f_.x, f_.y, 2);
+  boundary_cells_.build(grid, b_.x, b_.y, 2);
 }
 
 // The fluid arrays permuted into cell order, so that a particle's neighbours are close
@@ -109,7 +121,7 @@ void Fluid::resort_fluid() {
   update_cells();
   const std::size_t n = f_.size();
   const auto order = fluid_cells_.order();
-  for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy}) {
+  for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol}) {
     for (std::size_t k = 0; k < n; ++k) scratch_[k] = (*a)[static_cast<std::size_t>(order[k])];
     a->swap(scratch_);
   }
@@ -121,29 +133,38 @@ void Fluid::resort_fluid() {
 // Continuity with density diffusion (DESIGN.md §13) for the fluid, continuity alone for
 // the boundary particles (the dynamic boundary condition; fluid neighbours only).
 void Fluid::density_rates() {
-  const double h = h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, c0 = par_.c0;
+  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, c0 = par_.c0;
   const double dhc = par_.delta * h * par_.c0;
   const double gx = par_.gravity.x(), gy = par_.gravity.y();
   const double mf = f_.mass, mb = b_.mass;
   const auto forder = fluid_cells_.order();
   const auto border = boundary_cells_.order();
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data(), *frho = f_.rho.data();
-  const double *fgx = f_.gx.data(), *fgy = f_.gy.data();
+  const double *fgx = f_.gx.data(), *fgy = f_.gy.data(), *fvol = f_.vol.data();
   const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
   const bool fourtakas = par_.diffusion == DensityDiffusion::Fourtakas;
+  const std::size_t cap = neighbour_capacity_;
   exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
     const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], gxi = fgx[i], gyi = fgy[i];
     double cont = 0.0, diff = 0.0;
     const int c = fluid_cells_.cell(i);
+    std::int32_t* list_j = nb_j_.data() + i * cap;
+    double* list_f = nb_f_.data() + i * cap;
+    std::size_t count = 0;
     fluid_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
       for (std::int32_t k = k0; k < k1; ++k) {
         const auto j = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
         const double dx = xi - fx[j], dy = yi - fy[j];
         const double r2 = dx * dx + dy * dy;
         if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, h, gc);
+        const double f = wendland_gradient_factor(r2, inv_h, gc);
+        if (count < cap) {
+          list_j[count] = static_cast<std::int32_t>(j);
+          list_f[count] = f;
+        }
+        ++count;
         cont += mf * f * ((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy);
-        const double vj = mf / frho[j];
+        const double vj = fvol[j];
         if (fourtakas) {
           const double rho_h = hydrostatic_density_difference(-(gx * dx + gy * dy), rhoi, frho[j], rho0, c0);
           diff += density_diffusion(dhc, f, frho[j] - rhoi - rho_h, vj);
@@ -159,12 +180,17 @@ void Fluid::density_rates() {
         const double dx = xi - bx[j], dy = yi - by[j];
         const double r2 = dx * dx + dy * dy;
         if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, h, gc);
+        const double f = wendland_gradient_factor(r2, inv_h, gc);
         cont += mb * f * ((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy);
       }
     });
     f_.drho[i] = cont + diff;
+    nb_n_[i] = static_cast<std::int32_t>(count);
   });
+  for (std::size_t i = 0; i < f_.size(); ++i)
+    if (static_cast<std::size_t>(nb_n_[i]) > cap)
+      throw std::runtime_error("sph::Fluid: a particle has more than " + std::to_string(cap) +
+                               " neighbours (the water is compressed far beyond its weakly compressible range)");
   if (par_.boundary != BoundaryCondition::Dynamic) return;
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
     const double xi = bx[i], yi = by[i], vxi = bvx[i], vyi = bvy[i];
@@ -175,7 +201,7 @@ void Fluid::density_rates() {
         const double dx = xi - fx[j], dy = yi - fy[j];
         const double r2 = dx * dx + dy * dy;
         if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, h, gc);
+        const double f = wendland_gradient_factor(r2, inv_h, gc);
         cont += mf * f * ((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy);
       }
     });
@@ -188,6 +214,7 @@ void Fluid::update_densities(double dt) {
   exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
     f_.rho[i] += dt * f_.drho[i];
     f_.p[i] = tait_pressure(f_.rho[i], rho0, b);
+    f_.vol[i] = f_.mass / f_.rho[i];
   });
 }
 
@@ -211,7 +238,7 @@ void Fluid::update_boundary_densities(double dt) {
 // system is singular (few fluid neighbours) Shepard's average; with none, rho0. Never below
 // rho0: a wall does not pull the fluid.
 void Fluid::extrapolate_boundary_densities() {
-  const double h = h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, b = b_tait_;
+  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, b = b_tait_;
   const double aD = wendland_normalisation(h_);
   const double mf = f_.mass;
   const auto forder = fluid_cells_.order();
@@ -231,7 +258,7 @@ void Fluid::extrapolate_boundary_densities() {
         if (r2 >= s2) continue;
         const double q = std::sqrt(r2) / h, u = 1.0 - 0.5 * q, u2 = u * u;
         const double w = aD * u2 * u2 * (2.0 * q + 1.0);
-        const double f = wendland_gradient_factor(r2, h, gc);
+        const double f = wendland_gradient_factor(r2, inv_h, gc);
         const double wx = -f * dx, wy = -f * dy;  // grad_g W_gj = F (x_g - x_j)
         const double v = mf / frho[j];
         a00 += v * w;
@@ -266,17 +293,18 @@ void Fluid::extrapolate_boundary_densities() {
 
 // The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity.
 void Fluid::accelerations() {
-  const double h = h_, gc = grad_c_, s2 = support2_;
+  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const double alpha_c = par_.alpha * par_.c0;
   const double gx = par_.gravity.x(), gy = par_.gravity.y();
   const double mf = f_.mass, mb = b_.mass;
   const auto forder = fluid_cells_.order();
   const auto border = boundary_cells_.order();
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
-  const double *frho = f_.rho.data(), *fp = f_.p.data();
+  const double *frho = f_.rho.data(), *fp = f_.p.data(), *fvol = f_.vol.data();
   const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
   const double *brho = b_.rho.data(), *bp = b_.p.data();
   const bool grad = par_.diffusion == DensityDiffusion::DeltaSph;
+  const std::size_t cap = neighbour_capacity_;
   exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
     const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], pi = fp[i];
     double ax = 0.0, ay = 0.0;
@@ -286,31 +314,38 @@ void Fluid::accelerations() {
     const int c = fluid_cells_.cell(i);
     auto pair = [&](double m, double dx, double dy, double dvx, double dvy, double rhoj, double pj) {
       const double r2 = dx * dx + dy * dy;
-      if (r2 >= s2) return;
-      const double f = wendland_gradient_factor(r2, h, gc);
+      if (r2 >= s2) return 0.0;
+      const double f = wendland_gradient_factor(r2, inv_h, gc);
       const double visc = artificial_viscosity(dvx * dx + dvy * dy, r2, rhoi, rhoj, h, alpha_c);
       const double coef = -m * (pressure_term(pi, pj, rhoi, rhoj) + visc) * f;
       ax += coef * dx;
       ay += coef * dy;
+      return f;
     };
-    fluid_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
-        const double dx = xi - fx[j], dy = yi - fy[j];
-        pair(mf, dx, dy, vxi - fvx[j], vyi - fvy[j], frho[j], fp[j]);
-        if (grad) {
-          const double r2 = dx * dx + dy * dy;
-          if (r2 >= s2) continue;
-          const double vf = mf / frho[j] * wendland_gradient_factor(r2, h, gc);
-          mxx -= vf * dx * dx;
-          mxy -= vf * dx * dy;
-          myy -= vf * dy * dy;
-          const double dr = (frho[j] - rhoi) * vf;
-          sx += dr * dx;
-          sy += dr * dy;
-        }
+    // The fluid neighbours found by density_rates() at these positions, with their F.
+    const std::int32_t* list_j = nb_j_.data() + i * cap;
+    const double* list_f = nb_f_.data() + i * cap;
+    const auto count = static_cast<std::size_t>(nb_n_[i]);
+    for (std::size_t n = 0; n < count; ++n) {
+      const auto j = static_cast<std::size_t>(list_j[n]);
+      const double f = list_f[n];
+      const double dx = xi - fx[j], dy = yi - fy[j];
+      const double rhoj = frho[j];
+      const double visc = artificial_viscosity((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy, dx * dx + dy * dy, rhoi, rhoj,
+                                               h, alpha_c);
+      const double coef = -mf * (pressure_term(pi, fp[j], rhoi, rhoj) + visc) * f;
+      ax += coef * dx;
+      ay += coef * dy;
+      if (grad) {
+        const double vf = fvol[j] * f;
+        mxx -= vf * dx * dx;
+        mxy -= vf * dx * dy;
+        myy -= vf * dy * dy;
+        const double dr = (rhoj - rhoi) * vf;
+        sx += dr * dx;
+        sy += dr * dy;
       }
-    });
+    }
     if (grad) {
       const double det = mxx * myy - mxy * mxy;
       const bool ok = det > kRenormalisationDeterminant;

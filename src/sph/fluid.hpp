@@ -100,6 +100,12 @@ class Fluid {
   long steps_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   double damping_rate_ = 0.0;
+  // Each fluid particle's fluid neighbours and their gradient factors F, found by the
+  // density pass and read by the force pass (the same positions): neighbour_capacity_ slots
+  // per particle, nb_n_ used.
+  std::size_t neighbour_capacity_ = 0;
+  std::vector<std::int32_t> nb_j_, nb_n_;
+  std::vector<double> nb_f_;
   std::vector<double> scratch_;          // re-sort buffer
   std::vector<std::int32_t> scratch_id_;
 };

@@ -15,6 +15,7 @@ struct FluidParticles {
   std::vector<double> vx, vy;    // m/s
   std::vector<double> rho;       // kg/m^3
   std::vector<double> p;         // Pa, from rho through the equation of state
+  std::vector<double> vol;       // m^2 (per unit width): mass / rho
   std::vector<double> ax, ay;    // m/s^2, the last force evaluation's
   std::vector<double> drho;      // kg/m^3/s, the last density rate
   std::vector<double> gx, gy;    // kg/m^4: the renormalised density gradient of the last force evaluation
@@ -48,7 +49,7 @@ struct BoundaryParticles {
 };
 
 inline void FluidParticles::reserve(std::size_t n) {
-  for (auto* a : {&x, &y, &vx, &vy, &rho, &p, &ax, &ay, &drho, &gx, &gy}) a->reserve(n);
+  for (auto* a : {&x, &y, &vx, &vy, &rho, &p, &ax, &ay, &drho, &gx, &gy, &vol}) a->reserve(n);
   id.reserve(n);
 }
 inline void FluidParticles::add(double px, double py, double density) {
@@ -56,7 +57,7 @@ inline void FluidParticles::add(double px, double py, double density) {
   x.push_back(px);
   y.push_back(py);
   rho.push_back(density);
-  for (auto* a : {&vx, &vy, &p, &ax, &ay, &drho, &gx, &gy}) a->push_back(0.0);
+  for (auto* a : {&vx, &vy, &p, &ax, &ay, &drho, &gx, &gy, &vol}) a->push_back(0.0);
 }
 inline void BoundaryParticles::reserve(std::size_t n) {
   for (auto* a : {&x, &y, &vx, &vy, &rho, &p, &drho, &nx, &ny, &wall_distance, &s}) a->reserve(n);

@@ -10,7 +10,10 @@
 
 using namespace dsdem::sph;
 
-TEST(SphCellList, FindsEveryNeighbourOnceAgainstBruteForce) {
+class SphCellListReach : public ::testing::TestWithParam<int> {};
+
+TEST_P(SphCellListReach, FindsEveryNeighbourOnceAgainstBruteForce) {
+  const int reach = GetParam();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> ux(-0.3, 0.9), uy(0.1, 0.5);
   const std::size_t n = 1500;
@@ -24,11 +27,13 @@ TEST(SphCellList, FindsEveryNeighbourOnceAgainstBruteForce) {
   y[0] = 0.1;
   x[1] = 0.04;
   y[1] = 0.14;
+  x[2] = 0.02;
+  y[2] = 0.12;
   const double support = 0.04;
   CellList cells;
   const double xmin = *std::min_element(x.begin(), x.end()), xmax = *std::max_element(x.begin(), x.end());
   const double ymin = *std::min_element(y.begin(), y.end()), ymax = *std::max_element(y.begin(), y.end());
-  cells.build(grid_over(xmin, ymin, xmax, ymax, support), x, y);
+  cells.build(grid_over(xmin, ymin, xmax, ymax, support / reach), x, y, reach);
   // The order is a permutation sorted by cell, ascending index within a cell.
   const auto order = cells.order();
   ASSERT_EQ(order.size(), n);
@@ -54,6 +59,8 @@ TEST(SphCellList, FindsEveryNeighbourOnceAgainstBruteForce) {
   }
   EXPECT_GT(pairs, 10 * n);  // a meaningful density of neighbours
 }
+
+INSTANTIATE_TEST_SUITE_P(Reach, SphCellListReach, ::testing::Values(1, 2));
 
 TEST(SphCellList, RebuildWithoutGrowthKeepsItsStorage) {
   std::vector<double> x{0.0, 0.1, 0.2}, y{0.0, 0.05, 0.1};
