@@ -16,7 +16,7 @@ struct DamBreakSetup {
   double tank_length = 0.584; // m (4 a in Koshizuka & Oka)
   double dp = 0.146 / 40.0;   // m
   double h_over_dp = 1.5;
-  double alpha = 0.02;
+  double alpha = 0.1;   // artificial viscosity (DESIGN.md §13: 0.01-0.1)
   double delta = 0.1;
   double g = 9.81;
 };
