@@ -363,4 +363,36 @@ void Fluid::accelerations() {
   });
 }
 
+void Fluid::boundary_forces(std::span<double> out_x, std::span<double> out_y) const {
+  if (out_x.size() != b_.size() || out_y.size() != b_.size())
+    throw std::invalid_argument("sph::Fluid::boundary_forces: one entry per boundary particle");
+  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
+  const double alpha_c = par_.alpha * par_.c0;
+  const double mf = f_.mass, mb = b_.mass;
+  const auto forder = fluid_cells_.order();
+  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
+  const double *frho = f_.rho.data(), *fp = f_.p.data();
+  exec::parallel_for(team_, b_.size(), [&](std::size_t b) {
+    const double xb = b_.x[b], yb = b_.y[b], vxb = b_.vx[b], vyb = b_.vy[b], rhob = b_.rho[b], pb = b_.p[b];
+    double sx = 0.0, sy = 0.0;
+    fluid_cells_.for_each_range(boundary_cells_.cell(b), [&](std::int32_t k0, std::int32_t k1) {
+      for (std::int32_t k = k0; k < k1; ++k) {
+        const auto i = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
+        const double dx = fx[i] - xb, dy = fy[i] - yb;  // r_ib
+        const double r2 = dx * dx + dy * dy;
+        if (r2 >= s2) continue;
+        const double f = wendland_gradient_factor(r2, inv_h, gc);
+        const double visc =
+            artificial_viscosity((fvx[i] - vxb) * dx + (fvy[i] - vyb) * dy, r2, frho[i], rhob, h, alpha_c);
+        // Fluid particle i gains m_i (-m_b (P + Pi) F r_ib); the wall particle the opposite.
+        const double coef = mf * mb * (pressure_term(fp[i], pb, frho[i], rhob) + visc) * f;
+        sx += coef * dx;
+        sy += coef * dy;
+      }
+    });
+    out_x[b] = sx;
+    out_y[b] = sy;
+  });
+}
+
 }  // namespace dsdem::sph

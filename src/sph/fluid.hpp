@@ -12,6 +12,7 @@
 // Every loop is a gather over one particle's neighbours in a fixed order: the same bits for
 // any thread count. Nothing allocates in the time loop once the grid stopped growing.
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "exec/team.hpp"
@@ -73,6 +74,13 @@ class Fluid {
   // multiplied by exp(-rate dt) each step, until set back to 0. Not a physical force; for
   // bringing a freshly laid-out body of water to rest before the run.
   void set_settling_damping(double rate) { damping_rate_ = rate; }
+
+  // The water's force on each boundary particle (N/m), the reaction of the pressure and
+  // viscous terms it puts on its fluid neighbours at the last force evaluation (Newton's
+  // third law pair by pair): what a coupled solid takes back to its nodes through the
+  // edge's shape functions. fx, fy: boundary().size() each. A gather per boundary particle:
+  // the same bits for any thread count.
+  void boundary_forces(std::span<double> fx, std::span<double> fy) const;
 
   double time() const { return time_; }
   long steps() const { return steps_; }

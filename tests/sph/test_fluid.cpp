@@ -88,6 +88,28 @@ TEST(SphTank, HydrostaticPressureAndSettling) {
   EXPECT_GE(checked, 6);
   EXPECT_LT(worst, 0.02);
   EXPECT_LT(vmax, 1e-3 * scale);
+
+  // The walls carry the water's weight: the boundary particles' forces sum to the fluid's
+  // momentum balance (pair by pair; to 1e-6, as the viscous term reads the velocities of
+  // the call, v(n+1), where the step's force pass read v(n+1/2)), and to its weight at rest.
+  std::vector<double> bx(fluid.boundary().size()), by(fluid.boundary().size());
+  fluid.boundary_forces(bx, by);
+  double fx_sum = 0.0, fy_sum = 0.0, max_ax = 0.0, ma_x = 0.0, ma_y = 0.0;
+  for (std::size_t b = 0; b < bx.size(); ++b) {
+    fx_sum += bx[b];
+    fy_sum += by[b];
+  }
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    ma_x += f.mass * f.ax[i];
+    ma_y += f.mass * (f.ay[i] + g);
+    max_ax = std::max(max_ax, std::abs(f.ax[i]));
+  }
+  const double weight = f.mass * g * static_cast<double>(f.size());
+  std::printf("walls: %.6g N/m down (weight %.6g), %.3g sideways\n", -fy_sum, weight, fx_sum);
+  EXPECT_NEAR(fx_sum, -ma_x, 1e-6 * weight);
+  EXPECT_NEAR(fy_sum, -ma_y, 1e-6 * weight);
+  EXPECT_NEAR(-fy_sum, weight, 0.01 * weight);
+  EXPECT_LT(std::abs(fx_sum), 1e-3 * weight);
 }
 
 TEST(SphTank, OneAndTwoThreadsGiveTheSameBits) {
