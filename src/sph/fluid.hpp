@@ -87,6 +87,9 @@ class Fluid {
   const FluidParameters& parameters() const { return par_; }
   const FluidParticles& fluid() const { return f_; }
   const BoundaryParticles& boundary() const { return b_; }
+  // For a driver that moves the walls (a coupled solid): positions and velocities may be
+  // changed between steps; the next step's cell lists see them. Not the particle count.
+  BoundaryParticles& moving_boundary() { return b_; }
   double max_speed() const { return v_max_; }
 
  private:

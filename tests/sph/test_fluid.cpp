@@ -34,7 +34,7 @@ Fluid make_tank(const Tank& t, bool parallel = false) {
 
 Tank small_tank(double dp) {
   Tank t;
-  t.width = 0.3;
+  t.width = 0.2;
   t.depth = 0.2;
   t.par.dp = dp;
   // Twice DESIGN.md §13's least c0: the density then varies by 0.25 % over the depth, and
@@ -48,14 +48,14 @@ Tank small_tank(double dp) {
 
 TEST(SphTank, HydrostaticPressureAndSettling) {
   // Laid out on a square lattice at Tait's hydrostatic density, the water first settles
-  // with its velocities damped (set_settling_damping), then moves freely.
+  // with its velocities damped (set_settling_damping) for 0.5 s, then moves freely for 1 s.
   const Tank t = small_tank(0.02);
   Fluid fluid = make_tank(t);
   const double g = 9.81, scale = std::sqrt(g * t.depth);
   fluid.set_settling_damping(20.0);
   while (fluid.time() < 0.5 - 1e-9) fluid.advance(0.01);
   fluid.set_settling_damping(0.0);
-  while (fluid.time() < 2.0 - 1e-9) fluid.advance(0.01);
+  while (fluid.time() < 1.5 - 1e-9) fluid.advance(0.01);
   const auto& f = fluid.fluid();
   double surface = -INFINITY;
   for (double y : f.y) surface = std::max(surface, y);
@@ -139,4 +139,16 @@ TEST(SphTank, OneAndTwoThreadsGiveTheSameBits) {
   EXPECT_EQ(one.boundary().rho, two.boundary().rho);
   // The column is collapsing.
   EXPECT_GT(one.max_speed(), 0.05);
+}
+
+TEST(SphTank, AdvanceSubCyclesALargerSolidStep) {
+  // advance(dt_solid) takes n equal steps no longer than the stable one and lands on
+  // dt_solid: the water inside one step of a coupled solid.
+  Fluid fluid = make_tank(small_tank(0.02));
+  const double dt_fluid = fluid.stable_dt(), dt_solid = 4.5 * dt_fluid;
+  const int n = fluid.advance(dt_solid);
+  EXPECT_EQ(n, 5);
+  EXPECT_EQ(fluid.steps(), 5);
+  EXPECT_NEAR(fluid.time(), dt_solid, 1e-15);
+  EXPECT_EQ(fluid.advance(0.5 * fluid.stable_dt()), 1);
 }
