@@ -21,7 +21,7 @@ LAYERS = [
     ["model"],                      # data: nodes, triangles, joints, groups, materials
     ["exec", "law"],                # execution layer; law registries (parameters, state)
     ["io"],                         # file formats and the scenario
-    ["fem", "joint", "contact", "seismic", "water"],  # physics kernels and their phases
+    ["fem", "joint", "contact", "seismic", "water", "sph"],  # physics kernels and their phases
     ["boundary", "mesh"],           # boundary set-up, meshing and model building
     ["solver"],                     # the time step
     ["run"],                        # a run end to end: preparation, outputs, restart, stages

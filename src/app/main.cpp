@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "app/post_commands.hpp"
+#include "app/sph_command.hpp"
 #include "app/wave_command.hpp"
 #include "dsdem_version.hpp"
 #include "io/scenario.hpp"
@@ -250,6 +251,7 @@ int main(int argc, char** argv) {
   add_stability_command(app, stability_args);
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
   dsdem::app::add_wave_commands(app);
+  dsdem::app::add_sph_commands(app);
   dsdem::app::add_post_commands(app);
 
   try {

@@ -1,0 +1,124 @@
+#pragma once
+// Weakly compressible SPH water in the vertical plane (DESIGN.md §13): fluid particles,
+// boundary particles that make the walls (the dynamic boundary condition: their density
+// follows the continuity equation and their pressure pushes the fluid back), an O(N) cell
+// list, and a velocity-Verlet step with the density advanced like a position:
+//   v(n+1/2) = v(n) + dt/2 a(n);  x(n+1) = x(n) + dt v(n+1/2);
+//   rho(n+1) = rho(n) + dt Drho(x(n+1), v(n+1/2));  a(n+1) from x, rho (n+1), v(n+1/2);
+//   v(n+1) = v(n+1/2) + dt/2 a(n+1).
+// The pressure waves (rho from v, v from rho) are then integrated by the Stormer-Verlet
+// scheme, stable for dt below the acoustic limit, in the same kick-drift-kick order as the
+// solid's integrator, so that a coupled step can run the two side by side.
+// Every loop is a gather over one particle's neighbours in a fixed order: the same bits for
+// any thread count. Nothing allocates in the time loop once the grid stopped growing.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "exec/team.hpp"
+#include "model/types.hpp"
+#include "sph/cell_list.hpp"
+#include "sph/particles.hpp"
+
+namespace dsdem::sph {
+
+// How the boundary particles get their density. Dynamic (Crespo et al. 2007): the
+// continuity equation, as for the fluid. Modified dynamic (English et al. 2022): extrapolated
+// from the fluid around the particle's ghost node, its mirror image across the wall face,
+// with a first-order consistent (Liu & Liu 2006) interpolation; the wall then holds the
+// fluid at its face, with no gap and the hydrostatic pressure on it.
+enum class BoundaryCondition { Dynamic, ModifiedDynamic };
+
+// The density diffusion. Fourtakas et al. (2019): Molteni & Colagrossi's term less Tait's
+// hydrostatic density difference. DeltaSph (Antuono et al. 2010; Marrone et al. 2011): less
+// the renormalised density gradient, so that any linear density field is left alone (with
+// the (p_i + p_j) pressure form, the layer under the free surface settles off Tait's
+// hydrostatics, and Fourtakas' term keeps stirring it).
+enum class DensityDiffusion { Fourtakas, DeltaSph };
+
+struct FluidParameters {
+  double rho0 = 1000.0;   // kg/m^3, the rest density
+  double dp = 0.0;        // m, the initial particle spacing
+  double h_over_dp = 1.5; // smoothing length h in units of dp (DESIGN.md §13: 1.3-2)
+  double c0 = 0.0;        // m/s, the numerical speed of sound (>= 10 max(sqrt(g H), v_max))
+  double alpha = 0.02;    // artificial viscosity (DESIGN.md §13: 0.01-0.1)
+  double delta = 0.1;     // density diffusion coefficient
+  DensityDiffusion diffusion = DensityDiffusion::DeltaSph;
+  Vec2 gravity{0.0, -9.81};
+  double cfl = 0.2;       // dt <= cfl h / (c0 + v_max)
+  int resort_interval = 16;  // steps between re-sorts of the fluid arrays by cell
+  BoundaryCondition boundary = BoundaryCondition::ModifiedDynamic;
+
+  double h() const { return h_over_dp * dp; }
+  double mass() const { return rho0 * dp * dp; }  // kg/m: one particle's area times rho0
+};
+
+// The sound speed of DESIGN.md §13 for water depth H and an expected largest speed.
+double sound_speed_for(double depth, double v_max, double g);
+
+class Fluid {
+ public:
+  // Throws std::invalid_argument on non-positive dp, h, c0 or rho0.
+  Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryParticles boundary, bool parallel = false);
+
+  void set_parallel(bool on) { team_.set_parallel(on); }
+
+  // The largest stable step for the current state (DESIGN.md §13).
+  double stable_dt() const;
+  // Advances by dt_outer in n equal sub-steps no longer than stable_dt(); returns n. This
+  // is how a solid step larger than the fluid's limit drives the water.
+  int advance(double dt_outer);
+  // One step of length dt.
+  void step(double dt);
+  // Settling a filled reservoir: a damping of every fluid velocity at `rate` (1/s), v
+  // multiplied by exp(-rate dt) each step, until set back to 0. Not a physical force; for
+  // bringing a freshly laid-out body of water to rest before the run.
+  void set_settling_damping(double rate) { damping_rate_ = rate; }
+
+  // The water's force on each boundary particle (N/m), the reaction of the pressure and
+  // viscous terms it puts on its fluid neighbours at the last force evaluation (Newton's
+  // third law pair by pair): what a coupled solid takes back to its nodes through the
+  // edge's shape functions. fx, fy: boundary().size() each. A gather per boundary particle:
+  // the same bits for any thread count.
+  void boundary_forces(std::span<double> fx, std::span<double> fy) const;
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  const FluidParameters& parameters() const { return par_; }
+  const FluidParticles& fluid() const { return f_; }
+  const BoundaryParticles& boundary() const { return b_; }
+  // For a driver that moves the walls (a coupled solid): positions and velocities may be
+  // changed between steps; the next step's cell lists see them. Not the particle count.
+  BoundaryParticles& moving_boundary() { return b_; }
+  double max_speed() const { return v_max_; }
+
+ private:
+  void update_cells();
+  void resort_fluid();
+  void density_rates();
+  void update_densities(double dt);
+  void update_boundary_densities(double dt);
+  void extrapolate_boundary_densities();
+  void accelerations();
+
+  FluidParameters par_;
+  FluidParticles f_;
+  BoundaryParticles b_;
+  exec::Team team_;
+  CellList fluid_cells_, boundary_cells_;
+  double h_ = 0.0, b_tait_ = 0.0, grad_c_ = 0.0, support2_ = 0.0;
+  double time_ = 0.0;
+  long steps_ = 0;
+  double v_max_ = 0.0, a_max_ = 0.0;
+  double damping_rate_ = 0.0;
+  // Each fluid particle's fluid neighbours and their gradient factors F, found by the
+  // density pass and read by the force pass (the same positions): neighbour_capacity_ slots
+  // per particle, nb_n_ used.
+  std::size_t neighbour_capacity_ = 0;
+  std::vector<std::int32_t> nb_j_, nb_n_;
+  std::vector<double> nb_f_;
+  std::vector<double> scratch_;          // re-sort buffer
+  std::vector<std::int32_t> scratch_id_;
+};
+
+}  // namespace dsdem::sph

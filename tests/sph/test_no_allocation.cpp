@@ -1,0 +1,33 @@
+// No allocation in the SPH time loop (DESIGN.md §9): after warm-up, steps of a collapsing
+// water column (cell lists rebuilt, re-sorts, both passes, the boundary) allocate nothing
+// while the grid does not grow. Defines the counting operator new of the test_sph binary.
+#define DSDEM_DEFINE_ALLOC_COUNTER
+#include "common/alloc_counter.hpp"
+
+#include <gtest/gtest.h>
+
+#include "sph/fluid.hpp"
+#include "sph/setup.hpp"
+
+using namespace dsdem;
+using namespace dsdem::sph;
+
+TEST(SphNoAllocation, StepsAllocateNothing) {
+  FluidParameters par;
+  par.dp = 0.01;
+  par.c0 = sound_speed_for(0.2, 2.0, 9.81);
+  FluidParticles water;
+  BoundaryParticles walls;
+  fill_rectangle(water, 0.0, 0.0, 0.1, 0.2, par, 0.2);
+  // Walls up to 0.4 m: the grid spans them, so the splash stays inside it.
+  add_tank_walls(walls, 0.0, 0.0, 0.3, 0.4, wall_layers(par), par, 0.2);
+  Fluid fluid(par, std::move(water), std::move(walls));
+  for (int k = 0; k < 20; ++k) fluid.step(0.5 * fluid.stable_dt());
+  std::vector<double> fx(fluid.boundary().size()), fy(fluid.boundary().size());
+  const test::AllocationScope scope;
+  for (int k = 0; k < 100; ++k) fluid.step(0.5 * fluid.stable_dt());
+  fluid.advance(4.0 * fluid.stable_dt());
+  fluid.boundary_forces(fx, fy);
+  EXPECT_EQ(scope.count(), 0);
+  EXPECT_GT(fluid.max_speed(), 0.05);
+}
