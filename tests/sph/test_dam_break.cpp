@@ -81,8 +81,8 @@ TEST(SphDamBreak, SurgeFrontAndColumnHeightAgainstExperiments) {
   std::printf("dam break a/dp %.0f, %zu particles, %ld steps: front vs K&O %.3f, vs M&M %.3f (gate delay %.2f; "
               "%.3f without); height vs M&M %.3f\n",
               a / setup.dp, fluid.fluid().size(), fluid.steps(), ko, mm, delay, mm_raw, mh);
-  // The target against Koshizuka & Oka is 5 %; this formulation gives 5.9 % here
-  // (10.1 % at a/dp = 40, both at their T = 2.72 point): the bound holds what is reached.
+  // The target against Koshizuka & Oka is 5 %; this formulation reaches 5.9 % here (10.1 %
+  // at a/dp = 40, both at their T = 2.72 point): the bound guards what is reached, short of it.
   EXPECT_LT(ko, 0.065);
   EXPECT_LT(mm, 0.10);
   EXPECT_LT(mh, 0.05);
