@@ -1,4 +1,4 @@
-// dsdem benchmarks (issue 7): kernels (triangle internal force, joint law, narrow and
+// dsdem benchmarks: kernels (triangle internal force, joint law, narrow and
 // broad phase) and whole runs (synthetic box of breakable elements at 10^3..10^6
 // elements, synthetic Brazilian disc). Counters: element-steps/s (elem_steps/s),
 // contacts/s, peak and current memory; wall time is Google Benchmark's own.

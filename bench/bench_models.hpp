@@ -1,5 +1,5 @@
 #pragma once
-// Models for the whole-run benchmarks (issue 7), built in code from structured meshes.
+// Models for the whole-run benchmarks, built in code from structured meshes.
 //  - box_model: the "synthetic box of breakable elements": a discrete block (every
 //    triangle its own nodes, a cohesive joint on every interior edge, contact on) that
 //    falls onto a contact ground slab, so joints break and contacts form.

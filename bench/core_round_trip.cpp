@@ -1,7 +1,7 @@
 // The time a cache line takes to go from one core to another and back (two threads, one
 // per CPU, passing a counter), for `make bench` to record with its 2-thread numbers: on a
 // virtual machine it changes from minute to minute, and with it every 2-thread speed-up
-// (issue 7 profile: 105-170 ns in calm spells, 400-550 ns in far ones on the lead's VM).
+// (profile: 105-170 ns in calm spells, 400-550 ns in far ones on the lead's VM).
 // Prints "round_trip_ns <median of the batches>" for the first two CPUs this process may
 // use, or "round_trip_ns n/a (<why>)": fewer than two CPUs, or the two threads not both
 // running (a batch over 50 ms), so that a restricted machine never makes it hang.

@@ -1,4 +1,4 @@
-// The command line: version, check, run, and bad input that exits cleanly (issue 2).
+// The command line: version, check, run, and bad input that exits cleanly.
 #include <gtest/gtest.h>
 
 #include <fstream>

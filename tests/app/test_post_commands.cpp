@@ -1,4 +1,4 @@
-// dsdem plot / render / report (issue 8, post-processing): the pictures, curves and report
+// dsdem plot / render / report (post-processing): the pictures, curves and report
 // a user gets from an output folder, on a real (short) run and on a synthetic fixture that
 // has the files and columns later solver versions add (cracks, broken joints, fragments,
 // contacts, plate reaction, two stages).

@@ -1,6 +1,6 @@
 #pragma once
 // Counts calls of the global operator new, to check that hot loops allocate nothing
-// after warm-up (issue 7). The replacement allocation functions must be defined once
+// after warm-up. The replacement allocation functions must be defined once
 // per binary: exactly one source file of a test binary defines
 // DSDEM_DEFINE_ALLOC_COUNTER before including this header (tests/contact/alloc_counter.cpp,
 // tests/solver/test_no_allocation.cpp); the others include it plainly.

@@ -1,5 +1,5 @@
 #pragma once
-// The synthetic model of the solver-level tests and benchmarks (issue 7), one copy for
+// The synthetic model of the solver-level tests and benchmarks, one copy for
 // tests/solver (determinism, no allocation) and bench/ (the "box of breakable
 // elements"): a discrete block (every triangle its own nodes, a cohesive joint on every
 // interior edge, contact on) of nx x ny cells of side h, above a contact ground slab of

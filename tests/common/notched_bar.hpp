@@ -1,5 +1,5 @@
 #pragma once
-// The discrete bar of the fracture tests (issue 3) and the time-step tests (issue 7): a
+// The discrete bar of the fracture tests and the time-step tests: a
 // bar of triangles and cohesive joints whose mid-section, a named curve, is 1 % weaker,
 // as in a notched specimen, so the crack has a place to start.
 #include <vector>

@@ -555,7 +555,7 @@ TEST(ContactForces, ATriangleInNoPairThatMovesIntoAnotherIsCaught) {
 TEST(ThreadVector, EachThreadsVectorHasCacheLinesOfItsOwn) {
   // The per-thread lists of the contact phase (todo_, buffers_, touching_): vectors that
   // share a 64-byte line make two threads' push_backs take it from each other (late Dr2:
-  // the pair filter no faster on 2 threads than on 1, issue 7).
+  // the pair filter no faster on 2 threads than on 1).
   static_assert(alignof(dsdem::contact::ThreadVector<int>) == 64);
   static_assert(sizeof(dsdem::contact::ThreadVector<int>) % 64 == 0);
   std::vector<dsdem::contact::ThreadVector<int>> lists(4);
@@ -606,7 +606,7 @@ TEST(ContactForces, PairsSkippedWhileApartGiveTheSameForcesAsCheckingEveryPair) 
 
 TEST(ContactForces, EdgeDataWithTheShapesOrPerExaminedPairGiveTheSameForces) {
   // The cores' edge data are computed either with every shape of the candidate pairs or
-  // only for the triangles of the pairs examined (chosen per step, issue 7): the same
+  // only for the triangles of the pairs examined (chosen per step): the same
   // forces bit for bit, on one thread and (with OpenMP) on two.
   using Mode = ContactSettings::EdgeScales;
 #ifdef _OPENMP

@@ -115,7 +115,7 @@ TEST(Cst, StiffnessDampingForceOpposesStrainRateAndVanishesForRigidMotion) {
 }
 
 // strain_rate() in scalars is the Green strain rate of the matrix form sym(F^T Fdot) that
-// it replaced (issue 7: a store-forwarding stall), bit for bit, over random gradients
+// it replaced (a store-forwarding stall), bit for bit, over random gradients
 // of several scales and signs.
 TEST(Cst, StrainRateInScalarsEqualsTheMatrixFormBitForBit) {
   std::mt19937_64 rng(7);

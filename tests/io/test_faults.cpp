@@ -1,4 +1,4 @@
-// Bad input files end in a clear error, never a crash (issue 9; fuzz regressions).
+// Bad input files end in a clear error, never a crash (fuzz regressions).
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-// Scenario validation: every error names file, line, column and key (issue 2).
+// Scenario validation: every error names file, line, column and key.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -414,7 +414,7 @@ TEST(CohesiveLaw, ClosedCyclesOfCompressionAndSlipAfterShearDamageCreateNoEnergy
 // The elastic fast path (undamaged point inside wt and ws = fs/ks): exactly linear,
 // nothing dissipated, and continuous with the general branch at the elastic limit in
 // tension, in shear under compression and in shear with the gravity stage's frozen
-// history (issue 7 made it a separate branch).
+// history (a separate branch).
 TEST(CohesiveLaw, ElasticRangeIsExactlyLinearAndMeetsTheGeneralBranchAtTheLimit) {
   const JointProperties p = test::disc_rock();
   const double wt = p.ft / p.kn, ws = p.c / p.ks;
@@ -450,7 +450,7 @@ TEST(CohesiveLaw, ElasticRangeIsExactlyLinearAndMeetsTheGeneralBranchAtTheLimit)
   EXPECT_NEAR(frozen.sn, 3 * p.ft, 1e-12 * p.ft);
 }
 
-// The history keeps no tractions but the shear one (issue 7: memory per element):
+// The history keeps no tractions but the shear one (memory per element):
 // last_tractions() recomputes the normal traction and the shear secant of the
 // evaluation that left it. They must be that evaluation's bits, in every regime
 // (elastic fast path, softening, unloading, compression with friction, failed,
@@ -501,7 +501,7 @@ TEST(CohesiveLaw, LastTractionsAreThoseOfTheEvaluationThatLeftTheHistory) {
 }
 
 // Eq. 9's damage update with the libm call skipped below the damage reached: the same
-// bits as max(d, min(1, hypot(en, es))) everywhere, including at and near d (issue 7).
+// bits as max(d, min(1, hypot(en, es))) everywhere, including at and near d.
 TEST(CohesiveLaw, MixedModeDamageSkipsHypotOnlyWhereTheMaxKeepsTheOldDamage) {
   auto reference = [](double en, double es, double d) {
     const double e = en == 0.0 ? es : (es == 0.0 ? en : std::hypot(en, es));

@@ -185,7 +185,7 @@ TEST(JointInsertion, AllBreakableAndAllContinuous) {
 }
 
 TEST(JointInsertion, JointArraysReservedNotGrownByDoubling) {
-  // Reserved for one joint per two edge sides (issue 7 memory): every array's capacity
+  // Reserved for one joint per two edge sides (memory): every array's capacity
   // stays within 3 n_triangles / 2, where growing one joint at a time would have doubled
   // it to 2048 for these 1 160 joints (and kept 40 % more on the 10^6-element box).
   RawMesh m = grid(20, 20);

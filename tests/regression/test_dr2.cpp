@@ -122,7 +122,7 @@ TEST(Dr2Regression, CoarseShearSlidingStartsToSlide) {
 }
 
 // The same run on two threads writes the same history and crack log, byte for byte
-// (issue 7: deterministic sums for any thread count), through the break-up.
+// (deterministic sums for any thread count), through the break-up.
 TEST(Dr2Regression, CoarseShearSlidingIsTheSameOnOneAndTwoThreads) {
   std::string history[2], cracks[2];
   for (int threads = 1; threads <= 2; ++threads) {

@@ -1,4 +1,4 @@
-// Checkpoints: a run restarted from a checkpoint continues bit-identically (issue 8).
+// Checkpoints: a run restarted from a checkpoint continues bit-identically.
 #include <H5Cpp.h>
 #include <gtest/gtest.h>
 
@@ -108,7 +108,7 @@ TEST(Checkpoint, RestartContinuesBitIdentically) {
   std::filesystem::remove(path);
 }
 
-// Version 1 stored the joint state in another layout (issue 7 changed it): such a file
+// Version 1 stored the joint state in another layout (since changed): such a file
 // is refused with its path and both versions, not misread.
 TEST(Checkpoint, FileOfAnOlderVersionIsRejectedNamingBothVersions) {
   const auto path = std::filesystem::temp_directory_path() / ("dsdem_ckpt_v1_" + std::to_string(::getpid()) + ".h5");

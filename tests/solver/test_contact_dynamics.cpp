@@ -1,4 +1,4 @@
-// Contact through the whole solver: sliding, sticking, collisions, stacks (issue 4).
+// Contact through the whole solver: sliding, sticking, collisions, stacks.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Fracture through the whole solver: joints inserted in a discrete zone, loaded to
-// failure (issue 3).
+// failure.
 #include <gtest/gtest.h>
 
 #include <cmath>

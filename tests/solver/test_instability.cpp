@@ -1,4 +1,4 @@
-// Instability detection in Solver::check_stability (issue 9): non-finite state, inverted
+// Instability detection in Solver::check_stability: non-finite state, inverted
 // elements, energy growing beyond the work put in; and no false alarm on a healthy run.
 #include <gtest/gtest.h>
 

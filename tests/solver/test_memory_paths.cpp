@@ -1,4 +1,4 @@
-// The memory savings of issue 7 change no result: stress computed on demand equals the
+// The memory savings change no result: stress computed on demand equals the
 // stress of every step (in the model and in the checkpoint), and a run whose damping stops (buffers freed) and restarts from
 // a checkpoint taken just after the switch continues bit-identically, energies included.
 #include <gtest/gtest.h>
@@ -146,7 +146,7 @@ TEST(DampingBuffers, DampingSwitchedOffThenRestartedFromACheckpointKeepsTheBits)
 
 // Own triangles (discrete block) add their element and joint forces to their nodes
 // themselves and shared ones (the continuous ground) go through buffers and incidence
-// lists (issue 7, memory): every node's force must still be the per-node gather
+// lists (memory): every node's force must still be the per-node gather
 // m g + ((sum of element forces + sum of damping forces) + joint forces in joint order),
 // bit for bit, with stiffness damping, a broken joint, and on 1 and 2 threads.
 TEST(ForceGather, OwnAndSharedTrianglesGiveThePerNodeGatherBitForBit) {

@@ -1,4 +1,4 @@
-// No heap allocation inside the time loop after warm-up (issue 7): Solver::step() on a
+// No heap allocation inside the time loop after warm-up: Solver::step() on a
 // model with joints (some breaking) and contacts allocates nothing once its buffers
 // have grown. The global operator new of the test_solver binary is replaced here to
 // count calls (tests/common/alloc_counter.hpp; the only replacement in test_solver).

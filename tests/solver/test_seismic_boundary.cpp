@@ -1,4 +1,4 @@
-// Earthquake input through the viscous-spring boundary, on triangle meshes (issue 10).
+// Earthquake input through the viscous-spring boundary, on triangle meshes.
 #include <gtest/gtest.h>
 
 #include <cmath>

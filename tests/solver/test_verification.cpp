@@ -1,4 +1,4 @@
-// Verification of the explicit FEM against analytic solutions (issue 2).
+// Verification of the explicit FEM against analytic solutions.
 #include <gtest/gtest.h>
 
 #include <cmath>
