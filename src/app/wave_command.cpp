@@ -86,6 +86,11 @@ void add_wave_commands(CLI::App& app) {
                  r.wave.wave.dt, r.wave.wave.pga());
       fmt::print("spectral misfit: {:.1f}% for T >= 0.1 s, {:.1f}% below ({} corrections, {} phase set(s))\n",
                  100 * r.wave.max_misfit, 100 * r.wave.max_short_misfit, r.wave.iterations, r.wave.attempts);
+      auto fit = [](const seismic::SpectralFit& f) {
+        return fmt::format("{:+.1f}% at {:.3g} s / {:+.1f}% at {:.3g} s", 100 * f.low, f.T_low, 100 * f.high, f.T_high);
+      };
+      fmt::print("fit 0.1-{:g} s, record alone:        {}\n", p.period_max, fit(r.wave.fit_record));
+      fmt::print("fit 0.1-{:g} s, with free vibration: {}\n", p.period_max, fit(r.wave.fit_free_vibration));
       fmt::print("wrote {}\n", r.files.spectrum_csv);
       if (!r.files.png.empty()) fmt::print("wrote {}\n", r.files.png);
     });

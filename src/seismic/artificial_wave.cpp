@@ -30,6 +30,7 @@ void ArtificialWaveParams::validate() const {
   if (!(c >= 0.0) || !std::isfinite(c)) bad("c", c, "must be >= 0");
   if (iterations < 0) bad("iterations", iterations, "must be >= 0");
   if (fourier_iterations < 0) bad("fourier_iterations", fourier_iterations, "must be >= 0");
+  if (stall_iterations < 1) bad("stall_iterations", stall_iterations, "must be >= 1");
   if (attempts < 1) bad("attempts", attempts, "must be >= 1");
   if (!(accept_tolerance > 0.0)) bad("accept_tolerance", accept_tolerance, "must be positive");
   if (!(accept_short_tolerance > 0.0)) bad("accept_short_tolerance", accept_short_tolerance, "must be positive");
@@ -61,9 +62,28 @@ double spectrum_to_psd(double sa, double omega, double zeta, double Td, double p
   return zeta / (kPi * omega) * sa * sa / denom;
 }
 
+SpectralFit spectral_fit(const ResponseSpectrum& s, const DesignSpectrum& target, double t_min) {
+  SpectralFit f;
+  bool first = true;
+  for (std::size_t j = 0; j < s.period.size(); ++j) {
+    if (s.period[j] < t_min) continue;
+    const double e = s.Sa[j] / target.sa(s.period[j]) - 1.0;
+    if (first || e < f.low) f.low = e, f.T_low = s.period[j];
+    if (first || e > f.high) f.high = e, f.T_high = s.period[j];
+    first = false;
+  }
+  return f;
+}
+
 namespace {
 
 using detail::Oscillator;
+
+// A free-vibration peak above this fraction of the target is aimed at too.
+constexpr double kTailAim = 0.95;
+// Free-vibration peaks above this fraction of the target are bounded by it.
+constexpr double kTailBound = 0.5;
+constexpr int kBoundRounds = 3;
 using detail::Setup;
 
 // Scale down every half cycle (run of samples of one sign) whose peak exceeds limit so
@@ -95,13 +115,22 @@ struct Peak {
   double sign = 1.0;
 };
 
-Peak peak_response(const Oscillator& o, const std::vector<double>& ag, double zeta) {
-  Peak p;
+// The peaks over the record and over the free vibration after it (the record padded
+// with o.pad zeros, as spectral_value() with SpectrumSpan::WithFreeVibration).
+struct Peaks {
+  Peak record, tail;
+};
+
+Peaks peak_response(const Oscillator& o, const std::vector<double>& ag, double zeta) {
+  Peaks p;
   double x = 0.0, xd = 0.0;
   const double c1 = 2.0 * zeta * o.omega, c2 = o.omega * o.omega;
   const auto& k = o.step;
-  for (std::size_t i = 1; i < ag.size(); ++i) {
-    const double a0 = ag[i - 1], da = (ag[i] - ag[i - 1]) / o.m;
+  const std::size_t n = ag.size();
+  auto at = [&](std::size_t i) { return i < n ? ag[i] : 0.0; };
+  for (std::size_t i = 1; i < n + o.pad; ++i) {
+    Peak& pk = i < n ? p.record : p.tail;
+    const double a0 = at(i - 1), da = (at(i) - at(i - 1)) / o.m;
     for (int s = 0; s < o.m; ++s) {
       const double g0 = a0 + da * s, g1 = a0 + da * (s + 1);
       const double xn = k.a11 * x + k.a12 * xd + k.b11 * g0 + k.b12 * g1;
@@ -109,15 +138,26 @@ Peak peak_response(const Oscillator& o, const std::vector<double>& ag, double ze
       x = xn;
       xd = vn;
       const double y = -(c1 * xd + c2 * x);
-      if (std::abs(y) > p.sa) {
-        p.sa = std::abs(y);
-        p.q = (i - 1) * static_cast<std::size_t>(o.m) + static_cast<std::size_t>(s) + 1;
-        p.sign = y >= 0.0 ? 1.0 : -1.0;
+      if (std::abs(y) > pk.sa) {
+        pk.sa = std::abs(y);
+        pk.q = (i - 1) * static_cast<std::size_t>(o.m) + static_cast<std::size_t>(s) + 1;
+        pk.sign = y >= 0.0 ? 1.0 : -1.0;
       }
     }
   }
   return p;
 }
+
+// A peak the correction aims at: oscillator j's peak p brought to goal, or, for a bound,
+// kept at or below it (the free vibration's peaks). A wavelet is placed on the aims that
+// own one.
+struct Aim {
+  std::size_t j = 0;
+  Peak p;
+  double goal = 0.0;
+  bool bound = false;
+  bool wavelet = true;
+};
 
 // Sensitivity of oscillator o's response at sub-step q to each input sample.
 void kernel_row(const Oscillator& o, std::size_t q, std::size_t n, double* row) {
@@ -220,8 +260,9 @@ struct Wavelet {
 // Buffers of one attempt, reused from iteration to iteration.
 struct Workspace {
   Eigen::FFT<double> fft;
-  std::vector<double> sa, x, y;
-  std::vector<Peak> peaks;
+  std::vector<double> sa, sa_free, sa_eff, x, y;  // at the control periods: record, with free vibration, aimed
+  std::vector<Peaks> peaks;
+  std::vector<Aim> aims;
   std::vector<std::complex<double>> X, Xb;
   std::vector<std::vector<double>> K;
   Columns basis;
@@ -230,12 +271,13 @@ struct Workspace {
   std::vector<Wavelet> wav;
   std::vector<double> wav_c;  // M x m baseline coefficients of the wavelets
   explicit Workspace(const Setup& S)
-      : sa(S.Tc.size()), x(S.N), peaks(S.Tc.size()), K(S.Tc.size(), std::vector<double>(S.n)) {}
+      : sa(S.Tc.size()), sa_free(S.Tc.size()), sa_eff(S.Tc.size()), x(S.N), peaks(S.Tc.size()) {}
 };
 
-// Response spectrum of rec at the control periods and its misfits (long, short periods).
-// Each oscillator on its own (any thread, the same bits); the misfit in period order.
-// Oscillators differ in sub-steps, hence dynamic chunks.
+// Response spectra of rec at the control periods, over the record and with the free
+// vibration after it, and their misfits (long, short periods; the worse of the two
+// spans). Each oscillator on its own (any thread, the same bits); the misfit in period
+// order. Oscillators differ in sub-steps, hence dynamic chunks.
 void measure(const ArtificialWaveParams& P, const Setup& S, const Accelerogram& rec, Workspace& ws, double& mis,
              double& mis_short) {
   const std::size_t M = S.Tc.size();
@@ -244,10 +286,23 @@ void measure(const ArtificialWaveParams& P, const Setup& S, const Accelerogram& 
   for (std::ptrdiff_t j = 0; j < Ms; ++j) ws.peaks[j] = peak_response(S.osc[j], rec.a, P.spectrum.damping);
   mis = 0.0;
   mis_short = 0.0;
+  ws.aims.clear();
   for (std::size_t j = 0; j < M; ++j) {
-    ws.sa[j] = ws.peaks[j].sa;
-    const double e = std::abs(ws.sa[j] / S.target[j] - 1.0);
-    (S.Tc[j] < 0.1 ? mis_short : mis) = std::max(S.Tc[j] < 0.1 ? mis_short : mis, e);
+    const Peaks& pk = ws.peaks[j];
+    const double t = S.target[j];
+    ws.sa[j] = pk.record.sa;
+    ws.sa_free[j] = std::max(pk.record.sa, pk.tail.sa);
+    const double e = std::max(std::abs(ws.sa[j] / t - 1.0), std::abs(ws.sa_free[j] / t - 1.0));
+    if (S.Tc[j] <= P.period_max * (1 + 1e-12))
+      (S.Tc[j] < 0.1 ? mis_short : mis) = std::max(S.Tc[j] < 0.1 ? mis_short : mis, e);
+    // The record's peak is brought to the target; the free vibration's, from half the
+    // target on, is bounded by it (and gets a wavelet of its own once near it). The ratio
+    // for the Fourier gains is the padded peak's if it is above the target, the record's
+    // if both are below, and their geometric mean if they straddle it.
+    ws.aims.push_back({j, pk.record, t, false, true});
+    if (pk.tail.sa > kTailBound * t) ws.aims.push_back({j, pk.tail, t, true, pk.tail.sa > kTailAim * t});
+    const double R = ws.sa[j], F = ws.sa_free[j];
+    ws.sa_eff[j] = F <= t ? R : (R >= t ? F : std::sqrt(R * F));
   }
 }
 
@@ -277,7 +332,7 @@ std::size_t band_columns(const Setup& S, const Accelerogram& rec, Workspace& ws)
     std::copy(ws.y.begin(), ws.y.begin() + static_cast<std::ptrdiff_t>(n), ws.basis.col(j));
   }
   ws.x0.resize(Mb);
-  for (std::size_t j = 0; j < Mb; ++j) ws.x0[j] = interpolate_ratio(S.Tc, S.target, ws.sa, S.band_T[j]);
+  for (std::size_t j = 0; j < Mb; ++j) ws.x0[j] = interpolate_ratio(S.Tc, S.target, ws.sa_eff, S.band_T[j]);
   return Mb;
 }
 
@@ -287,19 +342,22 @@ std::size_t band_columns(const Setup& S, const Accelerogram& rec, Workspace& ws)
 // the wave stays corrected and the solve sees what the wave will get. Returns the
 // number of wavelets.
 std::size_t wavelet_columns(const ArtificialWaveParams& P, const Setup& S, Workspace& ws) {
-  const std::size_t n = S.n, M = S.Tc.size(), m = S.base.m;
+  const std::size_t n = S.n, m = S.base.m;
   const double zeta = P.spectrum.damping;
   const double s1 = std::sqrt(1.0 - zeta * zeta);
-  ws.wav.assign(M, {});
-  ws.wav_c.assign(M * m, 0.0);
-  for (std::size_t j = 0; j < M; ++j) {
+  ws.wav.clear();
+  for (const Aim& aim : ws.aims) {
+    if (!aim.wavelet) continue;
+    const std::size_t r = ws.wav.size(), j = aim.j;
+    ws.wav.emplace_back();
+    ws.wav_c.resize(ws.wav.size() * m);
     const double wd = 2.0 * kPi / S.Tc[j] * s1;
     const double gamma = 1.178 * std::pow(S.Tc[j], 0.93);
     const double shift = std::atan(s1 / zeta) / wd;  // the response peak lags the wavelet
-    const double tc = static_cast<double>(ws.peaks[j].q) / S.osc[j].m * P.dt - shift;
+    const double tc = static_cast<double>(aim.p.q) / S.osc[j].m * P.dt - shift;
     const double lo = std::max(0.0, std::ceil((tc - 4.0 * gamma) / P.dt));
     const double hi = std::min(static_cast<double>(n - 1), std::floor((tc + 4.0 * gamma) / P.dt));
-    Wavelet& W = ws.wav[j];
+    Wavelet& W = ws.wav[r];
     W.s0 = static_cast<std::size_t>(lo);
     for (double si = lo; si <= hi; si += 1.0) {
       const double tau = P.dt * si - tc;
@@ -307,10 +365,10 @@ std::size_t wavelet_columns(const ArtificialWaveParams& P, const Setup& S, Works
                     std::exp(-(tau / gamma) * (tau / gamma)));
     }
     for (std::size_t k = 0; k < m; ++k)
-      ws.wav_c[j * m + k] = dot(&S.base.L[k * n + W.s0], W.v.data(), W.v.size());
+      ws.wav_c[r * m + k] = dot(&S.base.L[k * n + W.s0], W.v.data(), W.v.size());
   }
-  ws.x0.assign(M, 0.0);
-  return M;
+  ws.x0.assign(ws.wav.size(), 0.0);
+  return ws.wav.size();
 }
 
 // Rows: the spectral peaks (relative to the target); in the refinement also the samples
@@ -318,7 +376,7 @@ std::size_t wavelet_columns(const ArtificialWaveParams& P, const Setup& S, Works
 // are causal: only samples up to the peak time count.
 void build_rows(const ArtificialWaveParams& P, const Setup& S, const Accelerogram& rec, bool fourier,
                 std::size_t cols, Workspace& ws) {
-  const std::size_t n = S.n, M = S.Tc.size(), m = S.base.m;
+  const std::size_t n = S.n, M = ws.aims.size(), m = S.base.m;
   const auto Ms = static_cast<std::ptrdiff_t>(M);
   ws.rows.assign(M, std::vector<double>(cols));
   ws.rhs.assign(M, 0.0);
@@ -326,7 +384,8 @@ void build_rows(const ArtificialWaveParams& P, const Setup& S, const Accelerogra
 #pragma omp parallel for schedule(dynamic, 4)
   for (std::ptrdiff_t ii = 0; ii < Ms; ++ii) {  // each row on its own: the same bits on any thread
     const auto i = static_cast<std::size_t>(ii);
-    const std::size_t last = std::min(n, ws.peaks[i].q / static_cast<std::size_t>(S.osc[i].m) + 2);
+    const Aim& aim = ws.aims[i];
+    const std::size_t last = std::min(n, aim.p.q / static_cast<std::size_t>(S.osc[aim.j].m) + 2);
     std::vector<double>& row = ws.rows[i];
     const double* Ki = ws.K[i].data();
     if (fourier) {
@@ -348,8 +407,9 @@ void build_rows(const ArtificialWaveParams& P, const Setup& S, const Accelerogra
         row[j] = d;
       }
     }
-    ws.rhs[i] = fourier ? ws.peaks[i].sign * S.target[i] : ws.peaks[i].sign * (S.target[i] - ws.sa[i]);
-    ws.weight[i] = 1.0 / S.target[i];
+    ws.rhs[i] = aim.p.sign * (fourier ? aim.goal : aim.goal - aim.p.sa);
+    // A bound counts only while it is broken (see correct()).
+    ws.weight[i] = aim.bound && aim.p.sa <= aim.goal ? 0.0 : 1.0 / S.target[aim.j];
   }
   if (fourier) return;
   const double pga = P.spectrum.pga;
@@ -414,12 +474,32 @@ void apply_wavelets(const Setup& S, Accelerogram& rec, const Eigen::VectorXd& g,
 void correct(const ArtificialWaveParams& P, const Setup& S, bool fourier, Accelerogram& rec, Workspace& ws,
              std::vector<double>& a) {
   // Linearised peaks: Sa_i ~ s_i sum_s K_i[s] a[s] at the current peak times.
-  const auto Ms = static_cast<std::ptrdiff_t>(S.Tc.size());
+  const auto Ms = static_cast<std::ptrdiff_t>(ws.aims.size());
+  if (ws.K.size() < ws.aims.size()) ws.K.resize(ws.aims.size(), std::vector<double>(S.n));
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < Ms; ++i) kernel_row(S.osc[i], ws.peaks[i].q, S.n, ws.K[i].data());
+  for (std::ptrdiff_t i = 0; i < Ms; ++i) kernel_row(S.osc[ws.aims[i].j], ws.aims[i].p.q, S.n, ws.K[i].data());
   const std::size_t cols = fourier ? band_columns(S, rec, ws) : wavelet_columns(P, S, ws);
   build_rows(P, S, rec, fourier, cols, ws);
-  Eigen::VectorXd g = regularised_solve(ws.rows, ws.rhs, ws.weight, fourier ? 0.3 : 0.03, ws.x0);
+  // The bounds as an active set: a bound that the solution would break joins the
+  // equations as an equality, and the system is solved again (a few rounds at most).
+  Eigen::VectorXd g;
+  for (int round = 0;; ++round) {
+    g = regularised_solve(ws.rows, ws.rhs, ws.weight, fourier ? 0.3 : 0.03, ws.x0);
+    if (round == kBoundRounds) break;
+    bool added = false;
+    for (std::size_t i = 0; i < ws.aims.size(); ++i) {
+      const Aim& aim = ws.aims[i];
+      if (!aim.bound || ws.weight[i] != 0.0) continue;
+      double y = 0.0;
+      for (std::size_t c = 0; c < cols; ++c) y += ws.rows[i][c] * g[static_cast<Eigen::Index>(c)];
+      const double predicted = fourier ? aim.p.sign * y : aim.p.sa + aim.p.sign * y;
+      if (predicted > aim.goal) {
+        ws.weight[i] = 1.0 / S.target[aim.j];
+        added = true;
+      }
+    }
+    if (!added) break;
+  }
   if (fourier)
     apply_band_gains(S, rec, g, ws, a);
   else
@@ -451,7 +531,10 @@ ArtificialWave attempt(const ArtificialWaveParams& P, const Setup& S, std::vecto
       out.max_short_misfit = mis_short;
       out.iterations = it;
     }
+    // Converged, out of corrections, or stalled: no better iterate for stall_iterations
+    // corrections of the refinement in time.
     if (score <= 1.0 || it >= P.iterations) break;
+    if (it >= P.fourier_iterations + P.stall_iterations && it - out.iterations >= P.stall_iterations) break;
     correct(P, S, it < P.fourier_iterations, rec, ws, a);
   }
   return out;
@@ -473,13 +556,19 @@ ArtificialWave generate_artificial_wave(const ArtificialWaveParams& P) {
     // The misfit reported and judged is measured on a grid three times denser than
     // the control periods, so that narrow dips between them count too.
     const std::vector<double> dense = log_spaced(2.0 * P.dt, P.period_max, 3 * P.control_periods);
+    // Both spans count: the record alone and with the oscillator's free vibration after it.
     const ResponseSpectrum ds = response_spectrum(w.wave.a, P.dt, dense, P.spectrum.damping);
+    const ResponseSpectrum df =
+        response_spectrum(w.wave.a, P.dt, dense, P.spectrum.damping, SpectrumSpan::WithFreeVibration);
     w.max_misfit = w.max_short_misfit = 0.0;
     for (std::size_t j = 0; j < dense.size(); ++j) {
-      const double e = std::abs(ds.Sa[j] / P.spectrum.sa(dense[j]) - 1.0);
+      const double t = P.spectrum.sa(dense[j]);
+      const double e = std::max(std::abs(ds.Sa[j] / t - 1.0), std::abs(df.Sa[j] / t - 1.0));
       double& m = dense[j] < 0.1 ? w.max_short_misfit : w.max_misfit;
       m = std::max(m, e);
     }
+    w.fit_record = spectral_fit(ds, P.spectrum, 0.1);
+    w.fit_free_vibration = spectral_fit(df, P.spectrum, 0.1);
     const double score = std::max(w.max_misfit / P.accept_tolerance, w.max_short_misfit / P.accept_short_tolerance);
     if (score < best_score) {
       best_score = score;

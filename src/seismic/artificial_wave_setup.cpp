@@ -17,7 +17,8 @@ Oscillator make_oscillator(double period, double zeta, double dt, std::size_t n)
   o.omega = 2.0 * kPi / period;
   o.m = std::max(1, static_cast<int>(std::ceil(kSpectrumPointsPerPeriod * dt / period)));
   o.step = nigam_jennings_step(o.omega, zeta, dt / o.m);
-  o.H.assign((n + 1) * static_cast<std::size_t>(o.m) + 1, 0.0);
+  o.pad = free_vibration_samples(period, zeta, dt);
+  o.H.assign((n + o.pad + 1) * static_cast<std::size_t>(o.m) + 1, 0.0);
   double x = 0.0, xd = 0.0;
   const double c1 = 2.0 * zeta * o.omega, c2 = o.omega * o.omega;
   const auto& k = o.step;
@@ -139,7 +140,10 @@ Setup make_setup(const ArtificialWaveParams& P) {
   S.base = make_baseline_operator(S.n, P.dt, P.baseline_degree);
   for (std::size_t i = 0; i < S.n; ++i)
     S.envelope.push_back(intensity_envelope(P.dt * static_cast<double>(i), P.t1, P.t2, P.c));
-  S.Tc = log_spaced(2.0 * P.dt, P.period_max, P.control_periods);
+  // The control periods reach beyond period_max so that the last judged period is not
+  // the edge of the matched band (where the fit is loosest).
+  const double tmax = kControlReach * P.period_max;
+  S.Tc = log_spaced(2.0 * P.dt, tmax, P.control_periods);
   for (double t : S.Tc) {
     S.target.push_back(P.spectrum.sa(t));
     S.osc.push_back(make_oscillator(t, P.spectrum.damping, P.dt, S.n));
@@ -149,8 +153,8 @@ Setup make_setup(const ArtificialWaveParams& P) {
   while (S.N < 2 * S.n) S.N *= 2;
   // Band centres: down in frequency from Nyquist by 4% steps, never closer than
   // 1/(4T), up to period_max.
-  for (double f = 0.5 / P.dt; f > 1.0 / P.period_max; f -= std::max(0.04 * f, 0.25 / T)) S.band_T.push_back(1.0 / f);
-  S.band_T.push_back(P.period_max);
+  for (double f = 0.5 / P.dt; f > 1.0 / tmax; f -= std::max(0.04 * f, 0.25 / T)) S.band_T.push_back(1.0 / f);
+  S.band_T.push_back(tmax);
   S.bin_band.assign(S.N / 2 + 1, 0);
   S.bin_w0.assign(S.N / 2 + 1, 0.0);
   S.bin_w1.assign(S.N / 2 + 1, 0.0);

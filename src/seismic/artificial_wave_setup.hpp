@@ -13,11 +13,13 @@ namespace dsdem::seismic::detail {
 
 // One SDOF oscillator sub-stepped as in spectral_value(): its Nigam-Jennings step and
 // the absolute-acceleration response H[q] (sub-step q) to a unit hat input at sample
-// 1. By linearity the response at sub-step q to any input a is
-// sum_s H[q - (s - 1) m] a[s], which gives the sensitivity of Sa to each band.
+// 1, over the record and its free-vibration tail. By linearity the response at
+// sub-step q to any input a is sum_s H[q - (s - 1) m] a[s], which gives the
+// sensitivity of Sa to each band.
 struct Oscillator {
   double omega = 0.0;
-  int m = 1;  // sub-steps per sample
+  int m = 1;             // sub-steps per sample
+  std::size_t pad = 0;   // zero samples after the record (free_vibration_samples)
   NigamJenningsStep step{};
   std::vector<double> H;
 };
@@ -30,6 +32,9 @@ struct BaselineOperator {
   std::vector<double> Phi;  // n x m, row s = basis at sample s
   std::vector<double> L;    // m x n, column s = coefficients for a unit impulse at s
 };
+
+// The control periods run from 2 dt to kControlReach * period_max.
+constexpr double kControlReach = 1.1;
 
 // Constant data of one generation: control periods, oscillators, FFT bands.
 struct Setup {

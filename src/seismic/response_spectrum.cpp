@@ -63,7 +63,11 @@ SdofHistory sdof_response(std::span<const double> ag, double dt, double omega, d
   return h;
 }
 
-SpectralValue spectral_value(std::span<const double> ag, double dt, double period, double zeta) {
+std::size_t free_vibration_samples(double period, double zeta, double dt) {
+  return 1 + static_cast<std::size_t>(std::ceil(period / std::sqrt(1.0 - zeta * zeta) / dt));
+}
+
+SpectralValue spectral_value(std::span<const double> ag, double dt, double period, double zeta, SpectrumSpan span) {
   SpectralValue r;
   if (period < 0.0 || !std::isfinite(period))
     throw std::runtime_error(fmt::format("response spectrum: period must be >= 0, got {}", period));
@@ -81,8 +85,11 @@ SpectralValue spectral_value(std::span<const double> ag, double dt, double perio
   const NigamJenningsStep k = nigam_jennings_step(omega, zeta, h);
   double x = 0.0, xd = 0.0;
   const double c1 = 2.0 * zeta * omega, c2 = omega * omega;
-  for (std::size_t i = 1; i < ag.size(); ++i) {
-    const double a0 = ag[i - 1], da = (ag[i] - ag[i - 1]) / m;
+  const std::size_t n = ag.size();
+  const std::size_t end = span == SpectrumSpan::Record || n == 0 ? n : n + free_vibration_samples(period, zeta, dt);
+  auto at = [&](std::size_t i) { return i < n ? ag[i] : 0.0; };
+  for (std::size_t i = 1; i < end; ++i) {
+    const double a0 = at(i - 1), da = (at(i) - at(i - 1)) / m;
     for (int s = 0; s < m; ++s) {
       const double g0 = a0 + da * s, g1 = a0 + da * (s + 1);
       const double xn = k.a11 * x + k.a12 * xd + k.b11 * g0 + k.b12 * g1;
@@ -98,7 +105,7 @@ SpectralValue spectral_value(std::span<const double> ag, double dt, double perio
 }
 
 ResponseSpectrum response_spectrum(std::span<const double> ag, double dt, std::span<const double> periods,
-                                   double zeta) {
+                                   double zeta, SpectrumSpan span) {
   ResponseSpectrum s;
   s.damping = zeta;
   s.period.assign(periods.begin(), periods.end());
@@ -111,7 +118,7 @@ ResponseSpectrum response_spectrum(std::span<const double> ag, double dt, std::s
 #pragma omp parallel for schedule(dynamic, 8)
   for (std::ptrdiff_t jj = 0; jj < np; ++jj) {
     const auto j = static_cast<std::size_t>(jj);
-    const SpectralValue v = spectral_value(ag, dt, periods[j], zeta);
+    const SpectralValue v = spectral_value(ag, dt, periods[j], zeta, span);
     s.Sa[j] = v.Sa;
     s.Sv[j] = v.Sv;
     s.Sd[j] = v.Sd;

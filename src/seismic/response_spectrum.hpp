@@ -30,17 +30,28 @@ SdofHistory sdof_response(std::span<const double> ag, double dt, double omega, d
 // Sub-steps per period used by spectral_value() so that peaks between samples count.
 constexpr double kSpectrumPointsPerPeriod = 50.0;
 
-// Peaks over the record (no free-vibration tail is appended), taken on a grid of at
-// least kSpectrumPointsPerPeriod points per period (the input stays linear between
-// samples, so sub-stepping changes nothing but where the response is looked at):
-// Sa = max |absolute acceleration|, Sv = max |relative velocity|, Sd = max |relative
-// displacement|. Period 0 gives Sa = PGA, Sv = Sd = 0.
+// Over what the peaks are taken: the record alone, or the record padded with zeros
+// long enough for the oscillator's free vibration after it to count (Boore & Bommer
+// 2005, §4: a structure, or a slope, goes on moving after the shaking stops).
+enum class SpectrumSpan { Record, WithFreeVibration };
+
+// Zero samples appended for SpectrumSpan::WithFreeVibration: one to bring the input
+// linearly back to zero, then one damped period T / sqrt(1 - zeta^2). The free response
+// is a decaying sinusoid, so its largest |value| comes within the first half period.
+std::size_t free_vibration_samples(double period, double zeta, double dt);
+
+// Peaks over the span, taken on a grid of at least kSpectrumPointsPerPeriod points per
+// period (the input stays linear between samples, so sub-stepping changes nothing but
+// where the response is looked at): Sa = max |absolute acceleration|, Sv = max
+// |relative velocity|, Sd = max |relative displacement|. Period 0 gives Sa = PGA,
+// Sv = Sd = 0.
 struct SpectralValue {
   double Sa = 0.0;  // m/s^2
   double Sv = 0.0;  // m/s
   double Sd = 0.0;  // m
 };
-SpectralValue spectral_value(std::span<const double> ag, double dt, double period, double zeta);
+SpectralValue spectral_value(std::span<const double> ag, double dt, double period, double zeta,
+                             SpectrumSpan span = SpectrumSpan::Record);
 
 struct ResponseSpectrum {
   double damping = 0.05;
@@ -48,7 +59,7 @@ struct ResponseSpectrum {
   std::vector<double> Sa, Sv, Sd;
 };
 ResponseSpectrum response_spectrum(std::span<const double> ag, double dt, std::span<const double> periods,
-                                   double zeta);
+                                   double zeta, SpectrumSpan span = SpectrumSpan::Record);
 
 // n periods spaced evenly in log between first and last (inclusive); n >= 2, 0 < first < last.
 std::vector<double> log_spaced(double first, double last, int n);

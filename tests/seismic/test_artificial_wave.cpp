@@ -21,7 +21,7 @@ using namespace dsdem::seismic;
 namespace {
 
 // The paper's case (DESIGN.md §5): beta spectrum, 0.05 g, Tg 0.35 s, dt 0.02 s, 10 s.
-// Waves for seeds 1..10 are generated once for all tests of this file.
+// Waves for seeds 1..3 are generated once for all tests of this file.
 const ArtificialWave& wave(std::uint64_t seed) {
   static std::map<std::uint64_t, ArtificialWave> cache;
   auto it = cache.find(seed);
@@ -33,9 +33,10 @@ const ArtificialWave& wave(std::uint64_t seed) {
   return it->second;
 }
 
-double worst_misfit(const ArtificialWave& w, const std::vector<double>& periods) {
+double worst_misfit(const ArtificialWave& w, const std::vector<double>& periods,
+                    SpectrumSpan span = SpectrumSpan::Record) {
   const DesignSpectrum target;
-  const ResponseSpectrum s = response_spectrum(w.wave.a, w.wave.dt, periods, 0.05);
+  const ResponseSpectrum s = response_spectrum(w.wave.a, w.wave.dt, periods, 0.05, span);
   double e = 0;
   for (std::size_t j = 0; j < periods.size(); ++j) e = std::max(e, std::abs(s.Sa[j] / target.sa(periods[j]) - 1.0));
   return e;
@@ -43,31 +44,43 @@ double worst_misfit(const ArtificialWave& w, const std::vector<double>& periods)
 
 }  // namespace
 
-// Issue 10: the response spectrum is within +-10% of the target at 50 log-spaced
-// periods from 0.1 to 6 s and within +-20% from 0.04 to 0.1 s (20 log-spaced periods;
-// dt = 0.02 s limits the shortest), PGA exact, for every seed 1..10.
-TEST(ArtificialWave, MatchesTargetSpectrumForSeeds1To10) {
-  const std::vector<double> mid = log_spaced(0.1, 6.0, 50), shortp = log_spaced(0.04, 0.1, 20);
+// The response spectrum is within +-10% of the target at 200 log-spaced periods from 0.1
+// to 6 s and within +-20% from 0.04 to 0.1 s (20 log-spaced periods; dt = 0.02 s limits
+// the shortest), PGA exact, for seeds 1..3 (1 is the Dr2 wave's): both over the record
+// alone and with the oscillator's free vibration after it (the record padded with zeros,
+// Boore & Bommer 2005), since a slope goes on moving after the shaking.
+// scripts/wave_seeds.sh checks seeds 1..100 the same way (docs/artificial-wave-seeds.md).
+TEST(ArtificialWave, MatchesTargetSpectrumForSeeds1To3WithAndWithoutFreeVibration) {
+  const std::vector<double> mid = log_spaced(0.1, 6.0, 200), shortp = log_spaced(0.04, 0.1, 20);
   const double pga = 0.05 * kStandardGravity;
-  double worst_mid = 0, worst_short = 0;
-  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+  double worst_mid = 0, worst_mid_free = 0, worst_short = 0;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     const ArtificialWave& w = wave(seed);
     ASSERT_EQ(w.wave.size(), 501u);
     EXPECT_DOUBLE_EQ(w.wave.dt, 0.02);
     const double e_mid = worst_misfit(w, mid), e_short = worst_misfit(w, shortp);
+    const double e_mid_free = worst_misfit(w, mid, SpectrumSpan::WithFreeVibration);
     EXPECT_LE(e_mid, 0.10) << "seed " << seed;
+    EXPECT_LE(e_mid_free, 0.10) << "seed " << seed;
     EXPECT_LE(e_short, 0.20) << "seed " << seed;
+    EXPECT_LE(worst_misfit(w, shortp, SpectrumSpan::WithFreeVibration), 0.20) << "seed " << seed;
     EXPECT_NEAR(w.wave.pga(), pga, 1e-12 * pga) << "seed " << seed;
+    // The fit the generator reports is that of both spans on its dense grid.
+    EXPECT_LE(std::max(w.fit_record.worst(), w.fit_free_vibration.worst()), 0.10) << "seed " << seed;
+    EXPECT_LE(w.max_misfit, 0.10) << "seed " << seed;
+    EXPECT_GE(w.fit_free_vibration.high, w.fit_record.high - 1e-15) << "seed " << seed;
     worst_mid = std::max(worst_mid, e_mid);
+    worst_mid_free = std::max(worst_mid_free, e_mid_free);
     worst_short = std::max(worst_short, e_short);
   }
   RecordProperty("worst_misfit_0.1_6s", std::to_string(worst_mid));
+  RecordProperty("worst_misfit_0.1_6s_free_vibration", std::to_string(worst_mid_free));
   RecordProperty("worst_misfit_0.04_0.1s", std::to_string(worst_short));
 }
 
 // The wave is baseline-corrected: it ends at rest where it started, v and d consistent.
 TEST(ArtificialWave, EndsAtRest) {
-  for (std::uint64_t seed : {1u, 5u}) {
+  for (std::uint64_t seed : {1u, 2u}) {
     const Accelerogram& r = wave(seed).wave;
     double vmax = 0, dmax = 0;
     for (std::size_t i = 0; i < r.size(); ++i) {
@@ -90,7 +103,7 @@ TEST(ArtificialWave, SameSeedSameWaveOtherSeedOtherWave) {
   for (std::size_t i = 0; i < again.wave.a.size(); ++i) ASSERT_EQ(again.wave.a[i], wave(3).wave.a[i]);  // bit-identical
   double diff = 0, norm = 0;
   for (std::size_t i = 0; i < again.wave.a.size(); ++i) {
-    diff = std::max(diff, std::abs(wave(3).wave.a[i] - wave(4).wave.a[i]));
+    diff = std::max(diff, std::abs(wave(3).wave.a[i] - wave(2).wave.a[i]));
     norm = std::max(norm, std::abs(wave(3).wave.a[i]));
   }
   EXPECT_GT(diff, 0.2 * norm);

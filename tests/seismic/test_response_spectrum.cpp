@@ -148,6 +148,46 @@ TEST(ResponseSpectrum, LimitsAndShape) {
   }
 }
 
+// The free vibration after the record (SpectrumSpan::WithFreeVibration, Boore & Bommer
+// 2005): a half-sine ground pulse a_g = A sin(W t), 0 <= t <= td = pi/W, on an undamped
+// oscillator of period T > 2 td peaks after the pulse (Chopra, Dynamics of Structures,
+// §4.8), at
+//   Sa = w^2 u0 = 2 A W w |cos(w td / 2)| / |w^2 - W^2|,
+// the free-vibration amplitude from x(td), x'(td). Over the record alone the peak is
+// lower. The only errors: the sampled sine (1000 samples, (W dt)^2/12 ~ 1e-6) and the
+// sub-step grid (<= 1 - cos(pi/50) = 0.2%, from below).
+TEST(ResponseSpectrum, FreeVibrationOfAHalfSinePulse) {
+  const double A = 0.8, td = 0.25, W = kPi / td, dt = td / 1000;
+  std::vector<double> ag(1001);
+  for (std::size_t i = 0; i < ag.size(); ++i) ag[i] = A * std::sin(W * dt * i);
+  for (double T : {0.8, 1.0, 2.0, 6.0}) {
+    const double w = 2 * kPi / T;
+    const double exact = 2 * A * W * w * std::abs(std::cos(w * td / 2)) / std::abs(w * w - W * W);
+    const SpectralValue free = spectral_value(ag, dt, T, 0.0, SpectrumSpan::WithFreeVibration);
+    EXPECT_LE(free.Sa, exact * (1 + 1e-5)) << "T = " << T;
+    EXPECT_GE(free.Sa, exact * (std::cos(kPi / 50) - 1e-5)) << "T = " << T;
+    EXPECT_NEAR(free.Sd * w * w / exact, 1.0, 2.5e-3) << "T = " << T;  // undamped: Sa = w^2 Sd
+    const SpectralValue record = spectral_value(ag, dt, T, 0.0);
+    EXPECT_LT(record.Sa, 0.99 * free.Sa) << "T = " << T;
+  }
+  // The span is the record padded with free_vibration_samples() zeros: the same numbers as
+  // a record padded by hand with five periods of zeros (with damping the later peaks are
+  // lower), and the same spectrum through response_spectrum().
+  const double T = 1.5, zeta = 0.05;
+  EXPECT_EQ(free_vibration_samples(T, zeta, dt), 1 + static_cast<std::size_t>(std::ceil(T / std::sqrt(1 - zeta * zeta) / dt)));
+  std::vector<double> padded = ag;
+  padded.resize(ag.size() + static_cast<std::size_t>(5 * T / dt), 0.0);
+  const SpectralValue by_hand = spectral_value(padded, dt, T, zeta);
+  const SpectralValue span = spectral_value(ag, dt, T, zeta, SpectrumSpan::WithFreeVibration);
+  EXPECT_EQ(span.Sa, by_hand.Sa);
+  EXPECT_EQ(span.Sv, by_hand.Sv);
+  EXPECT_EQ(span.Sd, by_hand.Sd);
+  const std::vector<double> periods{0.0, 0.5, T};
+  const ResponseSpectrum s = response_spectrum(ag, dt, periods, zeta, SpectrumSpan::WithFreeVibration);
+  EXPECT_EQ(s.Sa[2], span.Sa);
+  EXPECT_EQ(s.Sa[0], spectral_value(ag, dt, 0.0, zeta).Sa);  // period 0: the PGA either way
+}
+
 TEST(ResponseSpectrum, BadInputThrows) {
   const std::vector<double> ag = test_record();
   EXPECT_THROW(nigam_jennings_step(-1.0, 0.05, 0.01), std::runtime_error);
