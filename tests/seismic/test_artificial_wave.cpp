@@ -110,7 +110,7 @@ TEST(ArtificialWave, SameSeedSameWaveOtherSeedOtherWave) {
 }
 
 // The phases' cosines, the oscillators, the linearised rows, the normal equations and
-// the dense misfit check run on OpenMP threads (issue 7: the wave is generated at every
+// the dense misfit check run on OpenMP threads (the wave is generated at every
 // run's set-up and restart). Each item is computed whole by one thread, so the wave is
 // the same bit for bit on 1 and 2 threads.
 TEST(ArtificialWave, SameWaveOnOneAndTwoThreads) {
