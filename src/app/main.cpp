@@ -9,6 +9,7 @@
 #include <optional>
 #include <unistd.h>
 
+#include "app/ensemble_command.hpp"
 #include "app/post_commands.hpp"
 #include "app/wave_command.hpp"
 #include "dsdem_version.hpp"
@@ -249,6 +250,8 @@ int main(int argc, char** argv) {
   StabilityArgs stability_args;
   add_stability_command(app, stability_args);
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
+  dsdem::app::EnsembleArgs ensemble_args;
+  dsdem::app::add_ensemble_command(app, ensemble_args);
   dsdem::app::add_wave_commands(app);
   dsdem::app::add_post_commands(app);
 
@@ -265,6 +268,7 @@ int main(int argc, char** argv) {
   if (*run_args.cmd) return guarded([&] { return run_command(run_args); });
   if (*check_args.cmd) return guarded([&] { return check_command(check_args); });
   if (*stability_args.cmd) return guarded([&] { return stability_command(stability_args); });
+  if (*ensemble_args.cmd) return guarded([&] { return dsdem::app::ensemble_command(ensemble_args); });
   if (*schema_cmd) {
     fmt::print("{}", dsdem::io::schema_markdown());
     return 0;
