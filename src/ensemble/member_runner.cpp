@@ -62,13 +62,23 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log, bool trun
   return pid;
 }
 
+// The last "error:" message of a log with its indented lines, or else its last line.
 std::string read_tail_error(const fs::path& log) {
   std::ifstream in(log);
   std::string line, last, last_error;
+  bool in_error = false;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
     last = line;
-    if (line.rfind("error:", 0) == 0) last_error = line;
+    if (line.rfind("error:", 0) == 0) {
+      last_error = line;
+      in_error = true;
+    } else if (in_error && line[0] == ' ') {
+      const std::size_t k = line.find_first_not_of(' ');
+      if (k != std::string::npos) last_error.append(" ").append(line, k, std::string::npos);
+    } else {
+      in_error = false;
+    }
   }
   return last_error.empty() ? last : last_error;
 }
