@@ -319,9 +319,14 @@ AggregateResult aggregate(const EnsembleSpec& spec, const std::vector<MemberPlan
                                       {"error", "no member's summary.json has this key (see members.csv for the names)"}});
       continue;
     }
-    const auto x = series(ev.key, nullptr);
+    // A null value (e.g. river_blocked_time_s of a run in which the river was never
+    // blocked) is the event not happening; a member without the key does not count.
     std::vector<double> hit;
-    for (double v : x) hit.push_back(ev.holds(v) ? 1.0 : 0.0);
+    for (std::size_t i : ok) {
+      const auto it = data[i].scalars.find(ev.key);
+      if (it == data[i].scalars.end()) continue;
+      hit.push_back(it->second.kind != Scalar::Kind::Missing && ev.holds(it->second.value) ? 1.0 : 0.0);
+    }
     Json e = event_json(static_cast<std::size_t>(std::count(hit.begin(), hit.end(), 1.0)), hit.size());
     e["kind"] = "threshold";
     e["key"] = ev.key;

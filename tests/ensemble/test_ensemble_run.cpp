@@ -197,3 +197,33 @@ TEST(EnsembleRun, BadInputStopsBeforeAnyMemberWithFileLineAndKey) {
   EXPECT_NE(c.output.find("ens.yaml:4:73: vary[0].mode: impossible triangular distribution"), std::string::npos) << c.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
+
+// member.postprocess runs in each finished member; the keys it merges into summary.json are
+// aggregated: a null threshold key is the event not happening, and a deposit_profile gives
+// the hazard profile P(thickness > d) along x.
+TEST(EnsembleRun, PostprocessKeysAndTheDepositHazardProfile) {
+  const fs::path dir = test::fresh_dir("ens_post");
+  fs::create_directories(dir);
+  write(dir / "ens.yaml", "base: " + kBase + R"Y(
+members: 4
+vary:
+  - {key: contact.friction, name: friction, distribution: list, values: [0.1, 0.2, 0.3, 0.4]}
+events:
+  - {name: blocked, when: "river_blocked_time_s >= 0"}
+member:
+  postprocess:
+    - /usr/bin/python3
+    - -c
+    - "import json, sys; p = sys.argv[1] + '/summary.json'; d = json.load(open(p)); u = d['gauges'][0]['max_displacement_m']; d['deposit_profile'] = {'x_m': [0.0, 1.0, 2.0], 'thickness_m': [0.0, u, 2 * u]}; d['river_blocked_time_s'] = 1.0 if u > 0.1 else None; json.dump(d, open(p, 'w'))"
+    - "{out}"
+deposit_thresholds_m: [0.1]
+)Y");
+  const auto c = test::run_dsdem("ensemble " + (dir / "ens.yaml").string() + " -o " + (dir / "out").string() + " -q --no-plots");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const Json e = read_json(dir / "out" / "ensemble.json");
+  ASSERT_EQ(e["completed_members"], 4) << e["failures"].dump();
+  // x after 0.3 s for mu = 0.1 ... 0.4: 0.18, 0.14, 0.11, 0.07 m.
+  EXPECT_EQ(e["events"]["blocked"]["n"], 4);
+  EXPECT_EQ(e["events"]["blocked"]["count"], 3);
+  EXPECT_EQ(test::read_text(dir / "out" / "deposit_hazard.csv"), "x_m,p_thicker_than_0.1_m\n0,0\n1,0.75\n2,1\n");
+}
