@@ -13,6 +13,7 @@
 #include "app/post_commands.hpp"
 #include "app/wave_command.hpp"
 #include "dsdem_version.hpp"
+#include "ensemble/ensemble_file.hpp"
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
 #include "run/runner.hpp"
@@ -250,6 +251,8 @@ int main(int argc, char** argv) {
   StabilityArgs stability_args;
   add_stability_command(app, stability_args);
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
+  bool ensemble_schema = false;
+  schema_cmd->add_flag("--ensemble", ensemble_schema, "The keys of an ensemble file instead (docs/ensemble-reference.md)");
   dsdem::app::EnsembleArgs ensemble_args;
   dsdem::app::add_ensemble_command(app, ensemble_args);
   dsdem::app::add_wave_commands(app);
@@ -270,7 +273,7 @@ int main(int argc, char** argv) {
   if (*stability_args.cmd) return guarded([&] { return stability_command(stability_args); });
   if (*ensemble_args.cmd) return guarded([&] { return dsdem::app::ensemble_command(ensemble_args); });
   if (*schema_cmd) {
-    fmt::print("{}", dsdem::io::schema_markdown());
+    fmt::print("{}", ensemble_schema ? dsdem::ensemble::ensemble_schema_markdown() : dsdem::io::schema_markdown());
     return 0;
   }
   // `wave` and the post commands ran in their callbacks; help only for a bare `dsdem`.

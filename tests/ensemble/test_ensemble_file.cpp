@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "ensemble/ensemble_file.hpp"
 
@@ -137,4 +138,14 @@ correlation:
   EXPECT_NE(ev.find("is not a condition"), std::string::npos) << ev;
   const auto base = errors_of("base: nowhere.yaml\nmembers: 3\nvary:\n  - {key: a, distribution: uniform, lower: 0, upper: 1}\n");
   EXPECT_NE(base.find("ens.yaml:1:7: base: the base scenario 'nowhere.yaml' does not exist"), std::string::npos) << base;
+}
+
+// docs/ensemble-reference.md ends with the generated key table (dsdem schema --ensemble).
+TEST(EnsembleFile, ReferenceDocHasTheKeyTable) {
+  std::ifstream in(std::string(DSDEM_SOURCE_DIR) + "/docs/ensemble-reference.md");
+  ASSERT_TRUE(in.good());
+  std::stringstream s;
+  s << in.rdbuf();
+  EXPECT_NE(s.str().find(ensemble_schema_markdown()), std::string::npos)
+      << "regenerate the table at the end of docs/ensemble-reference.md: ./build/dsdem schema --ensemble";
 }
