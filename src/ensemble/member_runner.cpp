@@ -28,6 +28,7 @@ namespace {
 // Exit codes of `dsdem run` (app/main.cpp): 2 bad input, 3 unstable, 128 + signal when stopped.
 constexpr int kExitInputError = 2;
 constexpr int kExitUnstable = 3;
+constexpr int kExitNotExecuted = 127;  // spawn(): exec failed
 
 // Starts `args` with stdout and stderr appended to `log`. The child dies with this process
 // (PR_SET_PDEATHSIG), so a killed ensemble leaves no member running behind it.
@@ -57,7 +58,7 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log, bool trun
     ::execvp(argv[0], argv.data());
     const char msg[] = "error: cannot execute the member's command\n";
     [[maybe_unused]] auto n = ::write(2, msg, sizeof msg - 1);
-    ::_exit(127);
+    ::_exit(kExitNotExecuted);
   }
   return pid;
 }
@@ -245,6 +246,10 @@ RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>
       continue;
     }
     if (code == 128 + SIGINT || code == 128 + SIGTERM || code == 137) continue;  // stopped: rerun next time
+    if (code == kExitNotExecuted) {  // the binary was missing or being replaced: rerun next time
+      finish(r, "killed", code, 0, read_tail_error(dir / "member.log"));
+      continue;
+    }
     if (code == 0) {
       bool completed = false;
       try {
