@@ -226,4 +226,10 @@ deposit_thresholds_m: [0.1]
   EXPECT_EQ(e["events"]["blocked"]["n"], 4);
   EXPECT_EQ(e["events"]["blocked"]["count"], 3);
   EXPECT_EQ(test::read_text(dir / "out" / "deposit_hazard.csv"), "x_m,p_thicker_than_0.1_m\n0,0\n1,0.75\n2,1\n");
+  // Aggregated again from the folder, now with the plots and the report.
+  const auto p = test::run_dsdem("ensemble " + (dir / "ens.yaml").string() + " -o " + (dir / "out").string() + " --aggregate-only");
+  ASSERT_EQ(p.exit_code, 0) << p.output;
+  for (const char* f : {"report.html", "plots/distributions.png", "plots/events.png", "plots/envelopes.png",
+                        "plots/tornado.png", "plots/convergence.png", "plots/deposit_hazard.png"})
+    EXPECT_TRUE(fs::exists(dir / "out" / f)) << f << "\n" << p.output;
 }
