@@ -44,6 +44,10 @@ Definitions (all times from the start of the earthquake stage, i.e. the earthqua
   intake_debris_by_group           final frame: moved zone-A triangles (moved more than 5 m) with a
                                    node within 10 m (horizontally) of the intake, counted per
                                    surface group (plate, column, mudstone, deposit): what covers it
+  deposit_profile                  final frame: {x_m, thickness_m}, every 5 m over the plot's x range,
+                                   the top of the zone-A material moved more than 5 m since the
+                                   start of the earthquake above the original ground (0 where
+                                   none): what `dsdem ensemble` turns into P(thicker than d) along x
   moved_by_group                   final frame: per zone-A surface group, [triangles moved more
                                    than 5 m since the start of the earthquake, triangles]
 Uses only numpy, meshio and matplotlib (Agg).
@@ -238,7 +242,7 @@ def make_movie(out: Path, dsdem: str | None, quiet: bool) -> None:
 
 SUMMARY_KEYS = ("gauges", "mean_max_displacement_m", "duration_s", "river_blocked_time_s",
                 "deposit_area_in_channel_m2", "intake_blocked", "intake_debris_height_m", "intake_reached",
-                "river_block_height_m", "earthquake_start_s")
+                "river_block_height_m", "earthquake_start_s", "deposit_profile")
 
 
 def merge_summary(sp: Path, res: dict) -> None:
@@ -314,7 +318,7 @@ def main(argv=None) -> int:
         prev = (tt, float(fh.min()))
     area_channel = None
     intake_blocked = intake_reached = intake_height = None
-    intake_groups = moved_groups = None
+    intake_groups = moved_groups = deposit_profile = None
     if frames:
         P, tri, zone, mat, disp = load_frame(frames[-1][1])
         cen = P[tri].mean(axis=1)
@@ -344,6 +348,12 @@ def main(argv=None) -> int:
             name = gname.get(int(g), str(int(g)))
             moved_groups[name] = [int(np.sum(moved_eq & sel)), int(np.sum(sel))]
             intake_groups[name] = int(np.sum(moved_eq & sel & near_i))
+        xs = np.arange(PLOT_X[0], PLOT_X[1] + 1, 5.0)
+        debris = tri[moved_eq & (zone == 0)]
+        top = surface_profile(P, debris, xs) if len(debris) else np.full(len(xs) - 1, np.nan)
+        xc = 0.5 * (xs[1:] + xs[:-1])
+        thick = np.nan_to_num(np.maximum(0.0, top - np.interp(xc, GROUND[:, 0], GROUND[:, 1])), nan=0.0)
+        deposit_profile = {"x_m": [float(x) for x in xc], "thickness_m": [float(h) for h in thick]}
 
     res = {
         "mode": mode,
@@ -360,6 +370,7 @@ def main(argv=None) -> int:
         "intake_reached": intake_reached,
         "intake_debris_by_group": intake_groups,
         "moved_by_group": moved_groups,
+        "deposit_profile": deposit_profile,
         "broken_joints": summary.get("broken_joints"),
         "fragments": summary.get("fragments"),
         "elements": summary.get("elements"),

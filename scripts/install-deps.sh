@@ -12,6 +12,7 @@ PACKAGES=(
   nlohmann-json3-dev
   libfmt-dev libspdlog-dev
   libhdf5-dev
+  libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev googletest
   libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-meshio

@@ -25,6 +25,7 @@ LAYERS = [
     ["boundary", "mesh"],           # boundary set-up, meshing and model building
     ["solver"],                     # the time step
     ["run"],                        # a run end to end: preparation, outputs, restart, stages
+    ["ensemble"],                   # many runs: sampling, member processes (MPI), aggregates
     ["app"],                        # the command line
 ]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/', re.M)

@@ -9,10 +9,12 @@
 #include <optional>
 #include <unistd.h>
 
+#include "app/ensemble_command.hpp"
 #include "app/post_commands.hpp"
 #include "app/sph_command.hpp"
 #include "app/wave_command.hpp"
 #include "dsdem_version.hpp"
+#include "ensemble/ensemble_file.hpp"
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
 #include "run/runner.hpp"
@@ -250,6 +252,10 @@ int main(int argc, char** argv) {
   StabilityArgs stability_args;
   add_stability_command(app, stability_args);
   auto* schema_cmd = app.add_subcommand("schema", "Print the scenario reference (every key, unit, default, range) as Markdown");
+  bool ensemble_schema = false;
+  schema_cmd->add_flag("--ensemble", ensemble_schema, "The keys of an ensemble file instead (docs/ensemble-reference.md)");
+  dsdem::app::EnsembleArgs ensemble_args;
+  dsdem::app::add_ensemble_command(app, ensemble_args);
   dsdem::app::add_wave_commands(app);
   dsdem::app::add_sph_commands(app);
   dsdem::app::add_post_commands(app);
@@ -267,8 +273,9 @@ int main(int argc, char** argv) {
   if (*run_args.cmd) return guarded([&] { return run_command(run_args); });
   if (*check_args.cmd) return guarded([&] { return check_command(check_args); });
   if (*stability_args.cmd) return guarded([&] { return stability_command(stability_args); });
+  if (*ensemble_args.cmd) return guarded([&] { return dsdem::app::ensemble_command(ensemble_args); });
   if (*schema_cmd) {
-    fmt::print("{}", dsdem::io::schema_markdown());
+    fmt::print("{}", ensemble_schema ? dsdem::ensemble::ensemble_schema_markdown() : dsdem::io::schema_markdown());
     return 0;
   }
   // `wave` and the post commands ran in their callbacks; help only for a bare `dsdem`.

@@ -165,6 +165,11 @@ void SchemaReader::error(const YAML::Node& at, const std::string& path, const st
 }
 
 const KeySpec& SchemaReader::spec(const KeyPath& p) const {
+  if (schema_) {
+    for (const auto& s : *schema_)
+      if (s.pattern == p.pattern) return s;
+    throw std::logic_error("schema has no key " + p.pattern);  // programming error
+  }
   const KeySpec* s = find_spec(p.pattern);
   if (!s) throw std::logic_error("scenario schema has no key " + p.pattern);  // programming error
   return *s;
@@ -355,7 +360,7 @@ void SchemaReader::check_keys(const YAML::Node& map, const KeyPath& path) {
   if (!map.IsMap()) return;
   std::vector<std::string> valid;
   const std::string prefix = path.pattern.empty() ? "" : path.pattern + ".";
-  for (const auto& s : scenario_schema()) {
+  for (const auto& s : schema_ ? *schema_ : scenario_schema()) {
     if (s.pattern.compare(0, prefix.size(), prefix) != 0) continue;
     const std::string rest = s.pattern.substr(prefix.size());
     if (rest.empty() || rest.find('.') != std::string::npos || rest == "*") continue;

@@ -49,6 +49,8 @@ struct KeyPath {
 class SchemaReader {
  public:
   explicit SchemaReader(std::string file) : file_(std::move(file)) {}
+  // Another file format's table of keys (e.g. an ensemble file); `schema` must outlive the reader.
+  SchemaReader(std::string file, const std::vector<KeySpec>& schema) : file_(std::move(file)), schema_(&schema) {}
 
   std::optional<double> number(const YAML::Node& map, const KeyPath& parent, const std::string& key);
   std::optional<long long> integer(const YAML::Node& map, const KeyPath& parent, const std::string& key);
@@ -84,6 +86,7 @@ class SchemaReader {
   const KeySpec& spec(const KeyPath& p) const;
   void check_range(const YAML::Node& at, const KeyPath& p, const KeySpec& s, double v);
   std::string file_;
+  const std::vector<KeySpec>* schema_ = nullptr;  // nullptr: the scenario's
   std::vector<std::string> errors_;
   std::vector<std::string> overrides_;
 };
