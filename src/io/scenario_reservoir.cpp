@@ -13,10 +13,7 @@ void read_reservoir(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   r.check_keys(s, p);
   ReservoirSpec& res = sc.reservoir;
   res.present = true;
-  res.where.file = r.file();
-  res.where.key = p.actual;
-  res.where.line = s.Mark().line;
-  res.where.column = s.Mark().column;
+  res.where = location(r, s, p.actual);
   res.level = r.number(s, p, "level").value_or(0.0);
   if (auto x = r.vector2(s, p, "x")) {
     res.x_min = (*x)[0];

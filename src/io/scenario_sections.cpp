@@ -13,8 +13,6 @@
 
 namespace dsdem::io::detail {
 
-namespace {
-
 SourceLocation location(const SchemaReader& r, const YAML::Node& n, const std::string& key) {
   SourceLocation loc;
   loc.file = r.file();
@@ -27,6 +25,8 @@ SourceLocation location(const SchemaReader& r, const YAML::Node& n, const std::s
   }
   return loc;
 }
+
+namespace {
 
 TimeHistory to_history(const std::vector<std::array<double, 2>>& rows) {
   TimeHistory h;

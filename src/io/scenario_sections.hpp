@@ -7,6 +7,9 @@
 
 namespace dsdem::io::detail {
 
+// Where a value stands: the file, line and column of node n, or the --set that gave it.
+SourceLocation location(const SchemaReader& r, const YAML::Node& n, const std::string& key);
+
 void read_mesh(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_materials(SchemaReader& r, YAML::Node& root, Scenario& sc);
 void read_regions(SchemaReader& r, YAML::Node& root, Scenario& sc);
