@@ -36,6 +36,33 @@ struct RanksGuard {
   ~RanksGuard() { ensemble::finish_ranks(r); }
 };
 
+std::string rank_label(const ensemble::Ranks& r) {
+  return r.size > 1 ? fmt::format("rank {}/{}: ", r.rank, r.size) : "";
+}
+
+// This rank's members run (a pool of processes), their files gathered on rank 0; the
+// signal that stopped some rank, 0 if none did.
+int run_this_ranks_members(const EnsembleArgs& a, const ensemble::EnsembleSpec& spec,
+                           const std::vector<ensemble::MemberPlan>& plans, const ensemble::Ranks& r, const fs::path& out) {
+  ensemble::RunnerOptions o;
+  o.out_dir = out;
+  o.dsdem_exe = fs::read_symlink("/proc/self/exe").string();
+  o.scripts_dir = scripts_dir();
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  o.jobs = a.jobs > 0 ? a.jobs : std::max(1, cores / std::max(1, r.local_size) / spec.member_threads);
+  o.quiet = a.quiet;
+  o.label = rank_label(r);
+  o.stop_signal = &g_ensemble_stop;
+  const auto mine = ensemble::members_of_rank(spec.members, r);
+  const auto res = ensemble::run_members(spec, plans, mine, o);
+  if (!a.quiet && res.skipped > 0)
+    fmt::print(stderr, "{}ensemble: {} members already complete, skipped\n", o.label, res.skipped);
+  std::vector<fs::path> dirs;
+  for (std::size_t i : mine) dirs.push_back(ensemble::member_dir(out, i, spec.members));
+  ensemble::gather_member_files(r, dirs, {"summary.json", "history.csv", "diagnosis.json", "member.log"}, "member.json");
+  return ensemble::max_over_ranks(r, res.stopped ? static_cast<int>(g_ensemble_stop ? g_ensemble_stop : SIGTERM) : 0);
+}
+
 }  // namespace
 
 void add_ensemble_command(CLI::App& app, EnsembleArgs& a) {
@@ -63,15 +90,30 @@ int ensemble_command(const EnsembleArgs& a) {
   const bool root = r.rank == 0;
   ensemble::EnsembleSpec spec;
   std::vector<ensemble::MemberPlan> plans;
+  // Every rank reads the file; a rank that cannot (another machine without it, say) must
+  // not leave the others waiting for its members: they agree before any member starts.
+  std::vector<std::string> errors;
   try {
     spec = ensemble::load_ensemble(a.file);
     plans = ensemble::plan_members(spec);
     ensemble::validate_members(spec, plans);
   } catch (const io::ScenarioError& e) {
-    if (root) {
-      fmt::print(stderr, "error: the ensemble has {} error{}:\n", e.errors().size(), e.errors().size() == 1 ? "" : "s");
-      for (const auto& l : e.errors()) fmt::print(stderr, "  {}\n", l);
+    errors = e.errors();
+  } catch (const std::exception& e) {
+    if (r.size == 1) throw;
+    errors = {e.what()};
+  }
+  const int bad = errors.empty() ? 0 : 1;
+  const bool any_bad = ensemble::max_over_ranks(r, bad) != 0;
+  const bool root_bad = ensemble::max_over_ranks(r, root ? bad : 0) != 0;
+  if (any_bad) {
+    // Rank 0's errors, or those of the ranks that alone could not read it (once each).
+    if (bad && (root || !root_bad)) {
+      fmt::print(stderr, "{}error: the ensemble has {} error{}:\n", root ? "" : rank_label(r), errors.size(),
+                 errors.size() == 1 ? "" : "s");
+      for (const auto& l : errors) fmt::print(stderr, "  {}\n", l);
     }
+    if (root && !bad) fmt::print(stderr, "error: another rank could not read the ensemble (its errors are above)\n");
     return 2;
   }
   if (a.check_only) {
@@ -89,27 +131,16 @@ int ensemble_command(const EnsembleArgs& a) {
     return 0;
   }
   const fs::path out(a.out_dir.empty() ? "." : a.out_dir);
-  io::ensure_writable_directory(out / "members");
-
   int stopped = 0;
-  if (!a.aggregate_only) {
-    ensemble::RunnerOptions o;
-    o.out_dir = out;
-    o.dsdem_exe = fs::read_symlink("/proc/self/exe").string();
-    o.scripts_dir = scripts_dir();
-    const int cores = std::max(1u, std::thread::hardware_concurrency());
-    o.jobs = a.jobs > 0 ? a.jobs : std::max(1, cores / std::max(1, r.local_size) / spec.member_threads);
-    o.quiet = a.quiet;
-    o.label = r.size > 1 ? fmt::format("rank {}/{}: ", r.rank, r.size) : "";
-    o.stop_signal = &g_ensemble_stop;
-    const auto mine = ensemble::members_of_rank(spec.members, r);
-    const auto res = ensemble::run_members(spec, plans, mine, o);
-    if (!a.quiet && res.skipped > 0)
-      fmt::print(stderr, "{}ensemble: {} members already complete, skipped\n", o.label, res.skipped);
-    std::vector<fs::path> dirs;
-    for (std::size_t i : mine) dirs.push_back(ensemble::member_dir(out, i, spec.members));
-    ensemble::gather_member_files(r, dirs, {"summary.json", "history.csv", "diagnosis.json", "member.log"}, "member.json");
-    stopped = ensemble::max_over_ranks(r, res.stopped ? static_cast<int>(g_ensemble_stop ? g_ensemble_stop : SIGTERM) : 0);
+  try {
+    io::ensure_writable_directory(out / "members");
+    if (!a.aggregate_only) stopped = run_this_ranks_members(a, spec, plans, r, out);
+  } catch (const std::exception& e) {
+    if (r.size == 1) throw;
+    // The other ranks wait for this one's files or its vote: end them all.
+    fmt::print(stderr, "{}error: {}; ending every rank (members already complete are kept: run the same command again "
+               "to go on)\n", rank_label(r), e.what());
+    ensemble::abort_ranks(r, 1);
   }
   if (!root) return stopped ? 128 + stopped : 0;
   if (stopped) {

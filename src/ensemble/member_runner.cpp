@@ -158,6 +158,8 @@ RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>
   const std::size_t total = which.size();
   const int jobs = std::max(1, o.jobs);
   bool forwarded = false;
+  bool progress_due = false;
+  std::string progress_note;
 
   auto launch_run = [&](std::size_t i) {
     const fs::path dir = member_dir(o.out_dir, i, spec.members);
@@ -200,14 +202,18 @@ RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>
     ++finished;
     ++res.ran;
     if (status != "ok") ++res.failed;
-    if (!o.quiet) {
-      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const std::size_t done = res.skipped + finished;
-      const double eta = elapsed / static_cast<double>(finished) * static_cast<double>(total - done);
-      fmt::print(stderr, "{}ensemble: {}/{} members done ({} failed, {} running), ETA {}{}\n", o.label, done, total,
-                 res.failed, running.size(), duration_text(eta),
-                 status == "ok" ? "" : fmt::format(" - member {} {}: {}", r.member, status, diagnosis));
-    }
+    progress_note = status == "ok" ? "" : fmt::format(" - member {} {}: {}", r.member, status, diagnosis);
+    progress_due = true;
+  };
+  // The progress line, once the pool has been refilled: the members running then.
+  auto report_progress = [&] {
+    if (!progress_due || o.quiet) return;
+    progress_due = false;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::size_t done = res.skipped + finished;
+    const double eta = elapsed / static_cast<double>(finished) * static_cast<double>(total - done);
+    fmt::print(stderr, "{}ensemble: {}/{} members done ({} failed, {} running), ETA {}{}\n", o.label, done, total,
+               res.failed, running.size(), duration_text(eta), progress_note);
   };
 
   while (!queue.empty() || !running.empty()) {
@@ -220,6 +226,7 @@ RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>
       launch_run(queue.front());
       queue.pop_front();
     }
+    report_progress();
     if (running.empty()) break;
     int status = 0;
     const pid_t pid = ::waitpid(-1, &status, 0);
@@ -270,6 +277,7 @@ RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>
       finish(r, st, code, 0, diagnosis_of(dir));
     }
   }
+  report_progress();  // the last member's line
   res.stopped = !queue.empty() || (o.stop_signal && *o.stop_signal && res.ran + res.skipped < total);
   return res;
 }

@@ -84,6 +84,15 @@ int max_over_ranks(const Ranks& r, int v) {
 #endif
 }
 
+void abort_ranks(const Ranks& r, int code) {
+#ifdef DSDEM_HAVE_MPI
+  if (r.mpi) MPI_Abort(MPI_COMM_WORLD, code);
+#else
+  (void)r;
+  (void)code;
+#endif
+}
+
 #ifdef DSDEM_HAVE_MPI
 namespace {
 

@@ -28,5 +28,9 @@ void gather_member_files(const Ranks& r, const std::vector<std::filesystem::path
                          const std::vector<std::string>& files, const std::string& last_file);
 // Largest of `v` over the ranks, on every rank.
 int max_over_ranks(const Ranks& r, int v);
+// Ends every rank of the job with exit code `code` (MPI_Abort): what a rank does on an
+// error the others cannot learn of, which would otherwise leave them waiting for it for
+// ever. Members already complete stay on disk. Returns only without MPI.
+void abort_ranks(const Ranks& r, int code);
 
 }  // namespace dsdem::ensemble

@@ -174,6 +174,40 @@ TEST(EnsembleRun, SameMembersCsvForJobsMpiAndAKilledRun) {
   EXPECT_EQ(csv("mpi"), reference);
 }
 
+// Under mpirun, a rank that cannot go on must not leave the others waiting for it: a rank
+// without the ensemble file (it is read on every machine) stops them all before any member,
+// and a rank that fails later (here its output folder is a file) ends the job. `timeout`
+// turns a hang into exit code 124.
+TEST(EnsembleRun, MpiRankThatCannotGoOnStopsTheOthers) {
+  const std::string mpirun = DSDEM_MPIRUN;
+  if (mpirun.empty()) GTEST_SKIP() << "built without MPI";
+  const fs::path dir = test::fresh_dir("ens_mpi_fail");
+  for (const char* d : {"a", "b", "c"}) fs::create_directories(dir / d);
+  const std::string text = friction_file(4, "monte_carlo", 1);
+  write(dir / "a" / "ens.yaml", text);  // b has none
+  write(dir / "c" / "ens.yaml", text);
+  write(dir / "c" / "out", "a file where rank 1 wants its output folder");
+  const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
+  auto two_ranks = [&](const char* rank1_dir) {
+    const std::string one = std::string(DSDEM_BINARY) + " ensemble ens.yaml -o out --jobs 1 -q --no-plots";
+    return test::run_command("ASAN_OPTIONS=detect_leaks=0 timeout -k 10 120 " + mpirun + root + " --oversubscribe -n 1 -wdir " +
+                             (dir / "a").string() + " " + one + " : -n 1 -wdir " + (dir / rank1_dir).string() + " " + one);
+  };
+  auto c = two_ranks("b");
+  EXPECT_NE(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.exit_code, 124) << "the ranks hung\n" << c.output;
+  EXPECT_NE(c.output.find("rank 1/2: error: the ensemble has 1 error"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("another rank could not read the ensemble"), std::string::npos) << c.output;
+  EXPECT_FALSE(fs::exists(dir / "a" / "out" / "members")) << "a member started";
+
+  fs::remove_all(dir / "a" / "out");
+  c = two_ranks("c");
+  EXPECT_NE(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.exit_code, 124) << "the ranks hung\n" << c.output;
+  EXPECT_NE(c.output.find("rank 1/2: error:"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("ending every rank"), std::string::npos) << c.output;
+}
+
 // A member that fails is recorded with its exit status and diagnosis; the others run.
 TEST(EnsembleRun, AFailedMemberIsRecordedAndTheOthersRun) {
   const fs::path dir = test::fresh_dir("ens_fail");
