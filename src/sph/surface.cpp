@@ -1,0 +1,161 @@
+#include "sph/surface.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sph/kernels.hpp"
+
+namespace dsdem::sph {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The fluid particles binned into columns `width` wide from x_min (a counting sort).
+struct Columns {
+  double x_min = 0.0, width = 1.0;
+  std::vector<std::int32_t> start, order;
+
+  Columns(const FluidParticles& f, double w) : width(w) {
+    const std::size_t n = f.size();
+    x_min = *std::min_element(f.x.begin(), f.x.end());
+    const double x_max = *std::max_element(f.x.begin(), f.x.end());
+    const auto nb = static_cast<std::size_t>((x_max - x_min) / width) + 1;
+    start.assign(nb + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start[column(f.x[i]) + 1];
+    for (std::size_t b = 0; b < nb; ++b) start[b + 1] += start[b];
+    order.resize(n);
+    std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) order[static_cast<std::size_t>(fill[column(f.x[i])]++)] = static_cast<std::int32_t>(i);
+  }
+  std::size_t columns() const { return start.size() - 1; }
+  std::size_t column(double x) const {
+    const double c = std::floor((x - x_min) / width);
+    return c <= 0.0 ? 0 : std::min(static_cast<std::size_t>(c), columns() - 1);
+  }
+  // The particles within `reach` of the vertical line at x, into near.
+  void near_line(const FluidParticles& f, double x, double reach, std::vector<std::int32_t>& near) const {
+    near.clear();
+    if (x + reach < x_min || x - reach > x_min + width * static_cast<double>(columns())) return;
+    for (std::size_t b = column(x - reach); b <= column(x + reach); ++b)
+      for (std::int32_t k = start[b]; k < start[b + 1]; ++k) {
+        const std::int32_t j = order[static_cast<std::size_t>(k)];
+        if (std::abs(f.x[static_cast<std::size_t>(j)] - x) < reach) near.push_back(j);
+      }
+  }
+};
+
+// The highest y where c(x, y) = 1/2 over the particles `near` (within 2h of the line x).
+double surface_at(const FluidParticles& f, std::span<const std::int32_t> near, double x, double h, double resolution) {
+  if (near.empty()) return kNaN;
+  double y_top = -std::numeric_limits<double>::infinity(), y_bottom = std::numeric_limits<double>::infinity();
+  for (const std::int32_t j : near) {
+    y_top = std::max(y_top, f.y[static_cast<std::size_t>(j)]);
+    y_bottom = std::min(y_bottom, f.y[static_cast<std::size_t>(j)]);
+  }
+  // Down from where no particle reaches (c = 0) in steps of h/4, short enough not to step
+  // over a sheet of water as thin as a particle, until c >= 1/2; then bisection.
+  const double step = 0.25 * h;
+  double above = y_top + 2.0 * h;
+  for (double y = above - step; y > y_bottom - 2.0 * h; y -= step) {
+    if (fluid_fraction(f, near, x, y, h) >= 0.5) {
+      double below = y;
+      while (above - below > resolution) {
+        const double mid = 0.5 * (above + below);
+        (fluid_fraction(f, near, x, mid, h) >= 0.5 ? below : above) = mid;
+      }
+      return 0.5 * (above + below);
+    }
+    above = y;
+  }
+  return kNaN;
+}
+
+double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double s = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (p - (a + s * ab)).norm();
+}
+
+}  // namespace
+
+double fluid_fraction(const FluidParticles& f, std::span<const std::int32_t> near, double x, double y, double h) {
+  double c = 0.0;
+  for (const std::int32_t j : near) {
+    const auto k = static_cast<std::size_t>(j);
+    const double dx = x - f.x[k], dy = y - f.y[k];
+    c += f.mass / f.rho[k] * wendland(dx * dx + dy * dy, h);
+  }
+  return c;
+}
+
+std::vector<double> free_surface_elevations(const FluidParticles& f, std::span<const double> xs, double h,
+                                            double resolution) {
+  std::vector<double> out(xs.size(), kNaN);
+  if (f.size() == 0) return out;
+  const Columns columns(f, 2.0 * h);
+  std::vector<std::int32_t> near;
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    columns.near_line(f, xs[k], 2.0 * h, near);
+    out[k] = surface_at(f, near, xs[k], h, resolution);
+  }
+  return out;
+}
+
+SurfacePeak highest_surface(const FluidParticles& f, double x0, double x1, double spacing, double h,
+                            double resolution) {
+  std::vector<double> xs;
+  for (double x = x0; x <= x1 + 1e-9 * spacing; x += spacing) xs.push_back(x);
+  const std::vector<double> ys = free_surface_elevations(f, xs, h, resolution);
+  SurfacePeak peak{x0, kNaN};
+  for (std::size_t k = 0; k < xs.size(); ++k)
+    if (!std::isnan(ys[k]) && (std::isnan(peak.y) || ys[k] > peak.y)) peak = {xs[k], ys[k]};
+  return peak;
+}
+
+double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline, double reach, double dp) {
+  if (polyline.empty()) return kNaN;
+  Vec2 lo = polyline[0], hi = polyline[0];
+  for (const Vec2& p : polyline) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  lo.array() -= reach;
+  hi.array() += reach;
+  double top = kNaN;
+  for (std::size_t j = 0; j < f.size(); ++j) {
+    const Vec2 p(f.x[j], f.y[j]);
+    if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
+    if (!std::isnan(top) && p.y() <= top) continue;
+    bool close = polyline.size() == 1 && (p - polyline[0]).norm() <= reach;
+    for (std::size_t s = 0; s + 1 < polyline.size() && !close; ++s)
+      close = distance_to_segment(p, polyline[s], polyline[s + 1]) <= reach;
+    if (close) top = p.y();
+  }
+  return std::isnan(top) ? top : top + 0.5 * dp;
+}
+
+double volume_beyond(const FluidParticles& f, double x_line, int direction, double y_min) {
+  double area = 0.0;
+  for (std::size_t j = 0; j < f.size(); ++j)
+    if ((f.x[j] - x_line) * direction > 0.0 && f.y[j] > y_min) area += f.mass / f.rho[j];
+  return area;
+}
+
+std::vector<double> upcrossing_times(std::span<const double> t, std::span<const double> eta, double level) {
+  std::vector<double> out;
+  for (std::size_t k = 1; k < std::min(t.size(), eta.size()); ++k)
+    if (eta[k - 1] < level && eta[k] >= level)
+      out.push_back(t[k - 1] + (level - eta[k - 1]) / (eta[k] - eta[k - 1]) * (t[k] - t[k - 1]));
+  return out;
+}
+
+double mean_upcrossing_period(std::span<const double> t, std::span<const double> eta, double level) {
+  const std::vector<double> up = upcrossing_times(t, eta, level);
+  if (up.size() < 2) return kNaN;
+  return (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+}
+
+}  // namespace dsdem::sph

@@ -1,0 +1,58 @@
+#pragma once
+// What engineers read off the water (DESIGN.md §13): the free-surface elevation at a gauge,
+// the surface along the reservoir (the wave's amplitude, where and when), the run-up on a
+// bank, the volume that has passed a crest, the wave period at a gauge. Measured on the
+// fluid particles at output times, never in the time loop: each call scans the particles
+// once (O(N)) and allocates only its scratch.
+//
+// The free surface is where the SPH fluid fraction c(x, y) = sum_j V_j W(|x - x_j|, h)
+// (the Shepard sum of the particles' volumes: 1 inside the water) falls to 1/2: at a flat
+// surface of particles laid dp apart the kernel's half-support reaches dp/2 above the top
+// row, the surface of the water the particles stand for. A lone droplet (c <= V W(0) =
+// 0.25 at h = 1.5 dp) is not surface.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "model/types.hpp"
+#include "sph/particles.hpp"
+
+namespace dsdem::sph {
+
+// c(x, y) over the particles listed in `near` (indices into f, those within 2h of the point
+// or more).
+double fluid_fraction(const FluidParticles& f, std::span<const std::int32_t> near, double x, double y, double h);
+
+// The free-surface elevation at each x of `xs` (m): the highest y where c(x, y) = 1/2,
+// found to within `resolution` (m; dp/20 is plenty); NaN where the column is dry.
+// Particles are binned once into columns 2h wide.
+std::vector<double> free_surface_elevations(const FluidParticles& f, std::span<const double> xs, double h,
+                                            double resolution);
+
+// The highest point of the surface over [x0, x1] sampled every `spacing` m: its x and y.
+// y is NaN when the whole span is dry.
+struct SurfacePeak {
+  double x = 0.0, y = 0.0;
+};
+SurfacePeak highest_surface(const FluidParticles& f, double x0, double x1, double spacing, double h, double resolution);
+
+// The run-up on a bank given as a polyline (m): the highest elevation of the water's edge
+// on it, i.e. of the fluid particles within `reach` of the polyline (dp is the usual
+// reach: the first row of water on the bank) plus half a particle spacing `dp / 2` (the
+// water the particle stands for reaches that far). NaN when no particle is that close.
+double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline, double reach, double dp);
+
+// The water beyond a vertical line x = x_line on the side `direction` (+1: x > x_line, -1:
+// x < x_line) and above y_min (m): its area per unit width, m^2/m (mass / density of each
+// particle). The overtopping volume of a crest at (x_line, y_min) is its growth from the
+// start.
+double volume_beyond(const FluidParticles& f, double x_line, int direction, double y_min);
+
+// The times (s) at which the series eta(t) crosses `level` upwards, linearly interpolated
+// between samples (zero up-crossings about the still level).
+std::vector<double> upcrossing_times(std::span<const double> t, std::span<const double> eta, double level);
+
+// The mean period between successive up-crossings (s): NaN with fewer than two.
+double mean_upcrossing_period(std::span<const double> t, std::span<const double> eta, double level);
+
+}  // namespace dsdem::sph

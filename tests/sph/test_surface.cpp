@@ -1,0 +1,99 @@
+// The water's surface measurements (DESIGN.md §13): gauges, the highest point, run-up,
+// the volume past a crest, the period at a gauge, on particle layouts whose answer is known.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "sph/surface.hpp"
+
+using namespace dsdem;
+using namespace dsdem::sph;
+
+namespace {
+
+constexpr double kDp = 0.1, kH = 1.5 * kDp, kRho = 1000.0;
+
+// Particles dp apart, centres at ((i + 1/2) dp, (k + 1/2) dp), wherever the centre is
+// below surface(x) (the water stands for the cells, up to the top row's upper edge).
+FluidParticles water_under(double x0, double x1, const std::function<double(double)>& surface) {
+  FluidParticles f;
+  f.mass = kRho * kDp * kDp;
+  for (double x = x0 + 0.5 * kDp; x < x1; x += kDp)
+    for (double y = 0.5 * kDp; y < surface(x); y += kDp) f.add(x, y, kRho);
+  return f;
+}
+
+}  // namespace
+
+TEST(FreeSurface, StillWaterReadsItsDepthAndADryColumnNothing) {
+  const double depth = 1.0;  // 10 rows: the top row's upper edge at 1.0 m
+  const FluidParticles f = water_under(0.0, 4.0, [&](double) { return depth; });
+  const std::vector<double> xs{0.8, 1.55, 2.0, 3.2, 6.0};
+  const std::vector<double> y = free_surface_elevations(f, xs, kH, kDp / 50);
+  for (std::size_t k = 0; k + 1 < xs.size(); ++k) EXPECT_NEAR(y[k], depth, 0.1 * kDp) << "x = " << xs[k];
+  EXPECT_TRUE(std::isnan(y.back())) << "a dry column reads no surface";
+  // Inside the water the fluid fraction is 1 within the lattice's Shepard error.
+  std::vector<std::int32_t> all(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) all[i] = static_cast<std::int32_t>(i);
+  EXPECT_NEAR(fluid_fraction(f, all, 2.0, 0.5, kH), 1.0, 0.01);
+}
+
+TEST(FreeSurface, FollowsASlopeAndIgnoresADroplet) {
+  auto line = [](double x) { return 0.6 + 0.1 * x; };
+  FluidParticles f = water_under(0.0, 4.0, line);
+  f.add(2.05, 2.5, kRho);  // a lone droplet far above the surface
+  const std::vector<double> xs{1.0, 2.05, 3.0};
+  const std::vector<double> y = free_surface_elevations(f, xs, kH, kDp / 50);
+  // The particles stand for the surface to within one row (the staircase of the layout).
+  for (std::size_t k = 0; k < xs.size(); ++k) EXPECT_NEAR(y[k], line(xs[k]), 0.6 * kDp) << "x = " << xs[k];
+  const SurfacePeak peak = highest_surface(f, 0.5, 3.5, kDp, kH, kDp / 50);
+  EXPECT_NEAR(peak.x, 3.5, 2 * kDp);
+  EXPECT_NEAR(peak.y, line(3.5), 0.6 * kDp);
+}
+
+TEST(FreeSurface, AHumpIsFoundWhereItIs) {
+  // A crest 0.3 m high at x = 2.5 m on water 0.8 m deep.
+  auto surface = [](double x) { return 0.8 + 0.3 * std::exp(-std::pow((x - 2.5) / 0.4, 2)); };
+  const FluidParticles f = water_under(0.0, 5.0, surface);
+  const SurfacePeak peak = highest_surface(f, 0.0, 5.0, 0.05, kH, kDp / 50);
+  EXPECT_NEAR(peak.x, 2.5, 0.15);
+  EXPECT_NEAR(peak.y, 1.1, 0.6 * kDp);
+}
+
+TEST(Runup, TheHighestWaterOnTheBank) {
+  // A bank rising at 1:1 from (3, 0): water 0.7 m deep against it.
+  const std::vector<Vec2> bank{{3.0, 0.0}, {5.0, 2.0}};
+  const FluidParticles f = water_under(0.0, 6.0, [](double) { return 0.7; });
+  // The water is above the bank line y = x - 3 (half a spacing off it).
+  FluidParticles wet;
+  wet.mass = f.mass;
+  for (std::size_t j = 0; j < f.size(); ++j)
+    if (f.y[j] > f.x[j] - 3.0 + 0.5 * kDp) wet.add(f.x[j], f.y[j], kRho);
+  const double r = runup_on_polyline(wet, bank, 1.5 * kDp, kDp);
+  EXPECT_NEAR(r, 0.7, kDp);
+  EXPECT_TRUE(std::isnan(runup_on_polyline(wet, std::vector<Vec2>{{10.0, 0.0}, {12.0, 2.0}}, kDp, kDp)));
+}
+
+TEST(Overtopping, TheWaterPastACrest) {
+  const FluidParticles f = water_under(0.0, 3.0, [](double) { return 1.0; });
+  // Past x = 2 (1 m of the 3 m wide pool), above y = 0.5: 1 m x 0.5 m.
+  EXPECT_NEAR(volume_beyond(f, 2.0, +1, 0.5), 0.5, 1e-9);
+  EXPECT_NEAR(volume_beyond(f, 2.0, -1, 0.0), 2.0, 1e-9);
+  EXPECT_EQ(volume_beyond(f, 3.5, +1, 0.0), 0.0);
+}
+
+TEST(WavePeriod, ASinesPeriodFromItsUpcrossings) {
+  std::vector<double> t, eta;
+  const double period = 3.7;
+  for (int k = 0; k <= 4000; ++k) {
+    t.push_back(0.005 * k);
+    eta.push_back(837.0 + 2.0 * std::sin(2 * kPi * t.back() / period + 0.3));
+  }
+  EXPECT_NEAR(mean_upcrossing_period(t, eta, 837.0), period, 1e-4 * period);
+  const std::vector<double> up = upcrossing_times(t, eta, 837.0);
+  ASSERT_FALSE(up.empty());
+  EXPECT_NEAR(up.front(), period * (1.0 - 0.3 / (2 * kPi)), 1e-4);
+  EXPECT_TRUE(std::isnan(mean_upcrossing_period(t, std::vector<double>(t.size(), 837.0), 837.0)));
+}
