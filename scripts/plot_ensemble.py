@@ -237,14 +237,14 @@ def fmt(v) -> str:
 
 def scalars_table(ens: dict) -> str:
     rows = ['<table><thead><tr><th>output</th><th class="num">n</th><th class="num">mean</th><th class="num">sd</th>'
-            '<th class="num">P5</th><th class="num">P50</th><th class="num">P95</th><th>95 % intervals (mean; P50; P95)</th>'
-            '</tr></thead><tbody>']
+            '<th class="num">P5</th><th class="num">P10</th><th class="num">P50</th><th class="num">P90</th>'
+            '<th class="num">P95</th><th>95 % intervals (mean; P50; P95)</th></tr></thead><tbody>']
     for k, s in ens["scalars"].items():
         ci = s.get("ci95")
         cis = "" if not ci else "; ".join(f"[{fmt(ci[q][0])}, {fmt(ci[q][1])}]" for q in ("mean", "p50", "p95"))
+        cells = "".join(f"<td class='num'>{fmt(s.get(q))}</td>" for q in ("p5", "p10", "p50", "p90", "p95"))
         rows.append(f"<tr><td>{esc(k)}</td><td class='num'>{s['n']}</td><td class='num'>{fmt(s['mean'])}</td>"
-                    f"<td class='num'>{fmt(s['sd'])}</td><td class='num'>{fmt(s['p5'])}</td>"
-                    f"<td class='num'>{fmt(s['p50'])}</td><td class='num'>{fmt(s['p95'])}</td><td>{esc(cis)}</td></tr>")
+                    f"<td class='num'>{fmt(s['sd'])}</td>{cells}<td>{esc(cis)}</td></tr>")
     rows.append("</tbody></table>")
     return "\n".join(rows)
 

@@ -257,7 +257,9 @@ AggregateResult aggregate(const EnsembleSpec& spec, const std::vector<MemberPlan
   out["statistics_note"] = "over the completed members; intervals 95 %: percentile bootstrap for mean, sd and quantiles, "
                            "Wilson for probabilities";
 
-  const std::vector<double> ps{0.05, 0.5, 0.95};
+  // P5/P50/P95, and P10/P90 (the percentiles engineers quote for a hazard).
+  const std::vector<double> ps{0.05, 0.10, 0.5, 0.90, 0.95};
+  const std::vector<std::string> p_names{"p5", "p10", "p50", "p90", "p95"};
   Json scalars = Json::object();
   std::vector<std::string> varying;
   for (std::size_t k = 0; k < columns.size(); ++k) {
@@ -272,16 +274,14 @@ AggregateResult aggregate(const EnsembleSpec& spec, const std::vector<MemberPlan
     s["mean"] = mean(x);
     s["sd"] = standard_deviation(x);
     s["min"] = sorted.front();
-    s["p5"] = quantile_sorted(sorted, 0.05);
-    s["p50"] = quantile_sorted(sorted, 0.5);
-    s["p95"] = quantile_sorted(sorted, 0.95);
+    for (std::size_t q = 0; q < ps.size(); ++q) s[p_names[q]] = quantile_sorted(sorted, ps[q]);
     s["max"] = sorted.back();
     if (sorted.front() != sorted.back()) {
       varying.push_back(key);
       const auto b = bootstrap(x, ps, spec.bootstrap_resamples, key_seed(spec.seed, k));
-      s["ci95"] = Json::object({{"mean", interval_json(b.mean)}, {"sd", interval_json(b.sd)},
-                                {"p5", interval_json(b.quantiles[0])}, {"p50", interval_json(b.quantiles[1])},
-                                {"p95", interval_json(b.quantiles[2])}});
+      Json ci = Json::object({{"mean", interval_json(b.mean)}, {"sd", interval_json(b.sd)}});
+      for (std::size_t q = 0; q < ps.size(); ++q) ci[p_names[q]] = interval_json(b.quantiles[q]);
+      s["ci95"] = ci;
       // Empirical exceedance: P(X >= x_(i)) = (n - i) / n.
       Json ex = Json::object();
       Json pv = Json::array();

@@ -103,6 +103,14 @@ TEST(EnsembleRun, AnalyticBlockOnAnInclineWithinItsIntervals) {
     EXPECT_GE(p50_hi, exact_p50) << n;
     EXPECT_LE(p_lo, exact_p) << n;
     EXPECT_GE(p_hi, exact_p) << n;
+    // P10 and P90 of the displacement: the friction's P90 (0.46) and P10 (0.14).
+    for (const auto& [q, mu] : {std::pair<const char*, double>{"p10", 0.46}, {"p90", 0.14}}) {
+      const double exact = 0.5 * (kGs - mu * kGc) * tend * tend;
+      EXPECT_LE(s["ci95"][q][0].get<double>(), exact) << q << " " << n;
+      EXPECT_GE(s["ci95"][q][1].get<double>(), exact) << q << " " << n;
+      EXPECT_LE(s["ci95"][q][0].get<double>(), s[q].get<double>()) << q << " " << n;
+      EXPECT_GE(s["ci95"][q][1].get<double>(), s[q].get<double>()) << q << " " << n;
+    }
     const double m_lo = s["ci95"]["mean"][0], m_hi = s["ci95"]["mean"][1];
     widths.push_back({m_hi - m_lo, p50_hi - p50_lo, p_hi - p_lo});
     std::cout << "N = " << n << ": P50 " << s["p50"].get<double>() << " m in [" << p50_lo << ", " << p50_hi
