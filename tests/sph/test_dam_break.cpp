@@ -56,8 +56,8 @@ TEST(SphDamBreak, SurgeFrontAndColumnHeightAgainstExperiments) {
     const double z = at(samples, kKoT[k] / T_of_t, Z);
     ko = std::max(ko, std::abs(z - kKoZ[k]) / kKoZ[k]);
   }
-  // Martin & Moyce's front lags at first: their gate took time to clear the column. The
-  // delay is fitted (0 to 0.3 in T, the least largest error) and reported.
+  // Judged at the published times (no delay). For information only: the delay (0 to 0.3 in
+  // T) that would fit best, as their gate took some time to clear the column.
   double delay = 0.0;
   mm = INFINITY;
   for (int d = 0; d <= 30; ++d) {
@@ -78,12 +78,13 @@ TEST(SphDamBreak, SurgeFrontAndColumnHeightAgainstExperiments) {
     const double hh = at(samples, kMmTau[k] / tau_of_t, H);
     mh = std::max(mh, std::abs(hh - kMmH[k]) / kMmH[k]);
   }
-  std::printf("dam break a/dp %.0f, %zu particles, %ld steps: front vs K&O %.3f, vs M&M %.3f (gate delay %.2f; "
-              "%.3f without); height vs M&M %.3f\n",
+  std::printf("dam break a/dp %.0f, %zu particles, %ld steps: front vs K&O %.3f, vs M&M %.3f with a fitted delay %.2f ("
+              "%.3f at the published times); height vs M&M %.3f\n",
               a / setup.dp, fluid.fluid().size(), fluid.steps(), ko, mm, delay, mm_raw, mh);
   // The target against Koshizuka & Oka is 5 %; this formulation reaches 5.9 % here (10.1 %
   // at a/dp = 40, both at their T = 2.72 point): the bound guards what is reached, short of it.
   EXPECT_LT(ko, 0.065);
-  EXPECT_LT(mm, 0.10);
+  EXPECT_LT(mm_raw, 0.10);
+  EXPECT_LE(mm, mm_raw);
   EXPECT_LT(mh, 0.05);
 }
