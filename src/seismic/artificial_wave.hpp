@@ -52,7 +52,7 @@ struct ArtificialWaveParams {
   double tolerance = 0.05;        // an attempt stops when every control period >= 0.1 s is within this
                                   // (over the record and with the free vibration after it)...
   double short_tolerance = 0.10;  // ...and those below 0.1 s within this (dt limits them)
-  int attempts = 4;                      // phase sets tried, at most
+  int attempts = 8;                      // phase sets tried, at most
   double accept_tolerance = 0.09;        // a new phase set is drawn while the best misfit exceeds
   double accept_short_tolerance = 0.15;  // these (both bands)
   int control_periods = 200;      // log-spaced control periods from 2 dt to 1.1 period_max

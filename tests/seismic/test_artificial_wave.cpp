@@ -78,6 +78,15 @@ TEST(ArtificialWave, MatchesTargetSpectrumForSeeds1To3WithAndWithoutFreeVibratio
   RecordProperty("worst_misfit_0.04_0.1s", std::to_string(worst_short));
 }
 
+// The seed whose first four phase sets all missed 9 % (it ended at -10.6 % at 6 s with
+// four): the generator draws phase sets until one fits, up to 8, and its 7th does.
+TEST(ArtificialWave, ASeedThatNeedsMorePhaseSetsStillFits) {
+  const ArtificialWave& w = wave(19);
+  EXPECT_GT(w.attempts, 4);
+  EXPECT_LE(w.max_misfit, ArtificialWaveParams{}.accept_tolerance);
+  EXPECT_LE(std::max(w.fit_record.worst(), w.fit_free_vibration.worst()), 0.10);
+}
+
 // The wave is baseline-corrected: it ends at rest where it started, v and d consistent.
 TEST(ArtificialWave, EndsAtRest) {
   for (std::uint64_t seed : {1u, 2u}) {
