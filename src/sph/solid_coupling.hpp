@@ -41,9 +41,10 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
 class SolidCoupling {
  public:
   // The coupled edges (the `edge` of the fluid's boundary particles indexes them) and their
-  // nodes' positions now (x by node). Turns on the fluid's boundary-force recording and
-  // maps the current forces to the nodes (forces()). Throws std::invalid_argument if a
-  // boundary particle names an edge out of range.
+  // nodes' positions now (x by node), the positions the particles were laid at (the fluid's
+  // cell lists hold them until its next step). Turns on the fluid's boundary-force
+  // recording and maps the current forces to the nodes (forces()). Throws
+  // std::invalid_argument if a boundary particle names an edge out of range.
   SolidCoupling(std::vector<SolidEdge> edges, Fluid& fluid, std::span<const Vec2> x);
 
   // The solid nodes the water pushes, sorted and unique; the arrays below are in this order.

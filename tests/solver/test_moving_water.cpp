@@ -144,8 +144,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 TEST(MovingWater, FloatingBlockSettlesAtItsArchimedesDraft) {
   const auto t0 = std::chrono::steady_clock::now();
   Pool p;
-  // dp = 0.02: the block 20 particles high.
-  p.corner = Vec2(0.4, p.depth - 0.25 * p.side);  // draft 0.1 m: half the equilibrium's
+  // dp = 0.02: the block 20 particles high, in a tank 2.5 times as wide.
+  p.width = 1.0;
+  p.corner = Vec2(0.3, p.depth - 0.25 * p.side);  // draft 0.1 m: half the equilibrium's
   Coupled c = coupled(p, 10.0, 5.0);
   solver::Solver& s = *c.solver;
   while (s.time() < 2.5) s.step();
