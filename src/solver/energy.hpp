@@ -25,6 +25,15 @@ struct EnergyLedger {
   // Work of the water at rest on the solid (DESIGN.md §11), booked as the work of the
   // other loads: trapezoidal on each step's displacement increments.
   double water_work = 0.0;
+  // Work of the moving (SPH) water on the solid (DESIGN.md §13), booked the same way.
+  double moving_water_work = 0.0;
+  // The moving water's own energy (J/m), reported beside the solid's: kinetic, and the
+  // changes of its gravity potential and compression (Tait) since it was set. Not part of
+  // mechanical(): the solid's
+  // balance closes with moving_water_work; the water's energy plus that work falls by what
+  // the fluid's artificial viscosity and density diffusion dissipate.
+  double fluid_kinetic = 0.0, fluid_potential = 0.0, fluid_compression = 0.0;
+  double fluid_energy() const { return fluid_kinetic + fluid_potential + fluid_compression; }
   // Velocity Verlet's kinetic offset (DESIGN.md §1, §6): with the trapezoidal work of the
   // forces the integrator conserves 1/2 m v(n-1/2).v(n+1/2) = 1/2 m v(n)^2 - dt^2/8 m |a(n)|^2,
   // not the kinetic energy at the full step. This is the change of sum dt^2/8 m |a|^2 since
@@ -37,7 +46,7 @@ struct EnergyLedger {
     return damping_dissipated + fracture_dissipated + friction_dissipated + contact_damping_dissipated +
            plastic_dissipated;
   }
-  double work_in() const { return external_work + water_work; }
+  double work_in() const { return external_work + water_work + moving_water_work; }
   // Relative balance error: |E - K_v - E0 + D - W| over the largest energy in play (K_v:
   // verlet_kinetic_offset; W: the work put in, water included).
   double balance_error() const;

@@ -48,6 +48,22 @@ double Solver::water_work_sum() {
   return sum[0];
 }
 
+void Solver::set_moving_water(sph::Fluid fluid, std::vector<sph::SolidEdge> edges) {
+  const auto& n = model_.nodes;
+  for (const auto& e : edges)
+    if (e.a < 0 || e.b < 0 || static_cast<std::size_t>(e.a) >= n.size() || static_cast<std::size_t>(e.b) >= n.size())
+      throw std::invalid_argument("Solver::set_moving_water: an edge names a node the model lacks");
+  std::vector<Vec2> x(n.size());
+  for (std::size_t i = 0; i < n.size(); ++i) x[i] = n.x(static_cast<Index>(i));
+  sph::SolidCoupling coupling(std::move(edges), fluid, x);
+  moving_ = std::make_unique<MovingWater>(MovingWater{std::move(fluid), std::move(coupling), {}, {}, {}});
+  const std::size_t k = moving_->coupling.nodes().size();
+  moving_->force_prev.assign(k, Vec2::Zero());
+  moving_->u_prev.resize(k);
+  for (std::size_t j = 0; j < k; ++j) moving_->u_prev[j] = n.u[moving_->coupling.nodes()[j]];
+  moving_->start = moving_->fluid.energy();
+}
+
 void Solver::set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
 
 void Solver::set_settings(const StepSettings& s) {
@@ -91,6 +107,7 @@ void Solver::initialise() {
   add_element_and_joint_forces();
   water_booking_ = true;
   add_contact_forces();
+  if (moving_) apply_moving_water_forces(false);  // the coupling's forces at the current state
   add_boundary_forces();
   add_damping_forces();
   apply_constraints();
@@ -114,6 +131,7 @@ void Solver::step() {
   kick_drift_and_restart_forces();  // 1-2
   add_element_and_joint_forces();   // 3-4
   add_contact_forces();             // 5
+  add_moving_water_forces();        // 5b
   add_boundary_forces();            // 6
   add_damping_forces();             // 7
   apply_constraints();
@@ -213,6 +231,35 @@ void Solver::add_contact_forces() {
   energy_.contact_elastic = contact_stats_.elastic_energy;
   energy_.friction_dissipated += contact_stats_.friction_dissipation;
   energy_.contact_damping_dissipated += contact_stats_.damping_dissipation;
+}
+
+void Solver::add_moving_water_forces() {
+  if (!moving_) return;
+  const auto& n = model_.nodes;
+  sph::SolidCoupling& c = moving_->coupling;
+  const auto nodes = c.nodes();
+  const auto next = c.next_positions();
+  for (std::size_t k = 0; k < nodes.size(); ++k) next[k] = n.x(nodes[k]);
+  c.advance(moving_->fluid, settings_.dt);
+  apply_moving_water_forces(true);
+}
+
+// The coupling's node forces into the sum in its node order; their work as for every
+// other load, drift_work on each node's displacement over the step (DESIGN.md §7).
+void Solver::apply_moving_water_forces(bool book) {
+  const auto& n = model_.nodes;
+  const sph::SolidCoupling& c = moving_->coupling;
+  const auto nodes = c.nodes();
+  const auto f = c.forces();
+  double work = 0.0;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const Index i = nodes[k];
+    forces_.add_at(i, f[k]);
+    if (book) work += drift_work(moving_->force_prev[k], f[k], n.u[i] - moving_->u_prev[k]);
+    moving_->force_prev[k] = f[k];
+    moving_->u_prev[k] = n.u[i];
+  }
+  energy_.moving_water_work += work;
 }
 
 void Solver::set_viscous_boundary(std::vector<boundary::BoundaryNode> nodes,
@@ -320,6 +367,12 @@ void Solver::update_energy() {
   offset_settled_ = false;  // the accelerations are this step's: energy() settles the offset
   if (any_plastic_) energy_.plastic_dissipated = plastic_dissipation_sum();
   if (water_.active()) energy_.water_work += water_work_sum();
+  if (moving_) {
+    const sph::Fluid::Energy e = moving_->fluid.energy();
+    energy_.fluid_kinetic = e.kinetic;
+    energy_.fluid_potential = e.potential - moving_->start.potential;
+    energy_.fluid_compression = e.compression - moving_->start.compression;
+  }
   std::swap(damping_force_prev_, damping_force_);
   release_damping_buffers_if_unused();
 }
@@ -393,7 +446,7 @@ void Solver::check_stability() {
   const double created = energy_.mechanical() - energy_.initial_total + energy_.dissipated() - energy_.work_in();
   const double in_play = std::max({std::abs(energy_.kinetic), std::abs(energy_.strain), std::abs(energy_.gravity_potential),
                                    std::abs(energy_.joint_elastic), std::abs(energy_.contact_elastic),
-                                   std::abs(energy_.external_work), std::abs(energy_.water_work),
+                                   std::abs(energy_.external_work), std::abs(energy_.water_work), std::abs(energy_.moving_water_work),
                                    std::abs(energy_.dissipated()),
                                    std::abs(energy_.initial_total)});
   const bool growing = created > kEnergyGrowthRatio * in_play && created > kEnergyGrowthRate * created_prev_ &&

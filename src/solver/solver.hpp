@@ -22,6 +22,8 @@
 #include "solver/node_forces.hpp"
 #include "solver/time_step.hpp"
 #include "solver/water_loads.hpp"
+#include "sph/fluid.hpp"
+#include "sph/solid_coupling.hpp"
 
 namespace dsdem::solver {
 
@@ -76,6 +78,15 @@ class Solver {
   void set_water(WaterSetup w);
   void clear_water();
   const WaterLoads& water() const { return water_; }
+
+  // Moving water (DESIGN.md §13): SPH water whose riding boundary particles sit on the
+  // model's edges `edges` (their `edge` indexes it; sph::lay_edge_particles lays them), from
+  // now on, two ways: the water's force reaches the edges' nodes each step (phase 5b) and
+  // the nodes move its walls. Call before initialise(). The fluid's own thread choice is
+  // its own (sph::Fluid::set_parallel); it is bit-identical either way.
+  void set_moving_water(sph::Fluid fluid, std::vector<sph::SolidEdge> edges);
+  const sph::Fluid* moving_water() const { return moving_ ? &moving_->fluid : nullptr; }
+  sph::SolidCoupling* moving_water_coupling() { return moving_ ? &moving_->coupling : nullptr; }
 
   // The time step as the joints break (TimeStepControl::set_rule): applied at once and
   // after set_settings() / restore(), whose dt it replaces.
@@ -159,6 +170,7 @@ class Solver {
   void kick_drift_and_restart_forces();  // 1-2: velocity Verlet's first half, forces restart at gravity
   void add_element_and_joint_forces();   // 3-4: triangles (§2) and cohesive joints (§3)
   void add_contact_forces();           // 5: spheropolygons of zones A and C (§4)
+  void add_moving_water_forces();      // 5b: SPH water on the exposed edges (§13)
   void add_boundary_forces();          // 6: viscous-spring boundary and seismic input (§5)
   void add_damping_forces();           // 7: Rayleigh mass part (the stiffness part is in 3)
   void apply_constraints();            // reactions at prescribed dofs
@@ -273,6 +285,17 @@ class Solver {
   // initialise(), where no step is taken.
   WaterLoads water_;
   bool water_booking_ = true;
+  // Moving water: the fluid, its coupling to the edges' nodes, and per coupled node (in
+  // the coupling's order) the force of the last step and the displacement at its end (the
+  // drift_work of the next step).
+  struct MovingWater {
+    sph::Fluid fluid;
+    sph::SolidCoupling coupling;
+    std::vector<Vec2> force_prev, u_prev;
+    sph::Fluid::Energy start;  // the fluid's energy when it was set
+  };
+  std::unique_ptr<MovingWater> moving_;
+  void apply_moving_water_forces(bool book);
   double water_work_sum();  // J/m: this step's work of the water forces
 
   // Mohr-Coulomb bulk (DESIGN.md §12), per material: its return-mapping model and the

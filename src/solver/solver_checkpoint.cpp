@@ -76,6 +76,7 @@ void restore_state(const io::CheckpointReader& in, const std::string& prefix, St
 
 // The checkpoint in parts, each a group of the file's entries.
 void Solver::save(io::CheckpointWriter& out) const {
+  if (moving_) throw std::runtime_error("checkpoint: a run with moving (SPH) water cannot be checkpointed yet");
   out.put("time", time_);
   out.put_int("step", step_);
   out.put_int("broken_joints", broken_joints_);

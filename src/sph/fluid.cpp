@@ -55,8 +55,12 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
 
 double Fluid::stable_dt() const { return stable_time_step(h_, par_.c0, v_max_, a_max_, par_.cfl); }
 
+int Fluid::substeps(double dt_outer) const {
+  return std::max(1, static_cast<int>(std::ceil(dt_outer / stable_dt() * (1.0 - 1e-12))));
+}
+
 int Fluid::advance(double dt_outer) {
-  const int n = std::max(1, static_cast<int>(std::ceil(dt_outer / stable_dt() * (1.0 - 1e-12))));
+  const int n = substeps(dt_outer);
   const double dt = dt_outer / n;
   for (int k = 0; k < n; ++k) step(dt);
   return n;
@@ -80,6 +84,7 @@ void Fluid::step(double dt) {
   update_densities(dt);
   update_boundary_densities(dt);
   accelerations();
+  if (record_) gather_boundary_forces(rec_fx_, rec_fy_);
   const double keep = damping_rate_ > 0.0 ? std::exp(-damping_rate_ * dt) : 1.0;
   exec::parallel_for(team_, n, [&](std::size_t i) {
     f_.vx[i] = keep * (f_.vx[i] + half * f_.ax[i]);
@@ -366,6 +371,35 @@ void Fluid::accelerations() {
 void Fluid::boundary_forces(std::span<double> out_x, std::span<double> out_y) const {
   if (out_x.size() != b_.size() || out_y.size() != b_.size())
     throw std::invalid_argument("sph::Fluid::boundary_forces: one entry per boundary particle");
+  gather_boundary_forces(out_x, out_y);
+}
+
+void Fluid::set_record_boundary_forces(bool on) {
+  record_ = on;
+  if (!on) {
+    std::vector<double>().swap(rec_fx_);
+    std::vector<double>().swap(rec_fy_);
+    return;
+  }
+  rec_fx_.assign(b_.size(), 0.0);
+  rec_fy_.assign(b_.size(), 0.0);
+  gather_boundary_forces(rec_fx_, rec_fy_);
+}
+
+Fluid::Energy Fluid::energy() const {
+  Energy e;
+  const double m = f_.mass, gx = par_.gravity.x(), gy = par_.gravity.y(), rho0 = par_.rho0;
+  const double r7 = std::pow(rho0, 7.0), e0 = 7.0 / (6.0 * rho0);
+  for (std::size_t i = 0; i < f_.size(); ++i) {
+    e.kinetic += 0.5 * m * (f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i]);
+    e.potential -= m * (gx * f_.x[i] + gy * f_.y[i]);
+    const double rho = f_.rho[i], rho2 = rho * rho;
+    e.compression += m * b_tait_ * (rho2 * rho2 * rho2 / (6.0 * r7) + 1.0 / rho - e0);
+  }
+  return e;
+}
+
+void Fluid::gather_boundary_forces(std::span<double> out_x, std::span<double> out_y) const {
   const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const double alpha_c = par_.alpha * par_.c0;
   const double mf = f_.mass, mb = b_.mass;

@@ -68,6 +68,8 @@ class Fluid {
   // Advances by dt_outer in n equal sub-steps no longer than stable_dt(); returns n. This
   // is how a solid step larger than the fluid's limit drives the water.
   int advance(double dt_outer);
+  // The n of advance(dt_outer) at the current state.
+  int substeps(double dt_outer) const;
   // One step of length dt.
   void step(double dt);
   // Settling a filled reservoir: a damping of every fluid velocity at `rate` (1/s), v
@@ -81,6 +83,22 @@ class Fluid {
   // edge's shape functions. fx, fy: boundary().size() each. A gather per boundary particle:
   // the same bits for any thread count.
   void boundary_forces(std::span<double> fx, std::span<double> fy) const;
+  // Recording: each step also keeps boundary_forces() at the state of its force evaluation
+  // (the positions, densities and half-step velocities that gave the fluid's
+  // accelerations), so that the recorded forces are minus the walls' forces on the fluid
+  // pair by pair. Turning it on sizes the arrays and records the current state.
+  void set_record_boundary_forces(bool on);
+  std::span<const double> recorded_boundary_force_x() const { return rec_fx_; }
+  std::span<const double> recorded_boundary_force_y() const { return rec_fy_; }
+
+  // The water's energy per unit width (J/m): kinetic, gravity potential -m g.x (from the
+  // origin) and the compression stored by Tait's equation of state,
+  // m B (rho^6 / (6 rho0^7) + 1 / rho - 7 / (6 rho0)) per particle (the integral of p / rho^2).
+  // Serial sums in the particles' order.
+  struct Energy {
+    double kinetic = 0.0, potential = 0.0, compression = 0.0;
+  };
+  Energy energy() const;
 
   double time() const { return time_; }
   long steps() const { return steps_; }
@@ -100,6 +118,7 @@ class Fluid {
   void update_boundary_densities(double dt);
   void extrapolate_boundary_densities();
   void accelerations();
+  void gather_boundary_forces(std::span<double> fx, std::span<double> fy) const;
 
   FluidParameters par_;
   FluidParticles f_;
@@ -117,6 +136,8 @@ class Fluid {
   std::size_t neighbour_capacity_ = 0;
   std::vector<std::int32_t> nb_j_, nb_n_;
   std::vector<double> nb_f_;
+  bool record_ = false;
+  std::vector<double> rec_fx_, rec_fy_;  // recorded boundary forces (set_record_boundary_forces)
   std::vector<double> scratch_;          // re-sort buffer
   std::vector<std::int32_t> scratch_id_;
 };

@@ -8,6 +8,7 @@
 
 #include "sph/fluid.hpp"
 #include "sph/setup.hpp"
+#include "sph/solid_coupling.hpp"
 
 using namespace dsdem;
 using namespace dsdem::sph;
@@ -30,4 +31,34 @@ TEST(SphNoAllocation, StepsAllocateNothing) {
   fluid.boundary_forces(fx, fy);
   EXPECT_EQ(scope.count(), 0);
   EXPECT_GT(fluid.max_speed(), 0.05);
+}
+
+// The coupling's step (place the riding particles at every sub-step, step the fluid, map the
+// forces to the nodes) allocates nothing either.
+TEST(SphNoAllocation, CoupledStepsAllocateNothing) {
+  FluidParameters par;
+  par.dp = 0.01;
+  par.c0 = sound_speed_for(0.2, 2.0, 9.81);
+  FluidParticles water;
+  BoundaryParticles walls;
+  fill_rectangle(water, 0.0, 0.0, 0.3, 0.1, par, 0.1);
+  add_tank_walls(walls, 0.0, 0.0, 0.3, 0.4, wall_layers(par), par, 0.1);
+  // A block 0.06 m square above the water, pushed down into it.
+  const std::vector<Vec2> x0{Vec2(0.12, 0.12), Vec2(0.18, 0.12), Vec2(0.18, 0.18), Vec2(0.12, 0.18)};
+  const std::vector<SolidEdge> edges{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  lay_edge_particles(walls, edges, x0, wall_layers(par), par, 0.1);
+  Fluid fluid(par, std::move(water), std::move(walls));
+  SolidCoupling coupling(edges, fluid, x0);
+  int step = 0;
+  auto advance = [&] {
+    ++step;
+    const auto next = coupling.next_positions();
+    for (std::size_t k = 0; k < next.size(); ++k) next[k] = x0[coupling.nodes()[k]] + Vec2(0.0, -0.5e-3 * step);
+    coupling.advance(fluid, 1e-3);
+  };
+  for (int k = 0; k < 5; ++k) advance();
+  const test::AllocationScope scope;
+  for (int k = 0; k < 40; ++k) advance();
+  EXPECT_EQ(scope.count(), 0);
+  EXPECT_GT(coupling.particle_force_sum().norm(), 0.0);
 }

@@ -1,0 +1,179 @@
+#include "sph/solid_coupling.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "sph/setup.hpp"
+
+namespace dsdem::sph {
+
+namespace {
+
+// The edges near each cell of a grid over the edges (set-up only): edge e is listed in every
+// cell its bounding box, grown by `reach`, overlaps.
+struct EdgeGrid {
+  double x0 = 0.0, y0 = 0.0, cell = 1.0;
+  int nx = 1, ny = 1;
+  std::vector<std::vector<std::size_t>> cells;
+
+  EdgeGrid(std::span<const SolidEdge> edges, std::span<const Vec2> x, double reach, double cell_size) : cell(cell_size) {
+    double x1 = -INFINITY, y1 = -INFINITY;
+    x0 = y0 = INFINITY;
+    for (const auto& e : edges)
+      for (Index n : {e.a, e.b}) {
+        x0 = std::min(x0, x[n].x() - reach);
+        y0 = std::min(y0, x[n].y() - reach);
+        x1 = std::max(x1, x[n].x() + reach);
+        y1 = std::max(y1, x[n].y() + reach);
+      }
+    if (edges.empty()) x0 = y0 = x1 = y1 = 0.0;
+    nx = std::max(1, static_cast<int>(std::ceil((x1 - x0) / cell)));
+    ny = std::max(1, static_cast<int>(std::ceil((y1 - y0) / cell)));
+    cells.resize(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const Vec2 &a = x[edges[k].a], &b = x[edges[k].b];
+      const int i0 = ix(std::min(a.x(), b.x()) - reach), i1 = ix(std::max(a.x(), b.x()) + reach);
+      const int j0 = iy(std::min(a.y(), b.y()) - reach), j1 = iy(std::max(a.y(), b.y()) + reach);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) cells[static_cast<std::size_t>(j) * nx + i].push_back(k);
+    }
+  }
+  int ix(double x) const { return std::clamp(static_cast<int>(std::floor((x - x0) / cell)), 0, nx - 1); }
+  int iy(double y) const { return std::clamp(static_cast<int>(std::floor((y - y0) / cell)), 0, ny - 1); }
+  const std::vector<std::size_t>& at(const Vec2& p) const {
+    return cells[static_cast<std::size_t>(iy(p.y())) * nx + ix(p.x())];
+  }
+};
+
+}  // namespace
+
+void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
+                        int layers, const FluidParameters& par, double surface) {
+  const double dp = par.dp, reach = layers * dp, tol = 1e-9 * dp;
+  const EdgeGrid grid(edges, x, reach, std::max(reach, dp));
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
+    const double length = (b - a).norm();
+    if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
+    const Vec2 n = edge_normal(a, b);
+    const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
+    for (int i = 0; i < stations; ++i) {
+      const double s = (i + 0.5) / stations;
+      for (int k = 0; k < layers; ++k) {
+        const double d = (k + 0.5) * dp;
+        const Vec2 p = (1.0 - s) * a + s * b - d * n;
+        // Kept unless another face is nearer behind which the particle also lies.
+        bool kept = true;
+        for (std::size_t o : grid.at(p)) {
+          if (o == e) continue;
+          const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
+          const Vec2 ot = ob - oa;
+          const double os = (p - oa).dot(ot) / ot.squaredNorm();
+          if (os < 0.0 || os > 1.0) continue;
+          const double od = -(p - oa).dot(edge_normal(oa, ob));
+          if (od <= 0.0 || od > reach) continue;
+          if (od < d - tol || (od <= d + tol && o < e)) {
+            kept = false;
+            break;
+          }
+        }
+        if (!kept) continue;
+        walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n, d);
+        walls.edge.back() = static_cast<Index>(e);
+        walls.s.back() = s;
+      }
+    }
+  }
+  walls.mass = par.mass();
+}
+
+SolidCoupling::SolidCoupling(std::vector<SolidEdge> edges, Fluid& fluid, std::span<const Vec2> x) {
+  for (const auto& e : edges) {
+    nodes_.push_back(e.a);
+    nodes_.push_back(e.b);
+  }
+  std::sort(nodes_.begin(), nodes_.end());
+  nodes_.erase(std::unique(nodes_.begin(), nodes_.end()), nodes_.end());
+  auto local = [&](Index n) {
+    return static_cast<std::size_t>(std::lower_bound(nodes_.begin(), nodes_.end(), n) - nodes_.begin());
+  };
+  for (const auto& e : edges) edges_.push_back({local(e.a), local(e.b)});
+  const BoundaryParticles& b = fluid.boundary();
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    if (b.edge[i] == kNoIndex) continue;
+    if (b.edge[i] < 0 || static_cast<std::size_t>(b.edge[i]) >= edges_.size())
+      throw std::invalid_argument("sph::SolidCoupling: a boundary particle rides an edge that is not coupled");
+    riding_.push_back(i);
+  }
+  const std::size_t nn = nodes_.size();
+  x_last_.resize(nn);
+  for (std::size_t k = 0; k < nn; ++k) x_last_[k] = x[nodes_[k]];
+  x_next_ = x_last_;
+  x_sub_ = x_last_;
+  v_.assign(nn, Vec2::Zero());
+  force_.assign(nn, Vec2::Zero());
+  place(fluid, x_last_, v_);
+  fluid.set_record_boundary_forces(true);
+  gather(fluid, force_, particle_sum_);
+}
+
+int SolidCoupling::advance(Fluid& fluid, double dt) {
+  const std::size_t nn = nodes_.size();
+  const int n = fluid.substeps(dt);
+  const double dt_sub = dt / n, inv_dt = 1.0 / dt;
+  for (std::size_t k = 0; k < nn; ++k) {
+    v_[k] = (x_next_[k] - x_last_[k]) * inv_dt;
+    force_[k].setZero();
+  }
+  particle_sum_.setZero();
+  for (int j = 1; j <= n; ++j) {
+    if (j == n) {
+      place(fluid, x_next_, v_);
+    } else {
+      const double frac = static_cast<double>(j) / n;
+      for (std::size_t k = 0; k < nn; ++k) x_sub_[k] = x_last_[k] + frac * (x_next_[k] - x_last_[k]);
+      place(fluid, x_sub_, v_);
+    }
+    fluid.step(dt_sub);
+    gather(fluid, force_, particle_sum_);
+    if (observer_) observer_(fluid);
+  }
+  const double mean = 1.0 / n;
+  for (std::size_t k = 0; k < nn; ++k) force_[k] *= mean;
+  particle_sum_ *= mean;
+  std::copy(x_next_.begin(), x_next_.end(), x_last_.begin());
+  return n;
+}
+
+void SolidCoupling::place(Fluid& fluid, std::span<const Vec2> x, std::span<const Vec2> v) const {
+  BoundaryParticles& b = fluid.moving_boundary();
+  for (std::size_t i : riding_) {
+    const LocalEdge& e = edges_[static_cast<std::size_t>(b.edge[i])];
+    const double s = b.s[i], d = b.wall_distance[i];
+    const Vec2 n = edge_normal(x[e.a], x[e.b]);
+    const Vec2 p = (1.0 - s) * x[e.a] + s * x[e.b] - d * n;
+    const Vec2 u = (1.0 - s) * v[e.a] + s * v[e.b];
+    b.x[i] = p.x();
+    b.y[i] = p.y();
+    b.vx[i] = u.x();
+    b.vy[i] = u.y();
+    b.nx[i] = n.x();
+    b.ny[i] = n.y();
+  }
+}
+
+void SolidCoupling::gather(const Fluid& fluid, std::vector<Vec2>& sum, Vec2& particle_sum) const {
+  const BoundaryParticles& b = fluid.boundary();
+  const auto fx = fluid.recorded_boundary_force_x(), fy = fluid.recorded_boundary_force_y();
+  for (std::size_t i : riding_) {
+    const LocalEdge& e = edges_[static_cast<std::size_t>(b.edge[i])];
+    const double s = b.s[i];
+    const Vec2 f(fx[i], fy[i]);
+    sum[e.a] += (1.0 - s) * f;
+    sum[e.b] += s * f;
+    particle_sum += f;
+  }
+}
+
+}  // namespace dsdem::sph

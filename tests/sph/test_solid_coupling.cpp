@@ -1,0 +1,166 @@
+// The coupling of SPH water with a solid's edges (DESIGN.md §13): the boundary particles'
+// layout behind the edges, their placement from the nodes, the momentum balance between
+// the water and the nodes at every force evaluation, and the same bits for 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sph/fluid.hpp"
+#include "sph/setup.hpp"
+#include "sph/solid_coupling.hpp"
+
+using namespace dsdem;
+using namespace dsdem::sph;
+
+namespace {
+
+// A square block's four corners, counter-clockwise, and its edges (solid on their left).
+struct Block {
+  std::vector<Vec2> x;
+  std::vector<SolidEdge> edges{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+};
+Block square_block(double x0, double y0, double side) {
+  Block b;
+  b.x = {Vec2(x0, y0), Vec2(x0 + side, y0), Vec2(x0 + side, y0 + side), Vec2(x0, y0 + side)};
+  return b;
+}
+
+FluidParameters parameters(double dp, double depth) {
+  FluidParameters par;
+  par.dp = dp;
+  par.c0 = 2.0 * sound_speed_for(depth, 0.0, 9.81);
+  par.alpha = 0.1;
+  return par;
+}
+
+// Water in a fixed tank [0, 0.4] x [0, depth] with the block's particles, the fluid inside
+// the block taken out.
+Fluid tank_with_block(const Block& block, const FluidParameters& par, double depth, bool parallel) {
+  FluidParticles water, kept;
+  BoundaryParticles walls;
+  fill_rectangle(water, 0.0, 0.0, 0.4, depth, par, depth);
+  const double bx0 = block.x[0].x(), by0 = block.x[0].y(), bx1 = block.x[2].x(), by1 = block.x[2].y();
+  for (std::size_t i = 0; i < water.size(); ++i)
+    if (!(water.x[i] > bx0 && water.x[i] < bx1 && water.y[i] > by0 && water.y[i] < by1))
+      kept.add(water.x[i], water.y[i], water.rho[i]);
+  kept.mass = water.mass;
+  add_tank_walls(walls, 0.0, 0.0, 0.4, 1.5 * depth, wall_layers(par), par, depth);
+  lay_edge_particles(walls, block.edges, block.x, wall_layers(par), par, depth);
+  return Fluid(par, std::move(kept), std::move(walls), parallel);
+}
+
+}  // namespace
+
+// A square of side 6 dp with 3 layers: 6 stations x 3 layers per edge, the corners' 3 x 3
+// squares once each: 4 x 18 - 4 x 9 = 36 particles, all inside, none twice, each normal its
+// edge's outward one and its depth behind that face.
+TEST(SolidCoupling, LaysEachParticleOnceBehindTheNearestFace) {
+  const double dp = 0.01;
+  const Block b = square_block(0.1, 0.2, 6 * dp);
+  FluidParameters par = parameters(dp, 0.1);
+  BoundaryParticles walls;
+  lay_edge_particles(walls, b.edges, b.x, 3, par, 1.0);
+  ASSERT_EQ(walls.size(), 36u);
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    EXPECT_GT(walls.x[i], 0.1);
+    EXPECT_LT(walls.x[i], 0.1 + 6 * dp);
+    EXPECT_GT(walls.y[i], 0.2);
+    EXPECT_LT(walls.y[i], 0.2 + 6 * dp);
+    ASSERT_GE(walls.edge[i], 0);
+    const auto& e = b.edges[static_cast<std::size_t>(walls.edge[i])];
+    const Vec2 n = edge_normal(b.x[e.a], b.x[e.b]);
+    EXPECT_EQ(walls.nx[i], n.x());
+    EXPECT_EQ(walls.ny[i], n.y());
+    EXPECT_NEAR(-(Vec2(walls.x[i], walls.y[i]) - b.x[e.a]).dot(n), walls.wall_distance[i], 1e-12);
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GT(std::hypot(walls.x[i] - walls.x[j], walls.y[i] - walls.y[j]), 0.5 * dp) << i << " " << j;
+  }
+  // The bottom edge's normal points down (the block's outside).
+  EXPECT_EQ(edge_normal(b.x[0], b.x[1]), Vec2(0.0, -1.0));
+}
+
+// The block pushed down into the water at 0.3 m/s: after every fluid sub-step the riding and
+// fixed walls' recorded forces are minus the walls' forces on the fluid (its momentum balance
+// less gravity) to round-off, the nodes' forces sum to the riding particles' to round-off,
+// and the riding particles move with the nodes (a translation here).
+TEST(SolidCoupling, ConservesMomentumAtEveryForceEvaluation) {
+  const double depth = 0.24, dp = 0.02;
+  Block b = square_block(0.14, 0.18, 0.12);
+  const FluidParameters par = parameters(dp, depth);
+  Fluid fluid = tank_with_block(b, par, depth, false);
+  const std::vector<double> x0 = fluid.boundary().x, y0 = fluid.boundary().y;
+  SolidCoupling c(b.edges, fluid, b.x);
+  const double weight = fluid.fluid().mass * 9.81 * static_cast<double>(fluid.fluid().size());
+  double worst_fluid = 0.0;
+  int evaluations = 0;
+  c.set_substep_observer([&](const Fluid& f) {
+    const auto bx = f.recorded_boundary_force_x(), by = f.recorded_boundary_force_y();
+    double sx = 0.0, sy = 0.0, mx = 0.0, my = 0.0;
+    for (std::size_t k = 0; k < bx.size(); ++k) sx += bx[k], sy += by[k];
+    const auto& w = f.fluid();
+    for (std::size_t i = 0; i < w.size(); ++i) mx += w.mass * w.ax[i], my += w.mass * (w.ay[i] + 9.81);
+    worst_fluid = std::max({worst_fluid, std::abs(sx + mx), std::abs(sy + my)});
+    ++evaluations;
+  });
+  const double dt = 1e-3, v = -0.3;
+  double worst_nodes = 0.0, peak = 0.0;
+  int substeps = 0;
+  for (int step = 1; step <= 40; ++step) {
+    const auto next = c.next_positions();
+    for (std::size_t k = 0; k < next.size(); ++k) next[k] = b.x[c.nodes()[k]] + Vec2(0.0, v * dt * step);
+    substeps += c.advance(fluid, dt);
+    Vec2 sum = Vec2::Zero();
+    for (const Vec2& f : c.forces()) sum += f;
+    worst_nodes = std::max(worst_nodes, (sum - c.particle_force_sum()).cwiseAbs().maxCoeff());
+    peak = std::max(peak, c.particle_force_sum().norm());
+  }
+  std::printf("%d sub-steps in 40 solid steps; peak water force on the block %.4g N/m (water weight %.4g); "
+              "momentum error: fluid %.3g, nodes %.3g N/m\n",
+              substeps, peak, weight, worst_fluid, worst_nodes);
+  EXPECT_EQ(evaluations, substeps);
+  EXPECT_GT(substeps, 40);  // the fluid sub-cycled
+  EXPECT_GT(peak, 0.1 * weight * 0.12 / 0.4);
+  EXPECT_LT(worst_fluid, 1e-11 * weight);
+  EXPECT_LT(worst_nodes, 1e-12 * peak);
+  const auto& w = fluid.boundary();
+  const double dy = v * dt * 40;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    EXPECT_NEAR(w.x[i], x0[i], 1e-12);
+    EXPECT_NEAR(w.y[i], y0[i] + (w.edge[i] == kNoIndex ? 0.0 : dy), 1e-12);
+    if (w.edge[i] != kNoIndex) EXPECT_NEAR(w.vy[i], v, 1e-9);
+  }
+}
+
+TEST(SolidCoupling, OneAndTwoThreadsGiveTheSameBits) {
+  const double depth = 0.24, dp = 0.02;
+  auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    Block b = square_block(0.14, 0.18, 0.12);
+    Fluid fluid = tank_with_block(b, parameters(dp, depth), depth, threads > 1);
+    SolidCoupling c(b.edges, fluid, b.x);
+    std::vector<Vec2> forces;
+    for (int step = 1; step <= 10; ++step) {
+      const auto next = c.next_positions();
+      // Down and turning: a rigid rotation about the block's centre.
+      const double angle = 0.002 * step;
+      const Vec2 centre(0.2, 0.24 - 0.3e-3 * step);
+      for (std::size_t k = 0; k < next.size(); ++k) {
+        const Vec2 r = b.x[c.nodes()[k]] - Vec2(0.2, 0.24);
+        next[k] = centre + Vec2(std::cos(angle) * r.x() - std::sin(angle) * r.y(),
+                                std::sin(angle) * r.x() + std::cos(angle) * r.y());
+      }
+      c.advance(fluid, 1e-3);
+      forces.insert(forces.end(), c.forces().begin(), c.forces().end());
+    }
+    omp_set_num_threads(1);
+    return std::make_pair(forces, fluid.fluid().x);
+  };
+  const auto one = run(1), two = run(2);
+  ASSERT_EQ(one.first.size(), two.first.size());
+  for (std::size_t k = 0; k < one.first.size(); ++k) EXPECT_EQ(one.first[k], two.first[k]) << k;
+  EXPECT_EQ(one.second, two.second);
+}
