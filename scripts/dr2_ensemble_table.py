@@ -12,6 +12,7 @@ intake reached (95 % Wilson interval); the paper's value beside each.
 A label is the paper's mode name (shear_sliding, local_collapse, slip_j1), optionally with
 a suffix after a colon for a second ensemble of the same mode (shear_sliding:4m=OUT4).
 """
+import csv
 import json
 import os
 import sys
@@ -40,6 +41,39 @@ def prob(e):
         return "-"
     lo, hi = e["wilson95"]
     return f"{e['probability']:.2f} [{lo:.2f}, {hi:.2f}] ({e['count']} of {e['n']})"
+
+
+def spans(xs, ps, level):
+    """The x intervals (m) where the probability is at least `level`, as text."""
+    out, start, last = [], None, None
+    for x, q in zip(xs, ps):
+        if q >= level and start is None:
+            start = x
+        if q < level and start is not None:
+            out.append(f"{start:.0f}-{last:.0f}")
+            start = None
+        last = x
+    if start is not None:
+        out.append(f"{start:.0f}-{last:.0f}")
+    return ", ".join(out) if out else "none"
+
+
+def hazard_rows(out):
+    path = os.path.join(out, "deposit_hazard.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    xs = [float(r["x_m"]) for r in rows]
+    result = []
+    for key in ("p_thicker_than_10_m", "p_thicker_than_1_m"):
+        if key not in rows[0]:
+            continue
+        d = key.split("_")[-2]
+        ps = [float(r[key]) for r in rows]
+        result.append((f"x (m) with debris > {d} m: P >= 0.5 / P >= 0.1",
+                       f"{spans(xs, ps, 0.5)} / {spans(xs, ps, 0.1)}", ""))
+    return result
 
 
 def rows_for(mode, ens, paper):
@@ -81,7 +115,7 @@ def main(argv):
         print(f"\n#### {label.replace(':', ', ')}: {ens.get('title', '')}\n")
         print("| quantity | dsdem P10 / P50 / P90 | paper |")
         print("|---|---|---|")
-        for name, value, ref in rows_for(mode, ens, paper):
+        for name, value, ref in rows_for(mode, ens, paper) + hazard_rows(out):
             print(f"| {name} | {value} | {ref} |")
     return 0
 

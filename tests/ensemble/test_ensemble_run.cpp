@@ -12,12 +12,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "app/cli_util.hpp"
 #include "ensemble/aggregate.hpp"
+#include "ensemble/statistics.hpp"
 
 using namespace dsdem;
 namespace fs = std::filesystem;
@@ -278,6 +280,38 @@ deposit_thresholds_m: [0.1]
   EXPECT_EQ(e["events"]["blocked"]["n"], 4);
   EXPECT_EQ(e["events"]["blocked"]["count"], 3);
   EXPECT_EQ(test::read_text(dir / "out" / "deposit_hazard.csv"), "x_m,p_thicker_than_0.1_m\n0,0\n1,0.75\n2,1\n");
+  // The envelopes' last row: P5, P50, P95 of the four members' final gauge displacements
+  // (each member's last history row; they all end at the same time).
+  auto last_row = [](const fs::path& file) {
+    std::ifstream in(file);
+    std::string header, line, last;
+    std::getline(in, header);
+    while (std::getline(in, line))
+      if (!line.empty()) last = line;
+    std::vector<std::pair<std::string, double>> row;
+    std::stringstream hs(header), ls(last);
+    for (std::string h, v; std::getline(hs, h, ',') && std::getline(ls, v, ',');) row.push_back({h, std::stod(v)});
+    return row;
+  };
+  auto value = [](const std::vector<std::pair<std::string, double>>& row, const std::string& name) {
+    for (const auto& [h, v] : row)
+      if (h == name) return v;
+    ADD_FAILURE() << "no column " << name;
+    return 0.0;
+  };
+  const auto env = last_row(dir / "out" / "envelopes.csv");
+  std::string gauge;
+  for (const auto& [h, v] : env)
+    if (h.size() > 18 && h.compare(h.size() - 18, 18, "_displacement_m_p5") == 0) gauge = h.substr(0, h.size() - 18);
+  ASSERT_FALSE(gauge.empty());
+  std::vector<double> final_u;
+  for (int i = 0; i < 4; ++i) {
+    const auto h = last_row(dir / "out" / "members" / ("000" + std::to_string(i)) / "history.csv");
+    final_u.push_back(std::hypot(value(h, gauge + "_displacement_x_m"), value(h, gauge + "_displacement_y_m")));
+  }
+  std::sort(final_u.begin(), final_u.end());
+  for (const auto& [q, p] : {std::pair<const char*, double>{"p5", 0.05}, {"p50", 0.5}, {"p95", 0.95}})
+    EXPECT_NEAR(value(env, gauge + "_displacement_m_" + q), ensemble::quantile_sorted(final_u, p), 1e-12) << q;
   // Aggregated again from the folder, now with the plots and the report.
   const auto p = test::run_dsdem("ensemble " + (dir / "ens.yaml").string() + " -o " + (dir / "out").string() + " --aggregate-only");
   ASSERT_EQ(p.exit_code, 0) << p.output;
