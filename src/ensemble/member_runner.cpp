@@ -136,57 +136,131 @@ bool member_complete(const fs::path& dir, const MemberPlan& plan) {
   return j.value("status", std::string("killed")) != "killed";
 }
 
-RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>& plans,
-                         const std::vector<std::size_t>& which, const RunnerOptions& o) {
-  RunnerResult res;
-  std::deque<std::size_t> queue;
-  for (std::size_t i : which) {
-    if (member_complete(member_dir(o.out_dir, i, spec.members), plans[i])) {
-      ++res.skipped;
-      continue;
+namespace {
+
+// The pool of member processes: at most o.jobs at a time, each member's run then its
+// post-processing; each exit classified (ok, failed with its diagnosis, or killed: rerun
+// next time), with a progress line.
+class MemberPool {
+ public:
+  MemberPool(const EnsembleSpec& spec, const std::vector<MemberPlan>& plans, const RunnerOptions& o)
+      : spec_(spec), plans_(plans), o_(o), jobs_(std::max(1, o.jobs)), t0_(std::chrono::steady_clock::now()) {}
+
+  RunnerResult run(const std::vector<std::size_t>& which) {
+    std::deque<std::size_t> queue;
+    for (std::size_t i : which) {
+      if (member_complete(member_dir(o_.out_dir, i, spec_.members), plans_[i])) {
+        ++res_.skipped;
+        continue;
+      }
+      queue.push_back(i);
     }
-    queue.push_back(i);
+    total_ = which.size();
+    bool forwarded = false;
+    while (!queue.empty() || !running_.empty()) {
+      const bool stop = o_.stop_signal && *o_.stop_signal;
+      if (stop && !forwarded) {
+        for (const auto& [pid, r] : running_) ::kill(pid, SIGTERM);
+        forwarded = true;
+      }
+      while (!stop && static_cast<int>(running_.size()) < jobs_ && !queue.empty()) {
+        launch_run(queue.front());
+        queue.pop_front();
+      }
+      report_progress();
+      if (running_.empty()) break;
+      int status = 0;
+      const pid_t pid = ::waitpid(-1, &status, 0);
+      if (pid < 0) {
+        if (errno == EINTR) continue;
+        if (errno == ECHILD) break;
+        throw std::runtime_error(fmt::format("waiting for the members: {}", std::strerror(errno)));
+      }
+      const auto it = running_.find(pid);
+      if (it == running_.end()) continue;
+      const Running r = it->second;
+      running_.erase(it);
+      exited(r, status, stop);
+    }
+    report_progress();  // the last member's line
+    res_.stopped = !queue.empty() || (o_.stop_signal && *o_.stop_signal && res_.ran + res_.skipped < total_);
+    return res_;
   }
+
+ private:
   struct Running {
     std::size_t member = 0;
     int stage = 0;  // 0: the run, 1: the post-processing
     std::chrono::steady_clock::time_point start;
   };
-  std::map<pid_t, Running> running;
-  const auto t0 = std::chrono::steady_clock::now();
-  std::size_t finished = 0;
-  const std::size_t total = which.size();
-  const int jobs = std::max(1, o.jobs);
-  bool forwarded = false;
-  bool progress_due = false;
-  std::string progress_note;
 
-  auto launch_run = [&](std::size_t i) {
-    const fs::path dir = member_dir(o.out_dir, i, spec.members);
+  fs::path dir_of(std::size_t member) const { return member_dir(o_.out_dir, member, spec_.members); }
+
+  void launch_run(std::size_t i) {
+    const fs::path dir = dir_of(i);
     std::error_code ec;
     fs::remove_all(dir, ec);  // a killed run's leftovers
     fs::create_directories(dir);
-    std::vector<std::string> args{o.dsdem_exe, "run", spec.base, "-o", dir.string(), "--threads",
-                                  std::to_string(spec.member_threads), "-q", "--no-plots"};
-    if (!spec.member_fields) args.emplace_back("--no-fields");
-    for (const auto& s : plans[i].sets) {
+    std::vector<std::string> args{o_.dsdem_exe, "run", spec_.base, "-o", dir.string(), "--threads",
+                                  std::to_string(spec_.member_threads), "-q", "--no-plots"};
+    if (!spec_.member_fields) args.emplace_back("--no-fields");
+    for (const auto& s : plans_[i].sets) {
       args.emplace_back("--set");
       args.push_back(s);
     }
-    running[spawn(args, dir / "member.log", true, spec.member_threads)] = {i, 0, std::chrono::steady_clock::now()};
-  };
-  auto launch_post = [&](const Running& r) {
-    const fs::path dir = member_dir(o.out_dir, r.member, spec.members);
+    running_[spawn(args, dir / "member.log", true, spec_.member_threads)] = {i, 0, std::chrono::steady_clock::now()};
+  }
+
+  void launch_post(const Running& r) {
+    const fs::path dir = dir_of(r.member);
     std::vector<std::string> args;
-    for (std::string w : spec.postprocess) {
-      for (const auto& [from, to] : {std::pair<std::string, std::string>{"{out}", dir.string()}, {"{scripts}", o.scripts_dir}})
+    for (std::string w : spec_.postprocess) {
+      for (const auto& [from, to] : {std::pair<std::string, std::string>{"{out}", dir.string()}, {"{scripts}", o_.scripts_dir}})
         for (std::size_t p; (p = w.find(from)) != std::string::npos;) w.replace(p, from.size(), to);
       args.push_back(w);
     }
-    running[spawn(args, dir / "member.log", false, spec.member_threads)] = {r.member, 1, r.start};
-  };
-  auto finish = [&](const Running& r, const std::string& status, int exit_code, int sig, const std::string& diagnosis) {
-    const fs::path dir = member_dir(o.out_dir, r.member, spec.members);
+    running_[spawn(args, dir / "member.log", false, spec_.member_threads)] = {r.member, 1, r.start};
+  }
+
+  // A process ended: the member is finished (its marker written), goes on to its
+  // post-processing, or was stopped (no marker: rerun next time).
+  void exited(const Running& r, int status, bool stop) {
+    const fs::path dir = dir_of(r.member);
+    if (WIFSIGNALED(status)) {
+      const int sig = WTERMSIG(status);
+      if (sig == SIGKILL || sig == SIGTERM || sig == SIGINT) return;  // killed: no marker, rerun next time
+      finish(r, "crashed", -1, sig, fmt::format("killed by signal {} ({})", sig, strsignal(sig)));
+      return;
+    }
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (r.stage == 1) {
+      if (code == 0) finish(r, "ok", 0, 0, "");
+      else finish(r, "postprocess_failed", code, 0, read_tail_error(dir / "member.log"));
+      return;
+    }
+    if (code == 128 + SIGINT || code == 128 + SIGTERM || code == 137) return;  // stopped: rerun next time
+    if (code == kExitNotExecuted) {  // the binary was missing or being replaced: rerun next time
+      finish(r, "killed", code, 0, read_tail_error(dir / "member.log"));
+      return;
+    }
+    if (code != 0) {
+      const std::string st = code == kExitUnstable ? "unstable" : code == kExitInputError ? "input_error" : "failed";
+      finish(r, st, code, 0, diagnosis_of(dir));
+      return;
+    }
+    bool completed = false;
+    try {
+      completed = io::read_json_file(dir / "summary.json").value("completed", false);
+    } catch (...) {
+    }
+    if (!completed) finish(r, "failed", 0, 0, "the run ended without a complete summary.json");
+    else if (!spec_.postprocess.empty() && !stop) launch_post(r);
+    else if (spec_.postprocess.empty()) finish(r, "ok", 0, 0, "");
+    // else: stopped before its post-processing, rerun next time
+  }
+
+  // The member's marker (member.json), last: a member with one is complete.
+  void finish(const Running& r, const std::string& status, int exit_code, int sig, const std::string& diagnosis) {
     Json m = Json::object();
     m["member"] = r.member;
     m["status"] = status;
@@ -194,92 +268,46 @@ RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>
     if (sig) m["signal"] = sig;
     m["diagnosis"] = diagnosis;
     Json values = Json::object();
-    for (std::size_t j = 0; j < spec.vary.size(); ++j) values[spec.vary[j].name] = plans[r.member].values[j];
+    for (std::size_t j = 0; j < spec_.vary.size(); ++j) values[spec_.vary[j].name] = plans_[r.member].values[j];
     m["values"] = values;
-    m["sets"] = plans[r.member].sets;
+    m["sets"] = plans_[r.member].sets;
     m["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.start).count();
-    io::write_json_file(dir / "member.json", m);
-    ++finished;
-    ++res.ran;
-    if (status != "ok") ++res.failed;
-    progress_note = status == "ok" ? "" : fmt::format(" - member {} {}: {}", r.member, status, diagnosis);
-    progress_due = true;
-  };
-  // The progress line, once the pool has been refilled: the members running then.
-  auto report_progress = [&] {
-    if (!progress_due || o.quiet) return;
-    progress_due = false;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const std::size_t done = res.skipped + finished;
-    const double eta = elapsed / static_cast<double>(finished) * static_cast<double>(total - done);
-    fmt::print(stderr, "{}ensemble: {}/{} members done ({} failed, {} running), ETA {}{}\n", o.label, done, total,
-               res.failed, running.size(), duration_text(eta), progress_note);
-  };
-
-  while (!queue.empty() || !running.empty()) {
-    const bool stop = o.stop_signal && *o.stop_signal;
-    if (stop && !forwarded) {
-      for (const auto& [pid, r] : running) ::kill(pid, SIGTERM);
-      forwarded = true;
-    }
-    while (!stop && static_cast<int>(running.size()) < jobs && !queue.empty()) {
-      launch_run(queue.front());
-      queue.pop_front();
-    }
-    report_progress();
-    if (running.empty()) break;
-    int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
-    if (pid < 0) {
-      if (errno == EINTR) continue;
-      if (errno == ECHILD) break;
-      throw std::runtime_error(fmt::format("waiting for the members: {}", std::strerror(errno)));
-    }
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const Running r = it->second;
-    running.erase(it);
-    const fs::path dir = member_dir(o.out_dir, r.member, spec.members);
-    if (WIFSIGNALED(status)) {
-      const int sig = WTERMSIG(status);
-      if (sig == SIGKILL || sig == SIGTERM || sig == SIGINT) continue;  // killed: no marker, rerun next time
-      finish(r, "crashed", -1, sig, fmt::format("killed by signal {} ({})", sig, strsignal(sig)));
-      continue;
-    }
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (r.stage == 1) {
-      if (code == 0) finish(r, "ok", 0, 0, "");
-      else finish(r, "postprocess_failed", code, 0, read_tail_error(dir / "member.log"));
-      continue;
-    }
-    if (code == 128 + SIGINT || code == 128 + SIGTERM || code == 137) continue;  // stopped: rerun next time
-    if (code == kExitNotExecuted) {  // the binary was missing or being replaced: rerun next time
-      finish(r, "killed", code, 0, read_tail_error(dir / "member.log"));
-      continue;
-    }
-    if (code == 0) {
-      bool completed = false;
-      try {
-        completed = io::read_json_file(dir / "summary.json").value("completed", false);
-      } catch (...) {
-      }
-      if (!completed) {
-        finish(r, "failed", 0, 0, "the run ended without a complete summary.json");
-      } else if (!spec.postprocess.empty() && !stop) {
-        launch_post(r);
-      } else if (!spec.postprocess.empty()) {
-        continue;  // stopped before its post-processing: rerun next time
-      } else {
-        finish(r, "ok", 0, 0, "");
-      }
-    } else {
-      const std::string st = code == kExitUnstable ? "unstable" : code == kExitInputError ? "input_error" : "failed";
-      finish(r, st, code, 0, diagnosis_of(dir));
-    }
+    io::write_json_file(dir_of(r.member) / "member.json", m);
+    ++finished_;
+    ++res_.ran;
+    if (status != "ok") ++res_.failed;
+    progress_note_ = status == "ok" ? "" : fmt::format(" - member {} {}: {}", r.member, status, diagnosis);
+    progress_due_ = true;
   }
-  report_progress();  // the last member's line
-  res.stopped = !queue.empty() || (o.stop_signal && *o.stop_signal && res.ran + res.skipped < total);
-  return res;
+
+  // The progress line, once the pool has been refilled: the members running then.
+  void report_progress() {
+    if (!progress_due_ || o_.quiet) return;
+    progress_due_ = false;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    const std::size_t done = res_.skipped + finished_;
+    const double eta = elapsed / static_cast<double>(finished_) * static_cast<double>(total_ - done);
+    fmt::print(stderr, "{}ensemble: {}/{} members done ({} failed, {} running), ETA {}{}\n", o_.label, done, total_,
+               res_.failed, running_.size(), duration_text(eta), progress_note_);
+  }
+
+  const EnsembleSpec& spec_;
+  const std::vector<MemberPlan>& plans_;
+  const RunnerOptions& o_;
+  const int jobs_;
+  const std::chrono::steady_clock::time_point t0_;
+  RunnerResult res_;
+  std::map<pid_t, Running> running_;
+  std::size_t finished_ = 0, total_ = 0;
+  bool progress_due_ = false;
+  std::string progress_note_;
+};
+
+}  // namespace
+
+RunnerResult run_members(const EnsembleSpec& spec, const std::vector<MemberPlan>& plans,
+                         const std::vector<std::size_t>& which, const RunnerOptions& o) {
+  return MemberPool(spec, plans, o).run(which);
 }
 
 }  // namespace dsdem::ensemble
