@@ -208,55 +208,77 @@ std::vector<std::string> map_errors(const io::ScenarioError& e, const std::map<s
 
 }  // namespace
 
-EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& file_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw io::ScenarioError({fmt::format("{}:{}:{}: YAML syntax error: {}", file_name, e.mark.line + 1, e.mark.column + 1, e.msg)});
-  }
-  if (!root.IsMap())
-    throw io::ScenarioError({fmt::format("{}: the ensemble file must be a YAML map (base, members, vary, ...)", file_name)});
-  io::SchemaReader r(file_name, ensemble_schema());
-  EnsembleSpec spec;
-  spec.file = file_name;
-  spec.directory = std::filesystem::path(file_name).parent_path().string();
-  if (spec.directory.empty()) spec.directory = ".";
-  const KeyPath top{"", ""};
-  r.check_keys(root, top);
-  spec.title = r.string(root, top, "title").value_or("");
-  const auto base = r.string(root, top, "base");
-  if (base) {
-    const std::filesystem::path p(*base);
-    spec.base = p.is_absolute() ? p.string() : (std::filesystem::path(spec.directory) / p).lexically_normal().string();
-    if (!std::filesystem::is_regular_file(spec.base))
-      r.error(root["base"], "base", fmt::format("the base scenario '{}' does not exist", spec.base));
-  }
-  if (const auto n = r.integer(root, top, "members")) spec.members = static_cast<std::size_t>(*n);
-  const YAML::Node empty_map(YAML::NodeType::Map);
+namespace {
 
-  YAML::Node sampling = r.section(root, top, "sampling", YAML::NodeType::Map);
-  if (!sampling.IsDefined()) sampling = empty_map;
-  const KeyPath ps{"sampling", "sampling"};
-  r.check_keys(sampling, ps);
-  if (const auto m = r.string(sampling, ps, "method"))
-    spec.method = *m == "monte_carlo" ? SamplingMethod::MonteCarlo : SamplingMethod::LatinHypercube;
-  if (const auto s = r.integer(sampling, ps, "seed")) spec.seed = static_cast<std::uint64_t>(*s);
+// The ensemble file's reader: each section by its own function, the errors of all of them
+// collected (file, line and key) before anything is thrown.
+class EnsembleReader {
+ public:
+  EnsembleReader(const std::string& file, const YAML::Node& root_node)
+      : file_name(file), root(root_node), r(file, ensemble_schema()) {}
 
-  const YAML::Node vary = r.section(root, top, "vary", YAML::NodeType::Sequence);
-  std::map<std::string, std::size_t> by_name;
-  std::map<std::string, io::SourceLocation> key_where;
-  if (vary.IsDefined() && vary.size() == 0) r.error(vary, "vary", "no varied value: list at least one");
-  for (std::size_t i = 0; vary.IsDefined() && i < vary.size(); ++i) {
-    const YAML::Node item = vary[i];
-    const KeyPath pi = KeyPath{"vary", "vary"}.index(i);
-    if (!item.IsMap()) {
-      r.error(item, pi.actual, "expected a map (key, distribution and its parameters)");
-      continue;
+  EnsembleSpec read() {
+    read_top();
+    read_sampling();
+    read_vary();
+    read_correlation();
+    read_fixed();
+    read_events();
+    read_member();
+    read_deposit_thresholds();
+    if (!r.ok()) throw io::ScenarioError(r.errors());
+    check_against_base();
+    return spec;
+  }
+
+ private:
+  void read_top() {
+    spec.file = file_name;
+    spec.directory = std::filesystem::path(file_name).parent_path().string();
+    if (spec.directory.empty()) spec.directory = ".";
+    r.check_keys(root, top);
+    spec.title = r.string(root, top, "title").value_or("");
+    const auto base = r.string(root, top, "base");
+    if (base) {
+      const std::filesystem::path p(*base);
+      spec.base = p.is_absolute() ? p.string() : (std::filesystem::path(spec.directory) / p).lexically_normal().string();
+      if (!std::filesystem::is_regular_file(spec.base))
+        r.error(root["base"], "base", fmt::format("the base scenario '{}' does not exist", spec.base));
     }
-    r.check_keys(item, pi);
-    VariedValue v;
-    v.where = location(file_name, item, pi.actual);
+    if (const auto n = r.integer(root, top, "members")) spec.members = static_cast<std::size_t>(*n);
+  }
+
+  void read_sampling() {
+    YAML::Node sampling = r.section(root, top, "sampling", YAML::NodeType::Map);
+    if (!sampling.IsDefined()) sampling = YAML::Node(YAML::NodeType::Map);
+    const KeyPath ps{"sampling", "sampling"};
+    r.check_keys(sampling, ps);
+    if (const auto m = r.string(sampling, ps, "method"))
+      spec.method = *m == "monte_carlo" ? SamplingMethod::MonteCarlo : SamplingMethod::LatinHypercube;
+    if (const auto s = r.integer(sampling, ps, "seed")) spec.seed = static_cast<std::uint64_t>(*s);
+  }
+
+  // Each varied value: its keys, its name and its distribution.
+  void read_vary() {
+    const YAML::Node vary = r.section(root, top, "vary", YAML::NodeType::Sequence);
+    if (vary.IsDefined() && vary.size() == 0) r.error(vary, "vary", "no varied value: list at least one");
+    for (std::size_t i = 0; vary.IsDefined() && i < vary.size(); ++i) {
+      const YAML::Node item = vary[i];
+      const KeyPath pi = KeyPath{"vary", "vary"}.index(i);
+      if (!item.IsMap()) {
+        r.error(item, pi.actual, "expected a map (key, distribution and its parameters)");
+        continue;
+      }
+      r.check_keys(item, pi);
+      VariedValue v;
+      v.where = location(file_name, item, pi.actual);
+      read_keys(item, pi, i, v);
+      read_distribution(item, pi, v);
+      spec.vary.push_back(std::move(v));
+    }
+  }
+
+  void read_keys(const YAML::Node& item, const KeyPath& pi, std::size_t i, VariedValue& v) {
     const YAML::Node kn = item["key"];
     if (!kn.IsDefined() || kn.IsNull()) {
       r.error(item, pi.child("key").actual, "missing value (the scenario key to vary, as --set names it)");
@@ -283,6 +305,9 @@ EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& fil
     v.name = r.string(item, pi, "name").value_or(v.keys.empty() ? "" : v.keys.front());
     if (by_name.count(v.name)) r.error(item["name"].IsDefined() ? item["name"] : item, pi.actual, fmt::format("a second varied value named '{}' (give each its own name)", v.name));
     by_name[v.name] = i;
+  }
+
+  void read_distribution(const YAML::Node& item, const KeyPath& pi, VariedValue& v) {
     const auto dist = r.string(item, pi, "distribution");
     if (dist) {
       static const std::map<std::string, DistributionKind> kinds{
@@ -361,78 +386,86 @@ EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& fil
         }
       }
     }
-    spec.vary.push_back(std::move(v));
   }
 
-  const YAML::Node corr = r.section(root, top, "correlation", YAML::NodeType::Sequence);
-  if (corr.IsDefined() && !spec.vary.empty()) {
-    const std::size_t k = spec.vary.size();
-    spec.correlation.assign(k, std::vector<double>(k, 0.0));
-    for (std::size_t i = 0; i < k; ++i) spec.correlation[i][i] = 1.0;
-    bool ok = true;
-    for (std::size_t i = 0; i < corr.size(); ++i) {
-      const KeyPath pc = KeyPath{"correlation", "correlation"}.index(i);
-      const YAML::Node item = corr[i];
-      if (!item.IsMap()) {
-        r.error(item, pc.actual, "expected a map {between: [a, b], rank: r}");
-        ok = false;
-        continue;
-      }
-      r.check_keys(item, pc);
-      const auto rho = r.number(item, pc, "rank");
-      const YAML::Node b = item["between"];
-      std::vector<std::size_t> idx;
-      if (!b.IsDefined() || !b.IsSequence() || b.size() != 2) {
-        r.error(b.IsDefined() ? b : item, pc.child("between").actual, "expected two names of varied values [a, b]");
-      } else {
-        for (const auto& nm : b) {
-          const std::string s = nm.IsScalar() ? nm.Scalar() : "";
-          const auto it = by_name.find(s);
-          if (it == by_name.end()) {
-            std::vector<std::string> names;
-            for (const auto& [n, _] : by_name) names.push_back(n);
-            const std::string near = io::nearest(s, names);
-            r.error(nm, pc.child("between").actual,
-                    fmt::format("'{}' is not the name of a varied value{}", s, near.empty() ? "" : "; did you mean '" + near + "'?"));
-          } else {
-            idx.push_back(it->second);
+  void read_correlation() {
+    const YAML::Node corr = r.section(root, top, "correlation", YAML::NodeType::Sequence);
+    if (corr.IsDefined() && !spec.vary.empty()) {
+      const std::size_t k = spec.vary.size();
+      spec.correlation.assign(k, std::vector<double>(k, 0.0));
+      for (std::size_t i = 0; i < k; ++i) spec.correlation[i][i] = 1.0;
+      bool ok = true;
+      for (std::size_t i = 0; i < corr.size(); ++i) {
+        const KeyPath pc = KeyPath{"correlation", "correlation"}.index(i);
+        const YAML::Node item = corr[i];
+        if (!item.IsMap()) {
+          r.error(item, pc.actual, "expected a map {between: [a, b], rank: r}");
+          ok = false;
+          continue;
+        }
+        r.check_keys(item, pc);
+        const auto rho = r.number(item, pc, "rank");
+        const YAML::Node b = item["between"];
+        std::vector<std::size_t> idx;
+        if (!b.IsDefined() || !b.IsSequence() || b.size() != 2) {
+          r.error(b.IsDefined() ? b : item, pc.child("between").actual, "expected two names of varied values [a, b]");
+        } else {
+          for (const auto& nm : b) {
+            const std::string s = nm.IsScalar() ? nm.Scalar() : "";
+            const auto it = by_name.find(s);
+            if (it == by_name.end()) {
+              std::vector<std::string> names;
+              for (const auto& [n, _] : by_name) names.push_back(n);
+              const std::string near = io::nearest(s, names);
+              r.error(nm, pc.child("between").actual,
+                      fmt::format("'{}' is not the name of a varied value{}", s, near.empty() ? "" : "; did you mean '" + near + "'?"));
+            } else {
+              idx.push_back(it->second);
+            }
+          }
+          if (idx.size() == 2 && idx[0] == idx[1]) {
+            r.error(b, pc.child("between").actual, "a value's correlation with itself is 1");
+            idx.clear();
           }
         }
-        if (idx.size() == 2 && idx[0] == idx[1]) {
-          r.error(b, pc.child("between").actual, "a value's correlation with itself is 1");
-          idx.clear();
+        if (idx.size() == 2 && rho) {
+          spec.correlation[idx[0]][idx[1]] = spec.correlation[idx[1]][idx[0]] = *rho;
+        } else {
+          ok = false;
         }
       }
-      if (idx.size() == 2 && rho) {
-        spec.correlation[idx[0]][idx[1]] = spec.correlation[idx[1]][idx[0]] = *rho;
-      } else {
-        ok = false;
+      if (ok) {
+        const std::string problem = check_correlation(spec.correlation);
+        if (!problem.empty()) r.error(corr, "correlation", problem);
+        if (spec.members > 0 && spec.members < k + 2)
+          r.error(corr, "correlation", fmt::format("{} members are too few to shape the correlation of {} values (at least {})",
+                                                   spec.members, k, k + 2));
       }
     }
-    if (ok) {
-      const std::string problem = check_correlation(spec.correlation);
-      if (!problem.empty()) r.error(corr, "correlation", problem);
-      if (spec.members > 0 && spec.members < k + 2)
-        r.error(corr, "correlation", fmt::format("{} members are too few to shape the correlation of {} values (at least {})",
-                                                 spec.members, k, k + 2));
+  }
+
+  void read_fixed() {
+    const YAML::Node fixed = r.section(root, top, "fixed", YAML::NodeType::Map);
+    for (auto it = fixed.begin(); fixed.IsDefined() && it != fixed.end(); ++it) {
+      const std::string k = it->first.Scalar();
+      const std::string path = "fixed." + k;
+      if (key_where.count(k)) r.error(it->first, path, fmt::format("'{}' is also varied ({})", k, key_where[k].key));
+      spec.fixed.push_back(k + "=" + flow_text(it->second));
+      fixed_where[k] = location(file_name, it->first, path);
     }
   }
 
-  const YAML::Node fixed = r.section(root, top, "fixed", YAML::NodeType::Map);
-  std::map<std::string, io::SourceLocation> fixed_where;
-  for (auto it = fixed.begin(); fixed.IsDefined() && it != fixed.end(); ++it) {
-    const std::string k = it->first.Scalar();
-    const std::string path = "fixed." + k;
-    if (key_where.count(k)) r.error(it->first, path, fmt::format("'{}' is also varied ({})", k, key_where[k].key));
-    spec.fixed.push_back(k + "=" + flow_text(it->second));
-    fixed_where[k] = location(file_name, it->first, path);
+  void read_events() {
+    const YAML::Node events = r.section(root, top, "events", YAML::NodeType::Sequence);
+    for (std::size_t i = 0; events.IsDefined() && i < events.size(); ++i) {
+      read_event(events[i], i);
+    }
   }
 
-  const YAML::Node events = r.section(root, top, "events", YAML::NodeType::Sequence);
-  static const std::regex condition(R"(^\s*([A-Za-z0-9_.\-]+)\s*(>=|<=|>|<)\s*(\S+)\s*$)");
-  for (std::size_t i = 0; events.IsDefined() && i < events.size(); ++i) {
+  // One event: "key > value" or {name, when: "key > value"}.
+  void read_event(const YAML::Node& item, std::size_t i) {
+    static const std::regex condition(R"(^\s*([A-Za-z0-9_.\-]+)\s*(>=|<=|>|<)\s*(\S+)\s*$)");
     const KeyPath pe = KeyPath{"events", "events"}.index(i);
-    const YAML::Node item = events[i];
     EventSpec ev;
     std::string when;
     YAML::Node at = item;
@@ -443,10 +476,10 @@ EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& fil
       when = r.string(item, pe, "when").value_or("");
       ev.name = r.string(item, pe, "name").value_or("");
       if (item["when"].IsDefined()) at = item["when"];
-      if (when.empty()) continue;
+      if (when.empty()) return;
     } else {
       r.error(item, pe.actual, "expected \"key > value\" or a map {name, when}");
-      continue;
+      return;
     }
     std::smatch m;
     double threshold = 0.0;
@@ -461,7 +494,7 @@ EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& fil
     }
     if (!number_ok) {
       r.error(at, pe.actual, fmt::format("'{}' is not a condition \"key > value\" (operators >, >=, <, <=; a number)", when));
-      continue;
+      return;
     }
     ev.key = m[1].str();
     const std::string op = m[2].str();
@@ -473,67 +506,94 @@ EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& fil
     spec.events.push_back(ev);
   }
 
-  YAML::Node member = r.section(root, top, "member", YAML::NodeType::Map);
-  if (!member.IsDefined()) member = empty_map;
-  const KeyPath pm{"member", "member"};
-  r.check_keys(member, pm);
-  if (const auto t = r.integer(member, pm, "threads")) spec.member_threads = static_cast<int>(*t);
-  if (const auto f = r.boolean(member, pm, "fields")) spec.member_fields = *f;
-  const YAML::Node post = member["postprocess"];
-  if (post.IsDefined() && !post.IsNull()) {
-    if (!post.IsSequence() || post.size() == 0) {
-      r.error(post, "member.postprocess", "expected a command as a list of words, e.g. [python3, script.py, \"{out}\"]");
-    } else {
-      for (const auto& w : post) {
-        if (!w.IsScalar()) r.error(w, "member.postprocess", "expected a word (a string)");
-        else spec.postprocess.push_back(w.Scalar());
+  void read_member() {
+    YAML::Node member = r.section(root, top, "member", YAML::NodeType::Map);
+    if (!member.IsDefined()) member = YAML::Node(YAML::NodeType::Map);
+    const KeyPath pm{"member", "member"};
+    r.check_keys(member, pm);
+    if (const auto t = r.integer(member, pm, "threads")) spec.member_threads = static_cast<int>(*t);
+    if (const auto f = r.boolean(member, pm, "fields")) spec.member_fields = *f;
+    const YAML::Node post = member["postprocess"];
+    if (post.IsDefined() && !post.IsNull()) {
+      if (!post.IsSequence() || post.size() == 0) {
+        r.error(post, "member.postprocess", "expected a command as a list of words, e.g. [python3, script.py, \"{out}\"]");
+      } else {
+        for (const auto& w : post) {
+          if (!w.IsScalar()) r.error(w, "member.postprocess", "expected a word (a string)");
+          else spec.postprocess.push_back(w.Scalar());
+        }
       }
     }
   }
 
-  const YAML::Node dep = root["deposit_thresholds_m"];
-  if (dep.IsDefined() && !dep.IsNull()) {
-    spec.deposit_thresholds_m.clear();
-    if (!dep.IsSequence() || dep.size() == 0) r.error(dep, "deposit_thresholds_m", "expected a list of thicknesses in m");
-    for (std::size_t i = 0; dep.IsSequence() && i < dep.size(); ++i) {
-      double d = -1.0;
-      try {
-        d = dep[i].as<double>();
-      } catch (...) {
+  void read_deposit_thresholds() {
+    const YAML::Node dep = root["deposit_thresholds_m"];
+    if (dep.IsDefined() && !dep.IsNull()) {
+      spec.deposit_thresholds_m.clear();
+      if (!dep.IsSequence() || dep.size() == 0) r.error(dep, "deposit_thresholds_m", "expected a list of thicknesses in m");
+      for (std::size_t i = 0; dep.IsSequence() && i < dep.size(); ++i) {
+        double d = -1.0;
+        try {
+          d = dep[i].as<double>();
+        } catch (...) {
+        }
+        if (!(d > 0.0) || !std::isfinite(d)) r.error(dep[i], fmt::format("deposit_thresholds_m[{}]", i), "expected a thickness > 0 in m");
+        else spec.deposit_thresholds_m.push_back(d);
       }
-      if (!(d > 0.0) || !std::isfinite(d)) r.error(dep[i], fmt::format("deposit_thresholds_m[{}]", i), "expected a thickness > 0 in m");
-      else spec.deposit_thresholds_m.push_back(d);
     }
+    if (const auto b = r.integer(root, top, "bootstrap_resamples")) spec.bootstrap_resamples = static_cast<int>(*b);
   }
-  if (const auto b = r.integer(root, top, "bootstrap_resamples")) spec.bootstrap_resamples = static_cast<int>(*b);
-  if (!r.ok()) throw io::ScenarioError(r.errors());
 
   // The overrides against the base scenario: the fixed ones, then each varied value at its
   // median, so an unknown key or a value out of range names the ensemble file's line.
-  std::vector<std::string> errors;
-  try {
-    io::load_scenario(spec.base, spec.fixed);
-  } catch (const io::ScenarioError& e) {
-    for (auto& l : map_errors(e, fixed_where)) errors.push_back(l);
-  }
-  if (errors.empty()) {
-    for (const auto& v : spec.vary) {
-      std::map<std::string, io::SourceLocation> where = fixed_where;
-      std::vector<std::string> sets = spec.fixed;
-      const std::string value = v.text(0.5);
-      for (const auto& k : v.keys) {
-        sets.push_back(k + "=" + value);
-        where[k] = key_where[k];
-      }
-      try {
-        io::load_scenario(spec.base, sets);
-      } catch (const io::ScenarioError& e) {
-        for (auto& l : map_errors(e, where)) errors.push_back(l);
+  void check_against_base() {
+    std::vector<std::string> errors;
+    try {
+      io::load_scenario(spec.base, spec.fixed);
+    } catch (const io::ScenarioError& e) {
+      for (auto& l : map_errors(e, fixed_where)) errors.push_back(l);
+    }
+    if (errors.empty()) {
+      for (const auto& v : spec.vary) {
+        std::map<std::string, io::SourceLocation> where = fixed_where;
+        std::vector<std::string> sets = spec.fixed;
+        const std::string value = v.text(0.5);
+        for (const auto& k : v.keys) {
+          sets.push_back(k + "=" + value);
+          where[k] = key_where[k];
+        }
+        try {
+          io::load_scenario(spec.base, sets);
+        } catch (const io::ScenarioError& e) {
+          for (auto& l : map_errors(e, where)) errors.push_back(l);
+        }
       }
     }
+    if (!errors.empty()) throw io::ScenarioError(errors);
   }
-  if (!errors.empty()) throw io::ScenarioError(errors);
-  return spec;
+
+  const std::string file_name;
+  const YAML::Node root;
+  io::SchemaReader r;
+  EnsembleSpec spec;
+  const KeyPath top{"", ""};
+  std::map<std::string, std::size_t> by_name;             // varied value -> its index
+  std::map<std::string, io::SourceLocation> key_where;    // varied key -> where
+  std::map<std::string, io::SourceLocation> fixed_where;  // fixed key -> where
+};
+
+}  // namespace
+
+EnsembleSpec parse_ensemble(const std::string& yaml_text, const std::string& file_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw io::ScenarioError({fmt::format("{}:{}:{}: YAML syntax error: {}", file_name, e.mark.line + 1, e.mark.column + 1, e.msg)});
+  }
+  if (!root.IsMap())
+    throw io::ScenarioError({fmt::format("{}: the ensemble file must be a YAML map (base, members, vary, ...)", file_name)});
+  return EnsembleReader(file_name, root).read();
 }
 
 std::vector<MemberPlan> plan_members(const EnsembleSpec& spec) {
