@@ -1,6 +1,7 @@
 #pragma once
 // The scenario (YAML) in memory, validated as a whole before step 0 (DESIGN.md §9).
 #include <array>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -190,11 +191,55 @@ struct OutputSpec {
 // The reservoir at its still level, where a slide may enter it (DESIGN.md §13): the run
 // measures the slide where it meets the water and gives the Heller & Hager estimate of the
 // impulse wave it raises.
+// A named place on the water where the run measures it (DESIGN.md §13).
+struct WaterGaugeSpec {
+  std::string name;
+  double x = 0.0;  // m: the free-surface gauge's abscissa
+  SourceLocation where;
+};
+struct WaterCurveSpec {
+  std::string name;
+  std::vector<Vec2> polyline;  // m, at least two points
+  SourceLocation where;
+};
+struct CrestSpec {
+  std::string name;
+  Vec2 at = Vec2::Zero();  // m: the crest point; water beyond x on the far side, above y
+  int direction = 1;       // +1: the far side is x > at.x
+  SourceLocation where;
+};
+// A body of water the region fills: a rectangle, or a polygon below a level.
+struct WaterFillSpec {
+  std::vector<Vec2> polygon;  // m, counter-clockwise or not; a rectangle becomes four corners
+  double level = std::numeric_limits<double>::infinity();  // m, no water above it
+  SourceLocation where;
+};
+
+// The reservoir as moving water: weakly compressible SPH coupled both ways with the solid
+// (DESIGN.md §13).
+struct SphSpec {
+  bool present = false;
+  double spacing = 0.0;              // m, dp
+  double smoothing = 1.5;            // h / dp
+  double sound_speed = 0.0;          // m/s; 0: 10 max(sqrt(g H), expected_speed)
+  double expected_speed = 0.0;       // m/s, the fastest flow expected (a slide's entry speed)
+  double viscosity = 0.02;           // the artificial viscosity alpha
+  double density_diffusion = 0.1;    // delta
+  double settle = 0.0;               // s of damped settling with the solid held, before step 0
+  double freeboard = -1.0;           // m above the level where solid faces are coupled; < 0: the depth / 2
+  std::vector<WaterFillSpec> fill;   // empty: below the level over the reservoir's x range
+  std::vector<WaterGaugeSpec> gauges;
+  std::vector<WaterCurveSpec> runup, pressure;
+  std::vector<CrestSpec> crests;
+  SourceLocation where;
+};
+
 struct ReservoirSpec {
   bool present = false;
   double level = 0.0;            // m, the still water level
   double x_min = 0.0, x_max = 0.0;  // m, the reservoir's extent along the section
   double density = 1000.0;       // kg/m^3
+  SphSpec sph;
   SourceLocation where;
 };
 

@@ -30,6 +30,7 @@ std::string type_name(KeyType t) {
     case KeyType::List: return "list";
     case KeyType::Table: return "[[t, value], ...]";
     case KeyType::Polyline: return "[[x, z], ...]";
+    case KeyType::Points: return "[[x, y], ...]";
     case KeyType::Choice: return "one of";
     case KeyType::NumberOrTable: return "number or [[t, value], ...]";
   }
@@ -303,6 +304,31 @@ std::optional<std::vector<std::array<double, 2>>> SchemaReader::table(const YAML
 std::optional<std::vector<std::array<double, 2>>> SchemaReader::polyline(const YAML::Node& map, const KeyPath& parent,
                                                                          const std::string& key) {
   return rows(map, parent, key, /*polyline=*/true);
+}
+
+std::optional<std::vector<Vec2>> SchemaReader::points(const YAML::Node& map, const KeyPath& parent,
+                                                     const std::string& key, std::size_t at_least) {
+  const KeyPath p = parent.child(key);
+  const YAML::Node n = map[key];
+  if (!n.IsDefined() || n.IsNull()) {
+    if (spec(p).required()) error(map, p.actual, "missing: a list of [x, y] points");
+    return std::nullopt;
+  }
+  if (!n.IsSequence() || n.size() < at_least) {
+    error(n, p.actual, fmt::format("expected a list of at least {} [x, y] points", at_least));
+    return std::nullopt;
+  }
+  std::vector<Vec2> pts;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    double x = 0.0, y = 0.0;
+    if (!n[i].IsSequence() || n[i].size() != 2 || !parse_double(n[i][0], x) || !parse_double(n[i][1], y) ||
+        !std::isfinite(x) || !std::isfinite(y)) {
+      error(n[i], fmt::format("{}[{}]", p.actual, i), "expected a point [x, y] of two numbers");
+      return std::nullopt;
+    }
+    pts.emplace_back(x, y);
+  }
+  return pts;
 }
 
 std::optional<std::vector<std::array<double, 2>>> SchemaReader::rows(const YAML::Node& map, const KeyPath& parent,

@@ -4,6 +4,8 @@
 // reference never drifts from the code (DESIGN.md §9).
 #include <yaml-cpp/yaml.h>
 
+#include "model/types.hpp"
+
 #include <limits>
 #include <optional>
 #include <string>
@@ -11,7 +13,7 @@
 
 namespace dsdem::io {
 
-enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable, Polyline };
+enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable, Polyline, Points };
 
 struct KeySpec {
   std::string pattern;  // e.g. "materials.*.E", "regions[].group"
@@ -63,6 +65,9 @@ class SchemaReader {
   // A list of [x, z] points, strictly increasing in x (a polyline over x).
   std::optional<std::vector<std::array<double, 2>>> polyline(const YAML::Node& map, const KeyPath& parent,
                                                              const std::string& key);
+  // A list of at least `at_least` [x, y] points in any order (a path or a polygon).
+  std::optional<std::vector<Vec2>> points(const YAML::Node& map, const KeyPath& parent, const std::string& key,
+                                          std::size_t at_least);
   // A map or list that must exist when required; returns an undefined node otherwise.
   YAML::Node section(const YAML::Node& map, const KeyPath& parent, const std::string& key, YAML::NodeType::value type);
   // Reports every key of `map` that the schema does not know under `path`, with the

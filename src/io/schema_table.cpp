@@ -280,6 +280,59 @@ void add_water(std::vector<KeySpec>& s) {
   }
 }
 
+// The reservoir as moving water (DESIGN.md §13).
+void add_reservoir_sph(std::vector<KeySpec>& s) {
+  const std::string b = "reservoir.sph";
+  s.push_back(of(b, KeyType::Map, "",
+                 "The reservoir as moving water: weakly compressible SPH, coupled both ways with the solid (the "
+                 "bedrock's surface near the water and every face of the discrete zone), replacing the static "
+                 "water's pressure on faces over the reservoir's x range. Absent: the Heller & Hager estimate only."));
+  s.push_back(num(b + ".spacing", "m", "required", 0, kInf, "Particle spacing dp.", true));
+  s.push_back(num(b + ".smoothing", "", "1.5", 1.3, 2.0, "Smoothing length h / dp."));
+  s.push_back(num(b + ".sound_speed", "m/s", "0", 0, kInf,
+                  "Numerical speed of sound c0; 0: 10 max(sqrt(g H), expected_speed), H the deepest water."));
+  s.push_back(num(b + ".expected_speed", "m/s", "0", 0, kInf,
+                  "The fastest flow expected (a slide's entry speed), for the sound speed; the run warns when the "
+                  "water goes faster than c0 / 10."));
+  s.push_back(num(b + ".viscosity", "", "0.02", 0, 1, "Artificial viscosity alpha (DESIGN.md §13: 0.01-0.1)."));
+  s.push_back(num(b + ".density_diffusion", "", "0.1", 0, 1, "Density diffusion delta (delta-SPH)."));
+  s.push_back(num(b + ".settle", "s", "0", 0, kInf,
+                  "Settling of the freshly laid water before step 0, the solid held still and the water's velocity "
+                  "damped; the particles then sit at rest on the slanted banks."));
+  s.push_back(num(b + ".freeboard", "m", "depth/2", 0, kInf,
+                  "Height above the level up to which the bedrock's faces over the filled x range are coupled (the "
+                  "discrete zone's faces always are)."));
+  s.push_back(of(b + ".fill", KeyType::List, "below the level over x",
+                 "Regions filled with water, outside the solid: rectangles, or polygons below a level."));
+  s.push_back(of(b + ".fill[]", KeyType::Map, "", "One region: `rectangle` or `polygon`."));
+  s.push_back(of(b + ".fill[].rectangle", KeyType::Points, "", "Corners [[x0, y0], [x1, y1]].", "m"));
+  s.push_back(of(b + ".fill[].polygon", KeyType::Points, "", "Polygon corners, at least three.", "m"));
+  s.push_back(num(b + ".fill[].level", "m", "reservoir.level", -kInf, kInf, "No water above this level."));
+  s.push_back(of(b + ".gauges", KeyType::List, "",
+                 "Free-surface gauges: the surface elevation at x in history.csv (<name>_eta, above the level)."));
+  s.push_back(of(b + ".gauges[]", KeyType::Map, "", "One gauge."));
+  s.push_back(of(b + ".gauges[].name", KeyType::String, "required", "Gauge name (history column prefix)."));
+  s.push_back(num(b + ".gauges[].x", "m", "required", -kInf, kInf, "Where along the section."));
+  s.push_back(of(b + ".runup", KeyType::List, "",
+                 "Banks on which the run-up is measured: the highest water on each, in history.csv and "
+                 "summary.json max_runup_m."));
+  s.push_back(of(b + ".runup[]", KeyType::Map, "", "One bank."));
+  s.push_back(of(b + ".runup[].name", KeyType::String, "required", "Its name."));
+  s.push_back(of(b + ".runup[].polyline", KeyType::Points, "required", "The bank's surface, at least two points.", "m"));
+  s.push_back(of(b + ".pressure", KeyType::List, "",
+                 "Curves on which the water's force and peak pressure are measured (an intake, a dam face)."));
+  s.push_back(of(b + ".pressure[]", KeyType::Map, "", "One curve."));
+  s.push_back(of(b + ".pressure[].name", KeyType::String, "required", "Its name."));
+  s.push_back(of(b + ".pressure[].polyline", KeyType::Points, "required", "The curve, at least two points.", "m"));
+  s.push_back(of(b + ".crests", KeyType::List, "",
+                 "Crests the water may overtop: the volume past each, in history.csv and summary.json."));
+  s.push_back(of(b + ".crests[]", KeyType::Map, "", "One crest."));
+  s.push_back(of(b + ".crests[].name", KeyType::String, "required", "Its name."));
+  s.push_back(of(b + ".crests[].at", KeyType::Vector2, "required", "The crest point; water beyond x above y is past it.",
+                 "m"));
+  s.push_back(choice(b + ".crests[].side", {"right", "left"}, "right", "The far side: x greater (right) or smaller."));
+}
+
 // The reservoir a slide may enter (DESIGN.md §13).
 void add_reservoir(std::vector<KeySpec>& s) {
   s.push_back(of("reservoir", KeyType::Map, "",
@@ -291,6 +344,7 @@ void add_reservoir(std::vector<KeySpec>& s) {
                  "ground surface crosses the level at one end.",
                  "m"));
   s.push_back(num("reservoir.density", "kg/m^3", "1000", 0, kInf, "Water density.", true));
+  add_reservoir_sph(s);
 }
 
 // Output intervals, checkpoints and gauges.

@@ -1,5 +1,6 @@
 #include "run/outputs.hpp"
 #include "run/water.hpp"
+#include "run/water_watch.hpp"
 
 #include <algorithm>
 
@@ -48,6 +49,10 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
                                          {"contacts", ""}};
   if (has_water(prepared.scenario)) columns.push_back({"water_work", energy_unit});
   const std::string force_unit = plane_strain ? "N_per_m" : "N";
+  if (prepared.moving_water) {
+    columns.push_back({"moving_water_work", energy_unit});
+    for (auto& c : WaterWatch::columns(prepared.scenario.reservoir.sph, energy_unit, force_unit)) columns.push_back(c);
+  }
   for (const auto& [name, nodes] : reactions)
     for (const char* c : {"x", "y"}) columns.push_back({fmt::format("{}_reaction_{}", name, c), force_unit});
   for (const auto& g : prepared.gauges)
@@ -90,6 +95,12 @@ RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, cons
     slide_watch_.emplace(*prepared.shore);
     if (resume_from) slide_watch_->restore(resume_from->slide_impact);
   }
+  if (prepared.moving_water && solver.moving_water()) {
+    water_watch_.emplace(prepared.scenario, *prepared.moving_water, prepared.model);
+    water_columns_ = WaterWatch::columns(prepared.scenario.reservoir.sph, energy_unit_, force_unit_).size();
+    water_frames_.emplace(open_series(out, "water.pvd", resume_from, resume_from ? resume_from->water_frames : 0));
+    if (resume_from) water_watch_->restore(resume_from->water_watch);
+  }
   if (has_joints_) cracks_.emplace(open_series(out, "cracks.pvd", resume_from, resume_from ? resume_from->cracks_frames : 0));
   if (model_.contact.enabled && model_.contact.output)
     contacts_.emplace(open_series(out, "contacts.pvd", resume_from, resume_from ? resume_from->contacts_frames : 0));
@@ -118,6 +129,11 @@ void RunOutputs::write_history(int stage_index) {
   row_[k++] = solver::count_fragments(model_, fragment_label_);
   row_[k++] = static_cast<double>(solver_.active_contacts());
   if (has_water_) row_[k++] = e.water_work;
+  if (water_watch_) {
+    row_[k++] = e.moving_water_work;
+    water_watch_->observe(*solver_.moving_water(), solver_.time(), std::span<double>(row_).subspan(k, water_columns_));
+    k += water_columns_;
+  }
   for (const auto& [name, nodes] : reactions_) {
     const Vec2 r = solver_.reaction_on(*nodes);
     row_[k++] = r.x();
@@ -179,6 +195,28 @@ void RunOutputs::write_fields() {
     cracks_->add(solver_.time(), cfile);
   }
   if (contacts_ && solver_.contact()) write_contact_frame();
+  if (water_frames_) write_water_frame();
+}
+
+// The water particles: velocity, pressure, density (DESIGN.md §13).
+void RunOutputs::write_water_frame() {
+  const sph::FluidParticles& f = solver_.moving_water()->fluid();
+  water_points_.resize(f.size());
+  water_velocity_.resize(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    water_points_[i] = Vec2(f.x[i], f.y[i]);
+    water_velocity_[i] = Vec2(f.vx[i], f.vy[i]);
+  }
+  const fs::path file = water_frames_->frame_path(water_frames_->size());
+  io::VtuOptions o;
+  o.time_s = solver_.time();
+  io::write_points_vtu(file, water_points_,
+                       {io::vector_field("velocity", "m_per_s", water_velocity_),
+                        io::scalar_field("pressure", "Pa", std::span<const double>(f.p)),
+                        io::scalar_field("density", "kg_per_m3", std::span<const double>(f.rho)),
+                        io::scalar_field("particle_id", "", std::span<const std::int32_t>(f.id))},
+                       o);
+  water_frames_->add(solver_.time(), file);
 }
 
 void RunOutputs::write_contact_frame() {
@@ -215,6 +253,10 @@ void RunOutputs::record_counts(RunnerState& s) {
   s.fields_frames = fields_->size();
   s.cracks_frames = cracks_ ? cracks_->size() : 0;
   s.contacts_frames = contacts_ ? contacts_->size() : 0;
+  if (water_watch_) {
+    s.water_frames = water_frames_->size();
+    s.water_watch = water_watch_->state();
+  }
   s.slide_impact = slide_impact();
 }
 

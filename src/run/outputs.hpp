@@ -13,6 +13,7 @@
 #include "io/pvd.hpp"
 #include "run/prepare.hpp"
 #include "run/restart.hpp"
+#include "run/water_watch.hpp"
 #include "solver/solver.hpp"
 
 namespace dsdem::run {
@@ -49,9 +50,12 @@ class RunOutputs {
   // The slide's entry into the reservoir, once seen at a history row (DESIGN.md §13).
   std::optional<SlideAtImpact> slide_impact() const { return slide_watch_ ? slide_watch_->impact() : std::nullopt; }
   const std::string& energy_unit() const { return energy_unit_; }
+  // The moving water's measurements (with reservoir.sph).
+  const WaterWatch* water_watch() const { return water_watch_ ? &*water_watch_ : nullptr; }
 
  private:
   void write_contact_frame();
+  void write_water_frame();
 
   const PreparedRun& prepared_;
   const Model& model_;
@@ -64,7 +68,10 @@ class RunOutputs {
   std::string energy_unit_, force_unit_;
   ReactionGroups reactions_;
   std::optional<io::HistoryWriter> history_;
-  std::optional<io::PvdSeries> fields_, cracks_, contacts_;
+  std::optional<io::PvdSeries> fields_, cracks_, contacts_, water_frames_;
+  std::optional<WaterWatch> water_watch_;
+  std::size_t water_columns_ = 0;
+  std::vector<Vec2> water_points_, water_velocity_;
   std::vector<double> row_;
   std::vector<Index> fragment_label_;
   std::vector<double> pore_pressure_;  // Pa per triangle, for a frame

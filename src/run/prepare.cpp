@@ -117,6 +117,23 @@ void load_earthquake(PreparedRun& run) {
   if (!errors.empty()) throw io::ScenarioError(errors);
 }
 
+// The moving water's particles and coupled faces, and its measuring places against them.
+void lay_out_water(PreparedRun& run) {
+  const io::ReservoirSpec& res = run.scenario.reservoir;
+  MovingWaterLayout w = lay_out_moving_water(run.scenario, run.model);
+  std::vector<std::string> errors;
+  for (const auto& g : res.sph.gauges)
+    if (g.x < w.x_min || g.x > w.x_max)
+      errors.push_back(fmt::format("{}:{}: key 'reservoir.sph.gauges' '{}': x = {} m lies outside the water, {} to {} m",
+                                   g.where.file, g.where.line, g.name, g.x, w.x_min, w.x_max));
+  if (!errors.empty()) throw io::ScenarioError(errors);
+  const auto& par = w.parameters;
+  run.build_log.push_back({2, fmt::format("reservoir water: {} particles {} m apart, {} m deep, sound speed {:.4g} m/s, "
+                                          "{} coupled faces carrying {} wall particles",
+                                          w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.walls.size())});
+  run.moving_water = std::move(w);
+}
+
 }  // namespace
 
 PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_dir) {
@@ -126,6 +143,7 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   locate_gauges(run);
   check_water(run.scenario, run.model);
   if (run.scenario.reservoir.present) run.shore = find_shore(run.model, run.scenario.reservoir);
+  if (run.scenario.reservoir.sph.present) lay_out_water(run);
   choose_time_step(run);
   run.estimated_steps = static_cast<long>(std::ceil(scenario.end_time() / run.dt));
   load_earthquake(run);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/scenario.hpp"
+#include "run/moving_water.hpp"
 #include "run/slide_impact.hpp"
 #include "model/model.hpp"
 #include "seismic/accelerogram.hpp"
@@ -43,6 +44,8 @@ struct PreparedRun {
   std::vector<LogLine> build_log;
   // The reservoir's bank where the slide may enter it (scenario.reservoir).
   std::optional<Shore> shore;
+  // The reservoir as moving water (scenario.reservoir.sph), laid out before step 0.
+  std::optional<MovingWaterLayout> moving_water;
 };
 
 // Loads or generates one earthquake component and resamples it to dt.

@@ -79,6 +79,10 @@ void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const Pre
   std::vector<double> g;
   for (const auto& x : s.gauges) g.insert(g.end(), {x.max_disp, x.max_speed, x.time_of_max_speed});
   w.put("runner/gauges", g);
+  if (!s.water_watch.empty()) {
+    w.put_int("runner/water_frames", static_cast<std::int64_t>(s.water_frames));
+    w.put("runner/water_watch", s.water_watch);
+  }
   if (const auto& i = s.slide_impact)
     w.put("runner/slide_impact", std::vector<double>{i->time, i->entry.x(), i->entry.y(), i->slide.speed,
                                                      i->slide.thickness, i->slide.mass, i->slide.slope_deg,
@@ -122,6 +126,10 @@ RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun&
   s.contacts_frames = static_cast<std::size_t>(counts[3]);
   s.gauges.resize(run.gauges.size());
   for (std::size_t i = 0; i < s.gauges.size(); ++i) s.gauges[i] = {g[3 * i], g[3 * i + 1], g[3 * i + 2]};
+  if (in.has("runner/water_watch")) {
+    s.water_frames = static_cast<std::size_t>(in.integer("runner/water_frames"));
+    s.water_watch = in.doubles("runner/water_watch");
+  }
   if (in.has("runner/slide_impact")) {
     const auto v = in.doubles("runner/slide_impact");
     if (v.size() != 9) throw std::runtime_error("its slide impact record is incomplete (damaged file?)");

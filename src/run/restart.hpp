@@ -27,6 +27,9 @@ struct RunnerState {
   double wall_time_before = 0.0;      // s of wall time of the run's earlier parts
   std::vector<GaugeStats> gauges;
   std::optional<SlideAtImpact> slide_impact;  // once the slide has entered the reservoir
+  // With moving water: its frames so far and its measurements' state (WaterWatch::state).
+  std::size_t water_frames = 0;
+  std::vector<double> water_watch;
 };
 
 void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const PreparedRun& run);

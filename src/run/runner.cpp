@@ -83,6 +83,7 @@ class Runner {
   void open_restart();
   void open_log();
   void start_solver();
+  void start_moving_water();
   void resume();
   void run_stages();
   void enter_stage(std::size_t si);
@@ -195,6 +196,7 @@ void Runner::start_solver() {
   // Stress and strain are needed by the field frames and the checkpoint only: computed
   // there (write_fields; Solver::save) instead of every step, and not kept in between.
   solver_->set_stress_on_demand(true);
+  if (prepared_.moving_water) start_moving_water();
   outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr);
   state_.gauges.resize(prepared_.gauges.size());
   tty_ = !options_.quiet && isatty(STDERR_FILENO);
@@ -203,6 +205,23 @@ void Runner::start_solver() {
   resumed_ = checkpoint_.has_value();
   resume_stage_ = state_.stage;
   resume_inside_stage_ = resumed_ && state_.stage_starts.size() > resume_stage_;
+}
+
+// The reservoir's water on the solver; settled first unless a checkpoint will set its state.
+void Runner::start_moving_water() {
+  const MovingWaterLayout& w = *prepared_.moving_water;
+  // A small body of water is not worth a thread team: its loops are shorter than a
+  // barrier, and a partner thread descheduled on a busy machine stalls every one of them.
+  constexpr std::size_t kParallelWaterParticles = 20000;
+  const bool parallel = threads_ > 1 && w.fluid.size() + w.walls.size() >= kParallelWaterParticles;
+  sph::Fluid fluid(w.parameters, w.fluid, w.walls, parallel);
+  if (!checkpoint_ && sc_.reservoir.sph.settle > 0.0) {
+    const double v = settle_moving_water(fluid, sc_.reservoir.sph.settle, w.depth);
+    const double scale = std::sqrt(sc_.gravity.norm() * w.depth);
+    log_->info("reservoir water settled for {} s ({} steps): largest speed {:.3g} m/s = {:.2g} sqrt(g H)",
+               sc_.reservoir.sph.settle, fluid.steps(), v, v / scale);
+  }
+  solver_->set_moving_water(std::move(fluid), w.edges);
 }
 
 // Each stage's supports, viscous boundary and earthquake as the original run set them (at
@@ -419,6 +438,7 @@ RunResult Runner::finish() {
   facts.checkpoint = checkpoint_path_.string();
   facts.fragments = outputs_->fragments();
   facts.energy_unit = outputs_->energy_unit();
+  facts.water = outputs_->water_watch();
   facts.max_balance_error = max_balance_error;
   facts.completed = completed;
   facts.stopped_by = stopped_by_;

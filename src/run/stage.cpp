@@ -23,8 +23,16 @@ void apply_stage(solver::Solver& solver, const io::StageSpec& stage, const io::S
                           sc.earthquake.incident_factor, start_time);
   else
     solver.set_earthquake(nullptr, nullptr, 0.5, 0.0);
-  if (stage.water.present) solver.set_water(water_setup(stage.water, solver.model(), sc.gravity));
-  else solver.clear_water();
+  if (stage.water.present) {
+    solver::WaterSetup w = water_setup(stage.water, solver.model(), sc.gravity);
+    if (prepared && prepared->moving_water) {  // the moving water loads the faces over its span itself
+      w.moving_x_min = prepared->moving_water->x_min;
+      w.moving_x_max = prepared->moving_water->x_max;
+    }
+    solver.set_water(std::move(w));
+  } else {
+    solver.clear_water();
+  }
 }
 
 }  // namespace dsdem::run

@@ -95,6 +95,52 @@ Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>
   return h;
 }
 
+// The moving water's peaks (DESIGN.md §13): the wave's amplitude above the still level (where
+// and when), run-up per bank, overtopping per crest, force and pressure per curve, the wave
+// period at each gauge, and the energy the water took from the slide.
+Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, const std::optional<SlideAtImpact>& impact,
+                          const solver::Solver& solver, const std::string& energy_unit) {
+  auto peak = [](const WaterWatch::Peak& p, const char* value_key, bool with_x) {
+    Json j = Json::object();
+    j[value_key] = p.seen ? Json(p.value) : Json(nullptr);
+    if (with_x) j["x_m"] = p.x;
+    j["time_s"] = p.t;
+    return j;
+  };
+  Json m = Json::object();
+  const MovingWaterLayout& layout = *prepared.moving_water;
+  m["particles"] = static_cast<long>(layout.fluid.size());
+  m["spacing_m"] = layout.parameters.dp;
+  m["depth_m"] = layout.depth;
+  m["sound_speed_mps"] = layout.parameters.c0;
+  m["coupled_faces"] = static_cast<long>(layout.edges.size());
+  m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
+  Json runup = Json::object();
+  for (const auto& r : w.runup()) runup[r.name] = peak(r.peak, "elevation_m", false);
+  m["runup"] = runup;
+  Json crests = Json::object();
+  for (const auto& c : w.crests()) crests[c.name] = peak(c.peak, "volume_m2_per_m", false);
+  m["overtopping"] = crests;
+  Json forces = Json::object();
+  for (const auto& c : w.forces()) {
+    Json j = peak(c.peak, "max_force_N_per_m", false);
+    j["peak_pressure_Pa"] = c.pressure;
+    forces[c.name] = j;
+  }
+  m["force_on_curves"] = forces;
+  Json periods = Json::object();
+  for (const auto& [name, T] : w.gauge_periods()) periods[name] = std::isnan(T) ? Json(nullptr) : Json(T);
+  m["wave_period_s"] = periods;
+  m["energy_gain_" + energy_unit] = w.energy_gain().value;
+  m["moving_water_work_" + energy_unit] = solver.energy().moving_water_work;
+  if (impact && impact->slide.mass > 0.0) {
+    const double ke = 0.5 * impact->slide.mass * impact->slide.speed * impact->slide.speed;
+    m["slide_kinetic_energy_at_impact_" + energy_unit] = ke;
+    m["energy_handed_to_water_ratio"] = w.energy_gain().value / ke;
+  }
+  return m;
+}
+
 Json gauge_summaries(const PreparedRun& prepared, const std::vector<GaugeStats>& stats) {
   Json gauges = Json::array();
   for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
@@ -150,6 +196,14 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
   s["gauges"] = gauge_summaries(prepared, gauges);
   if (has_water(sc)) s["water"] = water_stages(sc);
   if (prepared.shore) s["heller_hager"] = heller_hager_summary(*prepared.shore, f.slide_impact);
+  if (f.water) {
+    const WaterWatch& w = *f.water;
+    s["max_wave_amplitude_m"] = w.max_amplitude().seen ? Json(w.max_amplitude().value) : Json(nullptr);
+    Json runup = Json::object();
+    for (const auto& r : w.runup()) runup[r.name] = r.peak.seen ? Json(r.peak.value - w.level()) : Json(nullptr);
+    s["max_runup_m"] = runup;
+    s["moving_water"] = moving_water_summary(prepared, w, f.slide_impact, solver, f.energy_unit);
+  }
   return s;
 }
 

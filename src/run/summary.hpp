@@ -10,6 +10,7 @@
 
 #include "run/prepare.hpp"
 #include "run/restart.hpp"
+#include "run/water_watch.hpp"
 #include "solver/solver.hpp"
 
 namespace dsdem::run {
@@ -30,6 +31,7 @@ struct RunFacts {
   int stopped_by = 0;              // signal number
   bool stopped_at_step = false;
   std::optional<SlideAtImpact> slide_impact;  // the slide's entry into the reservoir, if seen
+  const WaterWatch* water = nullptr;          // the moving water's measurements, if any
 };
 
 nlohmann::ordered_json make_summary(const PreparedRun& prepared, const solver::Solver& solver,

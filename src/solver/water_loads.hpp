@@ -32,6 +32,14 @@ struct WaterSetup {
   // index; empty: rho_w g everywhere).
   double ru = 0.0;
   std::vector<double> material_unit_weight;
+  // Moving water (DESIGN.md §13) over x in [moving_x_min, moving_x_max] replaces the line's
+  // pressure on exposed edges whose midpoint lies over that span (NaN: none).
+  double moving_x_min = std::numeric_limits<double>::quiet_NaN();
+  double moving_x_max = std::numeric_limits<double>::quiet_NaN();
+  bool under_moving_water(const Vec2& a, const Vec2& b) const {
+    const double xm = 0.5 * (a.x() + b.x());
+    return xm >= moving_x_min && xm <= moving_x_max;  // false with NaN
+  }
   double unit_weight() const { return density * gravity; }
   double unit_weight(Index material) const {
     return material_unit_weight.empty() ? unit_weight() : material_unit_weight[material];
@@ -95,6 +103,7 @@ class WaterLoads {
         in.edge[k] = water::EdgeWater::level;
         in.level[k] = level;
       } else if (setup_.pore_pressure_in_matrix || j == kNoIndex || J.broken[j] || J.curve_group[j] != kNoIndex) {
+        if (setup_.under_moving_water(x[k], x[(k + 1) % 3])) continue;
         in.edge[k] = water::EdgeWater::line;
       }
     }

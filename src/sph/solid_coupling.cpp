@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "sph/setup.hpp"
 
@@ -46,6 +47,24 @@ struct EdgeGrid {
   }
 };
 
+// Edge o is a face of the same triangle as edge e (both name their third node).
+bool same_triangle(const SolidEdge& e, const SolidEdge& o) {
+  if (e.c == kNoIndex || o.c == kNoIndex) return false;
+  auto in_e = [&](Index n) { return n == e.a || n == e.b || n == e.c; };
+  return in_e(o.a) && in_e(o.b) && in_e(o.c);
+}
+
+// p inside the triangle (a, b, c) or on its sides (to a relative tolerance).
+bool inside_triangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
+  const double area = cross(b - a, c - a), tol = -1e-9 * std::abs(area);
+  const double sign = area < 0.0 ? -1.0 : 1.0;
+  return sign * cross(b - a, p - a) >= tol && sign * cross(c - b, p - b) >= tol && sign * cross(a - c, p - c) >= tol;
+}
+
+void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
+                         int layers, const FluidParameters& par, double surface);
+
 }  // namespace
 
 void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
@@ -63,10 +82,13 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
       for (int k = 0; k < layers; ++k) {
         const double d = (k + 0.5) * dp;
         const Vec2 p = (1.0 - s) * a + s * b - d * n;
+        const bool owned = edges[e].c != kNoIndex;
+        if (owned && !inside_triangle(p, a, b, x[edges[e].c])) continue;
         // Kept unless another face is nearer behind which the particle also lies.
         bool kept = true;
         for (std::size_t o : grid.at(p)) {
           if (o == e) continue;
+          if (owned ? !same_triangle(edges[e], edges[o]) : edges[o].c != kNoIndex) continue;
           const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
           const Vec2 ot = ob - oa;
           const double os = (p - oa).dot(ot) / ot.squaredNorm();
@@ -85,8 +107,45 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
       }
     }
   }
+  fill_reflex_corners(walls, edges, x, layers, par, surface);
   walls.mass = par.mass();
 }
+
+namespace {
+
+// Where a continuous face e1 ends at node N and the next face e2 turns to the right (the
+// solid's angle at N over 180 degrees: a bed meeting a wall), neither face's strip of
+// particles covers the wedge behind N and the water would leak through the corner. The
+// wedge gets e2's rows continued behind its start (s < 0; they ride e2 by extrapolation),
+// kept where they lie behind e1's line past its end.
+void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
+                         int layers, const FluidParameters& par, double surface) {
+  const double dp = par.dp;
+  std::unordered_map<Index, std::size_t> ending;  // continuous faces by their end node
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (edges[e].c == kNoIndex) ending.emplace(edges[e].b, e);
+  for (std::size_t e2 = 0; e2 < edges.size(); ++e2) {
+    if (edges[e2].c != kNoIndex) continue;
+    const auto it = ending.find(edges[e2].a);
+    if (it == ending.end()) continue;
+    const Vec2 &a1 = x[edges[it->second].a], &n = x[edges[e2].a], &b2 = x[edges[e2].b];
+    const Vec2 t1 = (n - a1).normalized(), t2 = (b2 - n).normalized();
+    if (t1.x() * t2.y() - t1.y() * t2.x() >= -1e-9) continue;  // straight on or turning left: covered
+    const Vec2 n1 = edge_normal(a1, n), n2 = edge_normal(n, b2);
+    const double l1 = (n - a1).norm(), l2 = (b2 - n).norm();
+    for (int i = 1; i <= layers; ++i)
+      for (int k = 0; k < layers; ++k) {
+        const double sigma = -(i - 0.5) * dp, d = (k + 0.5) * dp;
+        const Vec2 p = n + sigma * t2 - d * n2;
+        if (-(p - a1).dot(n1) <= 0.0 || (p - a1).dot(t1) <= l1) continue;
+        walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n2, d);
+        walls.edge.back() = static_cast<Index>(e2);
+        walls.s.back() = sigma / l2;
+      }
+  }
+}
+
+}  // namespace
 
 SolidCoupling::SolidCoupling(std::vector<SolidEdge> edges, Fluid& fluid, std::span<const Vec2> x) {
   for (const auto& e : edges) {

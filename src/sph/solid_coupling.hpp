@@ -18,8 +18,12 @@ namespace dsdem::sph {
 // An edge the water may meet: nodes a -> b with the solid on its left, so that the fluid's
 // side is on its right and the unit normal into the fluid is (t_y, -t_x), t = (b - a) / |b - a|:
 // the outward normal of a counter-clockwise triangle's edge.
+// A face of a triangle that may separate from its neighbours (a discrete element) names
+// the triangle's third node c: its particles stay inside that triangle, so that a fragment
+// carries its own wall when its joints open, and none pokes out of it.
 struct SolidEdge {
   Index a = kNoIndex, b = kNoIndex;
+  Index c = kNoIndex;  // the owning triangle's third node; kNoIndex: a face of a continuous solid
 };
 
 // Where a boundary particle riding an edge sits: (1 - s) a + s b - d n, n the edge's unit

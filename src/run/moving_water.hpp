@@ -1,0 +1,41 @@
+#pragma once
+// The reservoir as moving water (DESIGN.md §13), from the scenario to the solver and back:
+// the particles laid out in the fill regions outside the solid, the solid faces they are
+// coupled with, and the settling before step 0 (run/water_watch.hpp reads the water).
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "io/scenario.hpp"
+#include "model/model.hpp"
+#include "sph/fluid.hpp"
+#include "sph/solid_coupling.hpp"
+
+namespace dsdem::run {
+
+// The water as laid out before step 0, and the faces it is coupled with.
+struct MovingWaterLayout {
+  sph::FluidParameters parameters;
+  sph::FluidParticles fluid;
+  sph::BoundaryParticles walls;  // on the coupled faces (sph::lay_edge_particles)
+  std::vector<sph::SolidEdge> edges;
+  double depth = 0.0;        // m: the deepest still water (level less the lowest particle's bottom)
+  double x_min = 0.0, x_max = 0.0;  // m: the filled span
+};
+
+// Fills the regions (default: below reservoir.level over reservoir.x) with particles dp
+// apart, each outside every triangle and at least dp/2 from the solid's surface; couples
+// every face of the discrete zone and the other surface faces over the filled span up to
+// the freeboard. Throws io::ScenarioError naming the section when no water fits.
+MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& model);
+
+// The velocity damping rate of the settling (1/s): 2 sqrt(g / H), about critical for the
+// reservoir's slowest gravity waves.
+double settling_rate(double depth, double g);
+
+// Damped settling for `duration` s with the walls held still (Fluid::set_settling_damping);
+// returns the largest particle speed at its end, m/s.
+double settle_moving_water(sph::Fluid& fluid, double duration, double depth);
+
+}  // namespace dsdem::run

@@ -1,0 +1,213 @@
+#include "run/water_watch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "sph/kernels.hpp"
+#include "sph/surface.hpp"
+
+namespace dsdem::run {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void raise(WaterWatch::Peak& p, double value, double x, double t) {
+  if (std::isnan(value) || (p.seen && value <= p.value)) return;
+  p = {value, x, t, true};
+}
+
+// The water's pressure at a point, a Shepard mean of the particles' pressures within the
+// kernel's support (a wall truncates the support; the mean renormalises it), and the fluid
+// fraction there. O(N) scan over the particles listed in `near`.
+std::pair<double, double> pressure_at(const sph::FluidParticles& f, std::span<const std::int32_t> near, const Vec2& p,
+                                      double h) {
+  double c = 0.0, pc = 0.0;
+  for (const std::int32_t j : near) {
+    const auto k = static_cast<std::size_t>(j);
+    const double dx = p.x() - f.x[k], dy = p.y() - f.y[k];
+    const double w = f.mass / f.rho[k] * sph::wendland(dx * dx + dy * dy, h);
+    c += w;
+    pc += w * f.p[k];
+  }
+  return {c > 0.0 ? pc / c : 0.0, c};
+}
+
+// Particles within `reach` of a polyline's bounding box (one scan).
+void particles_near(const sph::FluidParticles& f, std::span<const Vec2> poly, double reach, std::vector<std::int32_t>& out) {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+  out.clear();
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.x[i] >= x0 - reach && f.x[i] <= x1 + reach && f.y[i] >= y0 - reach && f.y[i] <= y1 + reach)
+      out.push_back(static_cast<std::int32_t>(i));
+}
+
+}  // namespace
+
+WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& /*model*/)
+    : spec_(sc.reservoir.sph), level_(sc.reservoir.level), dp_(layout.parameters.dp), h_(layout.parameters.h()) {
+  for (const auto& g : spec_.gauges) gauge_x_.push_back(g.x);
+  gauge_t_.resize(gauge_x_.size());
+  gauge_eta_.resize(gauge_x_.size());
+  // The wave is sought where the still water is at least a quarter of the deepest: the
+  // run-up on the banks is measured apart.
+  const double dx = dp_;
+  const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil((layout.x_max - layout.x_min) / dx)));
+  std::vector<double> bottom(n, std::numeric_limits<double>::infinity());
+  const auto& f = layout.fluid;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const auto b = std::min(n - 1, static_cast<std::size_t>(std::max(0.0, (f.x[i] - layout.x_min) / dx)));
+    bottom[b] = std::min(bottom[b], f.y[i] - 0.5 * dp_);
+  }
+  for (std::size_t b = 0; b < n; ++b)
+    if (level_ - bottom[b] >= 0.25 * layout.depth) wave_x_.push_back(layout.x_min + (b + 0.5) * dx);
+  for (const auto& r : spec_.runup) runup_.push_back({r.name, {}, 0.0});
+  for (const auto& c : spec_.crests) crests_.push_back({c.name, {}, 0.0});
+  for (const auto& c : spec_.pressure) forces_.push_back({c.name, {}, 0.0});
+  crest_start_.assign(crests_.size(), kNaN);
+}
+
+std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, const std::string& energy_unit,
+                                                   const std::string& force_unit) {
+  std::vector<io::HistoryColumn> c;
+  for (const auto& g : spec.gauges) c.push_back({g.name + "_eta", "m"});
+  c.push_back({"wave_amplitude", "m"});
+  for (const auto& r : spec.runup) c.push_back({r.name + "_runup", "m"});
+  for (const auto& r : spec.crests) c.push_back({r.name + "_overtopped", "m2_per_m"});
+  for (const auto& r : spec.pressure) {
+    c.push_back({r.name + "_force_x", force_unit});
+    c.push_back({r.name + "_force_y", force_unit});
+    c.push_back({r.name + "_peak_pressure", "Pa"});
+  }
+  c.push_back({"water_energy_gain", energy_unit});
+  return c;
+}
+
+void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> row) {
+  const sph::FluidParticles& f = fluid.fluid();
+  const double resolution = dp_ / 20.0;
+  std::size_t k = 0;
+  const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution);
+  for (std::size_t g = 0; g < eta.size(); ++g) {
+    row[k++] = eta[g] - level_;
+    gauge_t_[g].push_back(t);
+    gauge_eta_[g].push_back(eta[g] - level_);
+  }
+  const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution);
+  double a = kNaN, ax = 0.0;
+  for (std::size_t i = 0; i < surface.size(); ++i)
+    if (!std::isnan(surface[i]) && (std::isnan(a) || surface[i] - level_ > a)) a = surface[i] - level_, ax = wave_x_[i];
+  row[k++] = a;
+  raise(amplitude_, a, ax, t);
+  observe_curves(fluid, t, row, k);
+  const auto e = fluid.energy();
+  const double total = e.kinetic + e.potential + e.compression;
+  if (!energy_start_) energy_start_ = total;
+  row[k++] = total - *energy_start_;
+  raise(energy_gain_, total - *energy_start_, 0.0, t);
+}
+
+void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k) {
+  const sph::FluidParticles& f = fluid.fluid();
+  for (std::size_t r = 0; r < runup_.size(); ++r) {
+    const double z = sph::runup_on_polyline(f, spec_.runup[r].polyline, dp_, dp_);
+    row[k++] = z;
+    raise(runup_[r].peak, z, 0.0, t);
+  }
+  for (std::size_t c = 0; c < crests_.size(); ++c) {
+    const auto& s = spec_.crests[c];
+    const double v = sph::volume_beyond(f, s.at.x(), s.direction, s.at.y());
+    if (std::isnan(crest_start_[c])) crest_start_[c] = v;
+    row[k++] = v - crest_start_[c];
+    raise(crests_[c].peak, v - crest_start_[c], s.at.x(), t);
+  }
+  std::vector<std::int32_t> near;
+  for (std::size_t c = 0; c < forces_.size(); ++c) {
+    // The water on the curve's right (walked a -> b): the force on it p (-n) ds, n = (t_y,
+    // -t_x) into the water, sampled every dp / 2 (DESIGN.md §13).
+    const auto& poly = spec_.pressure[c].polyline;
+    particles_near(f, poly, 2.0 * h_, near);
+    Vec2 force = Vec2::Zero();
+    double peak = 0.0;
+    for (std::size_t i = 0; i + 1 < poly.size(); ++i) {
+      const Vec2 a = poly[i], b = poly[i + 1];
+      const double len = (b - a).norm();
+      if (!(len > 0.0)) continue;
+      const Vec2 tan = (b - a) / len, n(tan.y(), -tan.x());
+      const int samples = std::max(1, static_cast<int>(std::ceil(len / (0.5 * dp_))));
+      for (int s = 0; s < samples; ++s) {
+        const auto [p, frac] = pressure_at(f, near, a + (s + 0.5) / samples * (b - a), h_);
+        if (frac < 0.1) continue;  // dry
+        force -= p * (len / samples) * n;
+        peak = std::max(peak, p);
+      }
+    }
+    row[k++] = force.x();
+    row[k++] = force.y();
+    row[k++] = peak;
+    raise(forces_[c].peak, force.norm(), 0.0, t);
+    forces_[c].pressure = std::max(forces_[c].pressure, peak);
+  }
+}
+
+std::vector<double> WaterWatch::state() const {
+  std::vector<double> s;
+  auto peak = [&](const Peak& p) { s.insert(s.end(), {p.value, p.x, p.t, p.seen ? 1.0 : 0.0}); };
+  peak(amplitude_);
+  peak(energy_gain_);
+  s.push_back(energy_start_ ? *energy_start_ : kNaN);
+  for (const auto* list : {&runup_, &crests_, &forces_})
+    for (const auto& n : *list) {
+      peak(n.peak);
+      s.push_back(n.pressure);
+    }
+  s.insert(s.end(), crest_start_.begin(), crest_start_.end());
+  for (std::size_t g = 0; g < gauge_t_.size(); ++g) {
+    s.push_back(static_cast<double>(gauge_t_[g].size()));
+    s.insert(s.end(), gauge_t_[g].begin(), gauge_t_[g].end());
+    s.insert(s.end(), gauge_eta_[g].begin(), gauge_eta_[g].end());
+  }
+  return s;
+}
+
+void WaterWatch::restore(std::span<const double> s) {
+  std::size_t k = 0;
+  auto take = [&]() {
+    if (k >= s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
+    return s[k++];
+  };
+  auto peak = [&](Peak& p) {
+    p.value = take(), p.x = take(), p.t = take();
+    p.seen = take() != 0.0;
+  };
+  peak(amplitude_);
+  peak(energy_gain_);
+  const double e0 = take();
+  energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);
+  for (auto* list : {&runup_, &crests_, &forces_})
+    for (auto& n : *list) {
+      peak(n.peak);
+      n.pressure = take();
+    }
+  for (double& c : crest_start_) c = take();
+  for (std::size_t g = 0; g < gauge_t_.size(); ++g) {
+    const auto n = static_cast<std::size_t>(take());
+    gauge_t_[g].resize(n);
+    gauge_eta_[g].resize(n);
+    for (double& v : gauge_t_[g]) v = take();
+    for (double& v : gauge_eta_[g]) v = take();
+  }
+  if (k != s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
+}
+
+std::vector<std::pair<std::string, double>> WaterWatch::gauge_periods() const {
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t g = 0; g < gauge_x_.size(); ++g)
+    out.emplace_back(spec_.gauges[g].name, sph::mean_upcrossing_period(gauge_t_[g], gauge_eta_[g], 0.0));
+  return out;
+}
+
+}  // namespace dsdem::run

@@ -1,0 +1,67 @@
+#pragma once
+// What engineers read off the moving water (DESIGN.md §13) at each history row: the
+// free surface at gauges, the wave's amplitude above the still level (where and when), the
+// run-up on banks, the water past crests, the force and peak pressure on curves, the energy
+// the water gained; their peaks for summary.json.
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/history_writer.hpp"
+#include "io/scenario.hpp"
+#include "run/moving_water.hpp"
+
+namespace dsdem::run {
+
+// The measurements at history rows, their peaks for summary.json.
+class WaterWatch {
+ public:
+  WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model);
+
+  // history.csv columns: <gauge>_eta, <bank>_runup, <crest>_overtopped, <curve>_force_x/_y,
+  // <curve>_peak_pressure, water_energy_gain.
+  static std::vector<io::HistoryColumn> columns(const io::SphSpec& spec, const std::string& energy_unit,
+                                                const std::string& force_unit);
+  // Measures the water now; writes columns(...).size() values from `row`.
+  void observe(const sph::Fluid& fluid, double t, std::span<double> row);
+
+  struct Peak {
+    double value = 0.0, x = 0.0, t = 0.0;
+    bool seen = false;
+  };
+  const Peak& max_amplitude() const { return amplitude_; }
+  struct Named {
+    std::string name;
+    Peak peak;             // run-up elevation (m), overtopped area (m^2/m) or force magnitude (N/m)
+    double pressure = 0.0;  // Pa, the peak pressure on a pressure curve
+  };
+  const std::vector<Named>& runup() const { return runup_; }
+  const std::vector<Named>& crests() const { return crests_; }
+  const std::vector<Named>& forces() const { return forces_; }
+  // The mean up-crossing period at each gauge (s; NaN with fewer than two crossings).
+  std::vector<std::pair<std::string, double>> gauge_periods() const;
+  // The largest gain of the water's energy over its energy at step 0 (J/m) and when.
+  const Peak& energy_gain() const { return energy_gain_; }
+  double level() const { return level_; }
+
+  // Everything observe() has gathered, as numbers for a checkpoint, and back. restore()
+  // throws std::runtime_error when the numbers do not fit this scenario's water.
+  std::vector<double> state() const;
+  void restore(std::span<const double> s);
+
+ private:
+  void observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k);
+
+  const io::SphSpec& spec_;
+  double level_ = 0.0, dp_ = 0.0, h_ = 0.0;
+  std::vector<double> gauge_x_, wave_x_;  // the gauges; where the amplitude is sought
+  std::vector<std::vector<double>> gauge_t_, gauge_eta_;
+  std::vector<double> crest_start_;
+  std::optional<double> energy_start_;
+  Peak amplitude_, energy_gain_;
+  std::vector<Named> runup_, crests_, forces_;
+};
+
+}  // namespace dsdem::run
