@@ -215,11 +215,14 @@ class Solver {
   void save_joints(io::CheckpointWriter& out) const;
   void save_supports(io::CheckpointWriter& out) const;  // constraints, boundary, earthquake, stability watch
   void save_contact(io::CheckpointWriter& out) const;
+  void save_moving_water(io::CheckpointWriter& out) const;
   void restore_nodes(const io::CheckpointReader& in);
   void restore_triangles(const io::CheckpointReader& in);
   void restore_joints(const io::CheckpointReader& in);
   void restore_supports(const io::CheckpointReader& in);
   void restore_contact(const io::CheckpointReader& in);
+  void check_moving_water(const io::CheckpointReader& in) const;  // before anything is restored
+  void restore_moving_water(const io::CheckpointReader& in);
 
   // Stress and strain of every triangle at the current state (update_stress, save).
   void compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const;
