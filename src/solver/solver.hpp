@@ -103,7 +103,8 @@ class Solver {
   void step();
 
   // Checkpoint of the whole state (bit-identical restart). restore() expects a solver
-  // built on the same model, with the stage's settings, constraints and boundary set.
+  // built on the same model, with the stage's settings, constraints and boundary set, and
+  // moving water (if any) set as the saved run's, from a freshly laid-out fluid.
   void save(io::CheckpointWriter& out) const;
   void restore(const io::CheckpointReader& in);
 

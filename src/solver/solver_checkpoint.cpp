@@ -458,9 +458,6 @@ void Solver::restore_contact(const io::CheckpointReader& in) {
   contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"), std::move(dashpots));
 }
 
-}  // namespace dsdem::solver
-
-namespace dsdem::solver {
 
 // The moving water in the file and in this solver must be the same set-up: checked before
 // anything is restored, so a refused file leaves the solver as it was.
@@ -484,6 +481,11 @@ void Solver::check_moving_water(const io::CheckpointReader& in) const {
       throw std::runtime_error(fmt::format("checkpoint 'water_sph/counts' has {} {}, this solver's moving water {}: "
                                            "it belongs to another set-up",
                                            counts[k], what[k], want[k]));
+  const auto steps = in.integers("water_sph/steps");
+  check_size("water_sph/steps", steps.size(), 2);
+  if (steps[1] == 0)  // the coupling reads the recorded forces of every sub-step
+    throw std::runtime_error("checkpoint 'water_sph/steps': the water's boundary forces were not recorded, as a coupled "
+                             "run records them: it belongs to another set-up");
   const auto saved = in.doubles("water_sph/parameters");
   const auto now = fluid_parameters(moving_->fluid.parameters());
   check_size("water_sph/parameters", saved.size(), now.size());
@@ -526,9 +528,8 @@ void Solver::restore_moving_water(const io::CheckpointReader& in) {
   check_size("water_sph/steps", steps.size(), 2);
   f.steps = static_cast<long>(steps[0]);
   f.record = steps[1] != 0;
-  const std::size_t nrec = f.record ? nb : 0;
-  f.rec_fx = read_doubles(in, "water_sph/recorded_force_x", nrec);
-  f.rec_fy = read_doubles(in, "water_sph/recorded_force_y", nrec);
+  f.rec_fx = read_doubles(in, "water_sph/recorded_force_x", nb);
+  f.rec_fy = read_doubles(in, "water_sph/recorded_force_y", nb);
   sph::SolidCoupling::State c;
   c.x_last.resize(nn);
   c.x_next.resize(nn);
