@@ -103,7 +103,8 @@ class Solver {
   void step();
 
   // Checkpoint of the whole state (bit-identical restart). restore() expects a solver
-  // built on the same model, with the stage's settings, constraints and boundary set.
+  // built on the same model, with the stage's settings, constraints and boundary set, and
+  // moving water (if any) set as the saved run's, from a freshly laid-out fluid.
   void save(io::CheckpointWriter& out) const;
   void restore(const io::CheckpointReader& in);
 
@@ -215,11 +216,14 @@ class Solver {
   void save_joints(io::CheckpointWriter& out) const;
   void save_supports(io::CheckpointWriter& out) const;  // constraints, boundary, earthquake, stability watch
   void save_contact(io::CheckpointWriter& out) const;
+  void save_moving_water(io::CheckpointWriter& out) const;
   void restore_nodes(const io::CheckpointReader& in);
   void restore_triangles(const io::CheckpointReader& in);
   void restore_joints(const io::CheckpointReader& in);
   void restore_supports(const io::CheckpointReader& in);
   void restore_contact(const io::CheckpointReader& in);
+  void check_moving_water(const io::CheckpointReader& in) const;  // before anything is restored
+  void restore_moving_water(const io::CheckpointReader& in);
 
   // Stress and strain of every triangle at the current state (update_stress, save).
   void compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain) const;

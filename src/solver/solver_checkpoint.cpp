@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <utility>
 
 namespace dsdem::solver {
 
@@ -72,11 +74,46 @@ void restore_state(const io::CheckpointReader& in, const std::string& prefix, St
   }
 }
 
+// Moving (SPH) water: the particle arrays by name (sph/particles.hpp), and the fluid's
+// parameters, which a restart must share for the same bits.
+using FluidArray = std::vector<double> sph::FluidParticles::*;
+using BoundaryArray = std::vector<double> sph::BoundaryParticles::*;
+constexpr std::pair<const char*, FluidArray> kFluidArrays[] = {
+    {"x", &sph::FluidParticles::x},       {"y", &sph::FluidParticles::y},   {"vx", &sph::FluidParticles::vx},
+    {"vy", &sph::FluidParticles::vy},     {"rho", &sph::FluidParticles::rho}, {"p", &sph::FluidParticles::p},
+    {"vol", &sph::FluidParticles::vol},   {"ax", &sph::FluidParticles::ax}, {"ay", &sph::FluidParticles::ay},
+    {"drho", &sph::FluidParticles::drho}, {"gx", &sph::FluidParticles::gx}, {"gy", &sph::FluidParticles::gy}};
+constexpr std::pair<const char*, BoundaryArray> kBoundaryArrays[] = {
+    {"x", &sph::BoundaryParticles::x},       {"y", &sph::BoundaryParticles::y},
+    {"vx", &sph::BoundaryParticles::vx},     {"vy", &sph::BoundaryParticles::vy},
+    {"rho", &sph::BoundaryParticles::rho},   {"p", &sph::BoundaryParticles::p},
+    {"drho", &sph::BoundaryParticles::drho}, {"nx", &sph::BoundaryParticles::nx},
+    {"ny", &sph::BoundaryParticles::ny},     {"wall_distance", &sph::BoundaryParticles::wall_distance},
+    {"s", &sph::BoundaryParticles::s}};
+
+std::vector<double> fluid_parameters(const sph::FluidParameters& p) {
+  return {p.rho0, p.dp, p.h_over_dp, p.c0, p.alpha, p.delta, static_cast<double>(p.diffusion), p.gravity.x(),
+          p.gravity.y(), p.cfl, static_cast<double>(p.resort_interval), static_cast<double>(p.boundary)};
+}
+constexpr const char* kFluidParameterNames[] = {"rho0", "dp", "h_over_dp", "c0", "alpha", "delta", "diffusion",
+                                                "gravity x", "gravity y", "cfl", "resort_interval", "boundary"};
+
+template <class T>
+std::vector<std::int64_t> int64s(const std::vector<T>& v) {
+  return std::vector<std::int64_t>(v.begin(), v.end());
+}
+
+std::vector<double> read_doubles(const io::CheckpointReader& in, const std::string& name, std::size_t n) {
+  if (!in.has(name)) throw std::runtime_error(fmt::format("checkpoint has no '{}': it belongs to another set-up", name));
+  auto d = in.doubles(name);
+  check_size(name, d.size(), n);
+  return d;
+}
+
 }  // namespace
 
 // The checkpoint in parts, each a group of the file's entries.
 void Solver::save(io::CheckpointWriter& out) const {
-  if (moving_) throw std::runtime_error("checkpoint: a run with moving (SPH) water cannot be checkpointed yet");
   out.put("time", time_);
   out.put_int("step", step_);
   out.put_int("broken_joints", broken_joints_);
@@ -98,6 +135,7 @@ void Solver::save(io::CheckpointWriter& out) const {
   save_joints(out);
   save_supports(out);
   if (contact_) save_contact(out);
+  if (moving_) save_moving_water(out);
 }
 
 void Solver::save_nodes(io::CheckpointWriter& out) const {
@@ -219,7 +257,38 @@ void Solver::save_contact(io::CheckpointWriter& out) const {
   out.put("contact/dashpot_records", dvals);
 }
 
+// Moving water: everything its next step reads (sph::Fluid::State, sph::SolidCoupling::State)
+// and the solver's side of the coupling (the last forces and displacements whose work the
+// next step completes, the water's energy when it was set, the work so far).
+void Solver::save_moving_water(io::CheckpointWriter& out) const {
+  const sph::Fluid::State f = moving_->fluid.state();
+  const sph::SolidCoupling::State c = moving_->coupling.state();
+  out.put("water_sph/counts", std::vector<std::int64_t>{static_cast<std::int64_t>(f.fluid.size()),
+                                                         static_cast<std::int64_t>(f.boundary.size()),
+                                                         static_cast<std::int64_t>(c.x_last.size())});
+  out.put("water_sph/parameters", fluid_parameters(moving_->fluid.parameters()));
+  for (const auto& [name, a] : kFluidArrays) out.put(std::string("water_sph/fluid/") + name, f.fluid.*a);
+  out.put("water_sph/fluid/id", int64s(f.fluid.id));
+  for (const auto& [name, a] : kBoundaryArrays) out.put(std::string("water_sph/boundary/") + name, f.boundary.*a);
+  out.put("water_sph/boundary/edge", int64s(f.boundary.edge));
+  out.put("water_sph/masses", std::vector<double>{f.fluid.mass, f.boundary.mass});
+  out.put("water_sph/clock", std::vector<double>{f.time, f.v_max, f.a_max, f.damping_rate});
+  out.put("water_sph/steps", std::vector<std::int64_t>{f.steps, f.record ? 1 : 0});
+  out.put("water_sph/recorded_force_x", f.rec_fx);
+  out.put("water_sph/recorded_force_y", f.rec_fy);
+  out.put("water_sph/coupling/x_last", vec2s(c.x_last));
+  out.put("water_sph/coupling/x_next", vec2s(c.x_next));
+  out.put("water_sph/coupling/force", vec2s(c.force));
+  out.put("water_sph/coupling/particle_sum", std::vector<double>{c.particle_sum.x(), c.particle_sum.y()});
+  out.put("water_sph/force_prev", vec2s(moving_->force_prev));
+  out.put("water_sph/u_prev", vec2s(moving_->u_prev));
+  const sph::Fluid::Energy& e0 = moving_->start;
+  out.put("water_sph/start_energy", std::vector<double>{e0.kinetic, e0.potential, e0.compression});
+  out.put("water_sph/work", energy_.moving_water_work);
+}
+
 void Solver::restore(const io::CheckpointReader& in) {
+  check_moving_water(in);
   time_ = in.scalar("time");
   step_ = in.integer("step");
   broken_joints_ = in.integer("broken_joints");
@@ -244,6 +313,7 @@ void Solver::restore(const io::CheckpointReader& in) {
   restore_joints(in);
   restore_supports(in);
   if (contact_) restore_contact(in);
+  if (moving_) restore_moving_water(in);
   // The restored joints set the step (the rule's walk starts over: a checkpoint of an
   // earlier state may have fewer joints broken than this solver has seen).
   time_step_.restart(model_, broken_joints_);
@@ -386,6 +456,101 @@ void Solver::restore_contact(const io::CheckpointReader& in) {
     }
   }
   contact_->restore(entries, in.scalar("contact/last_elastic_energy"), in.scalar("contact/skin"), std::move(dashpots));
+}
+
+
+// The moving water in the file and in this solver must be the same set-up: checked before
+// anything is restored, so a refused file leaves the solver as it was.
+void Solver::check_moving_water(const io::CheckpointReader& in) const {
+  const bool in_file = in.has("water_sph/counts");
+  if (in_file && !moving_)
+    throw std::runtime_error("checkpoint has moving (SPH) water ('water_sph/counts'), this solver has none: it belongs "
+                             "to another set-up");
+  if (!in_file && moving_)
+    throw std::runtime_error("checkpoint has no 'water_sph/counts': it was written without moving (SPH) water, this "
+                             "solver has it");
+  if (!moving_) return;
+  const auto counts = in.integers("water_sph/counts");
+  if (counts.size() != 3) check_size("water_sph/counts", counts.size(), 3);
+  const std::int64_t want[3] = {static_cast<std::int64_t>(moving_->fluid.fluid().size()),
+                                static_cast<std::int64_t>(moving_->fluid.boundary().size()),
+                                static_cast<std::int64_t>(moving_->coupling.nodes().size())};
+  const char* what[3] = {"fluid particles", "boundary particles", "coupled nodes"};
+  for (int k = 0; k < 3; ++k)
+    if (counts[k] != want[k])
+      throw std::runtime_error(fmt::format("checkpoint 'water_sph/counts' has {} {}, this solver's moving water {}: "
+                                           "it belongs to another set-up",
+                                           counts[k], what[k], want[k]));
+  const auto steps = in.integers("water_sph/steps");
+  check_size("water_sph/steps", steps.size(), 2);
+  if (steps[1] == 0)  // the coupling reads the recorded forces of every sub-step
+    throw std::runtime_error("checkpoint 'water_sph/steps': the water's boundary forces were not recorded, as a coupled "
+                             "run records them: it belongs to another set-up");
+  const auto saved = in.doubles("water_sph/parameters");
+  const auto now = fluid_parameters(moving_->fluid.parameters());
+  check_size("water_sph/parameters", saved.size(), now.size());
+  for (std::size_t k = 0; k < now.size(); ++k)
+    if (std::memcmp(&saved[k], &now[k], sizeof(double)) != 0)
+      throw std::runtime_error(fmt::format("checkpoint 'water_sph/parameters' has {} = {}, this solver's moving water "
+                                           "{}: it belongs to another set-up",
+                                           kFluidParameterNames[k], saved[k], now[k]));
+}
+
+void Solver::restore_moving_water(const io::CheckpointReader& in) {
+  const std::size_t nf = moving_->fluid.fluid().size(), nb = moving_->fluid.boundary().size();
+  const std::size_t nn = moving_->coupling.nodes().size();
+  sph::Fluid::State f;
+  for (const auto& [name, a] : kFluidArrays) f.fluid.*a = read_doubles(in, std::string("water_sph/fluid/") + name, nf);
+  {
+    const auto id = in.integers("water_sph/fluid/id");
+    check_size("water_sph/fluid/id", id.size(), nf);
+    f.fluid.id.assign(id.begin(), id.end());
+  }
+  for (const auto& [name, a] : kBoundaryArrays)
+    f.boundary.*a = read_doubles(in, std::string("water_sph/boundary/") + name, nb);
+  {
+    const auto edge = in.integers("water_sph/boundary/edge");
+    check_size("water_sph/boundary/edge", edge.size(), nb);
+    f.boundary.edge.assign(edge.begin(), edge.end());
+    if (!std::equal(edge.begin(), edge.end(), moving_->fluid.boundary().edge.begin()))
+      throw std::runtime_error("checkpoint 'water_sph/boundary/edge': the boundary particles ride other edges than "
+                               "this solver's moving water: it belongs to another set-up");
+  }
+  const auto masses = read_doubles(in, "water_sph/masses", 2);
+  f.fluid.mass = masses[0];
+  f.boundary.mass = masses[1];
+  const auto clock = read_doubles(in, "water_sph/clock", 4);
+  f.time = clock[0];
+  f.v_max = clock[1];
+  f.a_max = clock[2];
+  f.damping_rate = clock[3];
+  const auto steps = in.integers("water_sph/steps");
+  check_size("water_sph/steps", steps.size(), 2);
+  f.steps = static_cast<long>(steps[0]);
+  f.record = steps[1] != 0;
+  f.rec_fx = read_doubles(in, "water_sph/recorded_force_x", nb);
+  f.rec_fy = read_doubles(in, "water_sph/recorded_force_y", nb);
+  sph::SolidCoupling::State c;
+  c.x_last.resize(nn);
+  c.x_next.resize(nn);
+  c.force.resize(nn);
+  read_vec2s(in, "water_sph/coupling/x_last", c.x_last);
+  read_vec2s(in, "water_sph/coupling/x_next", c.x_next);
+  read_vec2s(in, "water_sph/coupling/force", c.force);
+  const auto sum = read_doubles(in, "water_sph/coupling/particle_sum", 2);
+  c.particle_sum = Vec2(sum[0], sum[1]);
+  read_vec2s(in, "water_sph/force_prev", moving_->force_prev);
+  read_vec2s(in, "water_sph/u_prev", moving_->u_prev);
+  const auto e0 = read_doubles(in, "water_sph/start_energy", 3);
+  moving_->start = {e0[0], e0[1], e0[2]};
+  energy_.moving_water_work = in.scalar("water_sph/work");
+  moving_->fluid.restore(f);
+  moving_->coupling.restore(c);
+  // The water's energy in the ledger, as the last step's update_energy() left it.
+  const sph::Fluid::Energy e = moving_->fluid.energy();
+  energy_.fluid_kinetic = e.kinetic;
+  energy_.fluid_potential = e.potential - moving_->start.potential;
+  energy_.fluid_compression = e.compression - moving_->start.compression;
 }
 
 }  // namespace dsdem::solver

@@ -110,6 +110,23 @@ class Fluid {
   BoundaryParticles& moving_boundary() { return b_; }
   double max_speed() const { return v_max_; }
 
+  // Everything a step reads from the steps before (a checkpoint; fluid_state.cpp): the
+  // particles in their current order, the clock, the step count (it times the re-sorts),
+  // the step control's maxima, the settling damping and the recorded boundary forces.
+  struct State {
+    FluidParticles fluid;
+    BoundaryParticles boundary;
+    double time = 0.0, v_max = 0.0, a_max = 0.0, damping_rate = 0.0;
+    long steps = 0;
+    bool record = false;
+    std::vector<double> rec_fx, rec_fy;
+  };
+  State state() const;
+  // Puts a state() back into a fluid built with the same parameters, particle counts and
+  // walls (the boundary particles' edges); the next step continues bit-identically.
+  // Throws std::invalid_argument naming what differs.
+  void restore(const State& s);
+
  private:
   void update_cells();
   void resort_fluid();

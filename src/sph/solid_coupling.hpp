@@ -76,6 +76,17 @@ class SolidCoupling {
   // Called after each sub-step (tests: the momentum balance at every force evaluation).
   void set_substep_observer(std::function<void(const Fluid&)> f) { observer_ = std::move(f); }
 
+  // What the next advance() reads from the last (a checkpoint; fluid_state.cpp), per node
+  // in nodes() order: the positions at the last step's end and the ones set for the next,
+  // the last step's forces and their particle sum.
+  struct State {
+    std::vector<Vec2> x_last, x_next, force;
+    Vec2 particle_sum = Vec2::Zero();
+  };
+  State state() const { return {x_last_, x_next_, force_, particle_sum_}; }
+  // Throws std::invalid_argument unless the state has one entry per coupled node.
+  void restore(const State& s);
+
  private:
   // Places the riding particles with the nodes at x (local order) moving at v.
   void place(Fluid& fluid, std::span<const Vec2> x, std::span<const Vec2> v) const;

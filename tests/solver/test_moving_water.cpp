@@ -1,7 +1,8 @@
 // Moving (SPH) water coupled with meshed solids through the solver (DESIGN.md §13): a
 // floating block at its Archimedes draft, a heavy block sinking to rest on the bed, the
 // momentum balance between water and nodes at every step, the solid's energy balance with
-// the water's work, and the same bits for 1 and 2 threads.
+// the water's work, the same bits for 1 and 2 threads and after a checkpoint restart.
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -11,10 +12,17 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "common/block_on_ground.hpp"
+#include "common/remove_at_exit.hpp"
+#include "common/same_bits.hpp"
+#include "io/checkpoint.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
 #include "solver/constraints.hpp"
@@ -292,4 +300,141 @@ TEST(MovingWater, OneAndTwoThreadsGiveTheSameBits) {
     return h;
   };
   EXPECT_EQ(run(1), run(2));
+}
+
+// Checkpoints of a coupled run (DESIGN.md §10, §13): the solid, the water and the coupling
+// between them are saved whole, and a solver built the same way continues with the same bits.
+namespace {
+
+// The drop above with damping on both sides (the solid's Rayleigh mass damping, the
+// water's settling), so that their state crosses the checkpoint too.
+Pool drop_pool() {
+  Pool p;
+  p.width = 0.8;
+  p.depth = 0.4;
+  p.side = 0.2;
+  p.corner = Vec2(0.3, 0.35);
+  return p;
+}
+
+std::filesystem::path checkpoint_path(const std::string& tag) {
+  auto path = std::filesystem::temp_directory_path() / ("dsdem_water_ckpt_" + tag + "_" + std::to_string(::getpid()) + ".h5");
+  test::remove_at_exit(path);
+  return path;
+}
+
+void save(const solver::Solver& s, const std::filesystem::path& path) {
+  io::CheckpointWriter w(path);
+  s.save(w);
+  w.commit();
+}
+
+template <class T>
+bool same_array(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// The nodes' motion and accelerations, the water's particles and clock, the coupling's
+// forces and the energy ledger, bit for bit.
+void expect_same_run(const Coupled& a, const Coupled& b) {
+  const solver::Solver &sa = *a.solver, &sb = *b.solver;
+  EXPECT_EQ(sa.step_count(), sb.step_count());
+  EXPECT_TRUE(test::same_motion(*a.model, sa.time(), *b.model, sb.time()));
+  EXPECT_TRUE(same_array(a.model->nodes.a, b.model->nodes.a));
+  const sph::Fluid &fa = *sa.moving_water(), &fb = *sb.moving_water();
+  EXPECT_EQ(fa.steps(), fb.steps());
+  EXPECT_EQ(fa.time(), fb.time());
+  for (auto m : {&sph::FluidParticles::x, &sph::FluidParticles::y, &sph::FluidParticles::vx, &sph::FluidParticles::vy,
+                 &sph::FluidParticles::rho, &sph::FluidParticles::p})
+    EXPECT_TRUE(same_array(fa.fluid().*m, fb.fluid().*m));
+  EXPECT_TRUE(same_array(fa.fluid().id, fb.fluid().id));
+  EXPECT_TRUE(same_array(fa.boundary().x, fb.boundary().x));
+  EXPECT_TRUE(same_array(fa.boundary().rho, fb.boundary().rho));
+  const auto ca = a.solver->moving_water_coupling()->state(), cb = b.solver->moving_water_coupling()->state();
+  EXPECT_TRUE(same_array(ca.force, cb.force));
+  const solver::EnergyLedger &ea = sa.energy(), &eb = sb.energy();
+  EXPECT_EQ(std::memcmp(&ea, &eb, sizeof(ea)), 0) << "the energy ledgers differ: moving water work "
+                                                   << ea.moving_water_work << " / " << eb.moving_water_work;
+}
+
+}  // namespace
+
+// Run A, on one thread, checkpoints just before a re-sort of the water and just after it
+// and goes on; B, built the same way on two threads, restores either file and runs to the
+// same step: the same bits, across the next re-sorts.
+TEST(MovingWater, CheckpointRestartContinuesBitIdentically) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Pool p = drop_pool();
+  const long resort = sph::FluidParameters{}.resort_interval;
+  omp_set_num_threads(1);
+  Coupled a = coupled(p, 2.0, 5.0, false);
+  for (int k = 0; k < 20; ++k) a.solver->step();
+  struct Saved {
+    std::filesystem::path path;
+    long fluid_steps;
+  };
+  std::vector<Saved> saved;
+  for (const long phase : {resort - 1, 0L}) {
+    while (a.solver->moving_water()->steps() % resort != phase && a.solver->step_count() < 200) a.solver->step();
+    const long fluid_steps = a.solver->moving_water()->steps();
+    ASSERT_EQ(fluid_steps % resort, phase);
+    saved.push_back({checkpoint_path("phase" + std::to_string(phase)), fluid_steps});
+    save(*a.solver, saved.back().path);
+  }
+  const long end = a.solver->step_count() + 40;
+  while (a.solver->step_count() < end) a.solver->step();
+  ASSERT_GT(a.solver->moving_water()->steps() / resort, saved.front().fluid_steps / resort + 2)
+      << "the test must cross re-sorts";
+  omp_set_num_threads(2);
+  for (const Saved& s : saved) {
+    Coupled b = coupled(p, 2.0, 5.0, true);
+    b.solver->restore(io::CheckpointReader(s.path));
+    EXPECT_EQ(b.solver->moving_water()->steps(), s.fluid_steps);
+    while (b.solver->step_count() < end) b.solver->step();
+    expect_same_run(a, b);
+    std::printf("checkpoint at fluid step %ld (re-sort phase %ld), restored on 2 threads: %ld solid, %ld fluid steps "
+                "at the end, moving water work %.6g J/m\n",
+                s.fluid_steps, s.fluid_steps % resort, b.solver->step_count(), b.solver->moving_water()->steps(),
+                b.solver->energy().moving_water_work);
+  }
+  omp_set_num_threads(1);
+  std::printf("checkpoint restarts: %.1f s\n", seconds_since(t0));
+}
+
+// A checkpoint of another set-up is refused with the entry named, before anything is
+// restored: moving water in the file but not in the solver, the reverse, another particle
+// count. A run without moving water writes no entry of it.
+TEST(MovingWater, CheckpointOfAnotherSetUpIsRefused) {
+  const Pool p = drop_pool();
+  Coupled wet = coupled(p, 0.0, 0.0);
+  for (int k = 0; k < 3; ++k) wet.solver->step();
+  const auto wet_path = checkpoint_path("wet");
+  save(*wet.solver, wet_path);
+
+  Model dry_model = pool_model(p);
+  solver::Solver dry(dry_model);
+  dry.set_settings(wet.solver->settings());
+  dry.initialise();
+  auto expect_refused = [](solver::Solver& s, const std::filesystem::path& path, const std::string& words) {
+    try {
+      s.restore(io::CheckpointReader(path));
+      ADD_FAILURE() << "a checkpoint of another set-up was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("'water_sph/counts'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(s.step_count(), 0);  // nothing restored
+  };
+  expect_refused(dry, wet_path, "this solver has none");
+
+  const auto dry_path = checkpoint_path("dry");
+  save(dry, dry_path);
+  EXPECT_FALSE(H5::H5File(dry_path.string(), H5F_ACC_RDONLY).nameExists("water_sph"));
+  Coupled fresh = coupled(p, 0.0, 0.0);
+  expect_refused(*fresh.solver, dry_path, "without moving (SPH) water");
+
+  Pool wider = p;
+  wider.width = 0.84;
+  Coupled other = coupled(wider, 0.0, 0.0);
+  expect_refused(*other.solver, wet_path, "fluid particles");
 }

@@ -1,0 +1,71 @@
+// The state of the water between steps, for a checkpoint (DESIGN.md §10, §13): taken and
+// put back whole, so that a restored fluid continues with the same bits.
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "sph/fluid.hpp"
+#include "sph/solid_coupling.hpp"
+
+namespace dsdem::sph {
+
+namespace {
+
+template <class T>
+void check_count(const std::vector<T>& v, std::size_t n, const char* what) {
+  if (v.size() != n)
+    throw std::invalid_argument(std::string("sph state: ") + what + " has " + std::to_string(v.size()) +
+                                " entries, the fluid " + std::to_string(n));
+}
+
+}  // namespace
+
+Fluid::State Fluid::state() const {
+  return {f_, b_, time_, v_max_, a_max_, damping_rate_, steps_, record_, rec_fx_, rec_fy_};
+}
+
+void Fluid::restore(const State& s) {
+  const std::size_t nf = f_.size(), nb = b_.size();
+  const FluidParticles& f = s.fluid;
+  for (const auto* a : {&f.x, &f.y, &f.vx, &f.vy, &f.rho, &f.p, &f.vol, &f.ax, &f.ay, &f.drho, &f.gx, &f.gy})
+    check_count(*a, nf, "a fluid particle array");
+  check_count(f.id, nf, "the fluid particle ids");
+  const BoundaryParticles& b = s.boundary;
+  for (const auto* a : {&b.x, &b.y, &b.vx, &b.vy, &b.rho, &b.p, &b.drho, &b.nx, &b.ny, &b.wall_distance, &b.s})
+    check_count(*a, nb, "a boundary particle array");
+  check_count(b.edge, nb, "the boundary particle edges");
+  // A coupling was built on the walls' edges: they must be the same walls.
+  if (!std::equal(b.edge.begin(), b.edge.end(), b_.edge.begin()))
+    throw std::invalid_argument("sph state: the boundary particles ride other edges than this fluid's");
+  if (s.record) {
+    check_count(s.rec_fx, nb, "the recorded boundary forces (x)");
+    check_count(s.rec_fy, nb, "the recorded boundary forces (y)");
+  }
+  f_ = f;
+  b_ = b;
+  time_ = s.time;
+  steps_ = s.steps;
+  v_max_ = s.v_max;
+  a_max_ = s.a_max;
+  damping_rate_ = s.damping_rate;
+  record_ = s.record;
+  rec_fx_ = record_ ? s.rec_fx : std::vector<double>();
+  rec_fy_ = record_ ? s.rec_fy : std::vector<double>();
+  // The cell lists of the restored positions (boundary_forces() between steps reads them;
+  // a step rebuilds its own). The neighbour lists are rebuilt by every step before use.
+  update_cells();
+}
+
+void SolidCoupling::restore(const State& s) {
+  const std::size_t n = nodes_.size();
+  for (const auto* a : {&s.x_last, &s.x_next, &s.force})
+    if (a->size() != n)
+      throw std::invalid_argument("sph::SolidCoupling state: " + std::to_string(a->size()) + " nodes, the coupling has " +
+                                  std::to_string(n));
+  x_last_ = s.x_last;
+  x_next_ = s.x_next;
+  force_ = s.force;
+  particle_sum_ = s.particle_sum;
+}
+
+}  // namespace dsdem::sph
