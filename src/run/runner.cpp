@@ -439,6 +439,10 @@ RunResult Runner::finish() {
   facts.fragments = outputs_->fragments();
   facts.energy_unit = outputs_->energy_unit();
   facts.water = outputs_->water_watch();
+  if (facts.water && facts.water->escaped_particles() > 0)
+    log_->warn("{} water particles left the model's box: the reservoir leaks through a gap in the solid or over its "
+               "edge (summary.json moving_water.escaped_particles)",
+               facts.water->escaped_particles());
   facts.max_balance_error = max_balance_error;
   facts.completed = completed;
   facts.stopped_by = stopped_by_;

@@ -44,6 +44,9 @@ class WaterWatch {
   std::vector<std::pair<std::string, double>> gauge_periods() const;
   // The largest gain of the water's energy over its energy at step 0 (J/m) and when.
   const Peak& energy_gain() const { return energy_gain_; }
+  // The most fluid particles seen outside the model's box (grown by the kernel's support):
+  // water that leaked out of the reservoir through a gap in the solid.
+  long escaped_particles() const { return escaped_; }
   double level() const { return level_; }
 
   // Everything observe() has gathered, as numbers for a checkpoint, and back. restore()
@@ -56,6 +59,8 @@ class WaterWatch {
 
   const io::SphSpec& spec_;
   double level_ = 0.0, dp_ = 0.0, h_ = 0.0;
+  Vec2 box_min_ = Vec2::Zero(), box_max_ = Vec2::Zero();  // the model's, grown by 2h
+  long escaped_ = 0;
   std::vector<double> gauge_x_, wave_x_;  // the gauges; where the amplitude is sought
   std::vector<std::vector<double>> gauge_t_, gauge_eta_;
   std::vector<double> crest_start_;

@@ -82,6 +82,32 @@ TEST(WaterOnSolids, EveryNodeOfASubmergedBlockCarriesItsBuoyancy) {
   }
 }
 
+// Where moving water covers the span (DESIGN.md §13) it replaces the static water on exposed
+// edges whose midpoint lies over that span; the pore pressure inside the solid stays. A
+// submerged block whose left half lies under the moving water keeps the pore pressure's
+// share (-p I in the elements: zero net force on a saturated block at rest, weightless here),
+// so its nodes carry only the missing edge pressure: the net force is the pressure of the
+// right half's faces alone, pushing the block left, with no net vertical buoyancy from the
+// left half's bottom.
+TEST(WaterOnSolids, MovingWaterTakesOverTheEdgePressureOverItsSpan) {
+  Model m = block(4, 2, 2.0, 1.0, 0.0, 0.0, 2500.0, Zone::Bedrock);
+  solver::Solver s(m);
+  s.set_settings({Vec2::Zero(), 0.0, 0.0, 1e-5, true});
+  solver::WaterSetup w = level(3.0);
+  w.moving_x_min = -1.0;
+  w.moving_x_max = 1.0;  // the left half, x in [0, 1]: its bottom and left faces
+  s.set_water(w);
+  s.initialise();
+  Vec2 net = Vec2::Zero();
+  for (std::size_t i = 0; i < m.nodes.size(); ++i) net += m.nodes.m[i] * m.nodes.a[i];
+  // Left: rho g (3 - y) over the face y in [0, 1] missing, so the right face's push wins.
+  const double side = kRhoW * kG * (3.0 - 0.5) * 1.0;
+  EXPECT_NEAR(net.x(), -side, 1e-9 * side);
+  // Up: the right half's bottom, x in [1, 2] at depth 3, less the top's at depth 2.
+  const double up = kRhoW * kG * (3.0 - 2.0) * 1.0;
+  EXPECT_NEAR(net.y(), up, 1e-9 * side);
+}
+
 // A block as dense as water, under water: weight and water cancel at every node, it does
 // not move and its effective stress stays zero.
 TEST(WaterOnSolids, NeutralBlockUnderWaterKeepsZeroEffectiveStress) {

@@ -83,6 +83,71 @@ TEST(SolidCoupling, LaysEachParticleOnceBehindTheNearestFace) {
   EXPECT_EQ(edge_normal(b.x[0], b.x[1]), Vec2(0.0, -1.0));
 }
 
+// A bed meeting a wall (a flume's end): the solid turns through 270 degrees at the corner,
+// and the wedge behind it, which neither face's strip covers, gets particles too: every
+// point of the solid within the walls' depth of the corner has a wall particle within dp,
+// and none lies on the water's side or closer than dp/2 to another.
+TEST(SolidCoupling, FillsTheWedgeBehindABedMeetingAWall) {
+  const double dp = 0.01;
+  // Nodes: the wall's top (0.3, 0.2), the corner (0.3, 0), the bed's far end (0, 0). The
+  // wall face runs down (solid on its left: x > 0.3), the bed face left (solid below).
+  const std::vector<Vec2> x{Vec2(0.3, 0.2), Vec2(0.3, 0.0), Vec2(0.0, 0.0)};
+  const std::vector<SolidEdge> edges{{0, 1}, {1, 2}};
+  FluidParameters par = parameters(dp, 0.1);
+  BoundaryParticles walls;
+  lay_edge_particles(walls, edges, x, 3, par, 0.1);
+  std::size_t wedge = 0;
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    EXPECT_FALSE(walls.x[i] < 0.3 && walls.y[i] > 0.0) << "on the water's side: " << walls.x[i] << ", " << walls.y[i];
+    wedge += walls.x[i] > 0.3 && walls.y[i] < 0.0;
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GT(std::hypot(walls.x[i] - walls.x[j], walls.y[i] - walls.y[j]), 0.5 * dp) << i << " " << j;
+  }
+  EXPECT_EQ(wedge, 9u);  // 3 x 3 behind the corner
+  for (double px = 0.3 + 0.5 * dp; px < 0.3 + 3 * dp; px += 0.5 * dp)
+    for (double py = -0.5 * dp; py > -3 * dp; py -= 0.5 * dp) {
+      double nearest = 1.0;
+      for (std::size_t i = 0; i < walls.size(); ++i) nearest = std::min(nearest, std::hypot(walls.x[i] - px, walls.y[i] - py));
+      EXPECT_LT(nearest, dp) << px << ", " << py;
+    }
+  // The wedge's particles ride the bed behind its start (s < 0) and move with it.
+  for (std::size_t i = 0; i < walls.size(); ++i)
+    if (walls.x[i] > 0.3 && walls.y[i] < 0.0) {
+      EXPECT_EQ(walls.edge[i], 1);
+      EXPECT_LT(walls.s[i], 0.0);
+    }
+}
+
+// A fragment's face (an edge naming its triangle's third node) keeps its particles inside
+// its own triangle and competes only with that triangle's faces: a thin triangle's
+// particles never stick out of it, and a continuous face next to it keeps its own.
+TEST(SolidCoupling, AFragmentsParticlesStayInsideItsTriangle) {
+  const double dp = 0.01;
+  // A flat triangle 0.1 m long and 0.02 m high (counter-clockwise), and a continuous bed
+  // face under it running left (solid below).
+  const std::vector<Vec2> x{Vec2(0.0, 0.001), Vec2(0.1, 0.001), Vec2(0.05, 0.021), Vec2(0.2, 0.0), Vec2(-0.1, 0.0)};
+  const std::vector<SolidEdge> edges{{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {3, 4}};
+  FluidParameters par = parameters(dp, 0.1);
+  BoundaryParticles walls;
+  lay_edge_particles(walls, edges, x, 3, par, 0.1);
+  std::size_t fragment = 0, bed = 0;
+  auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    const Vec2 p(walls.x[i], walls.y[i]);
+    if (walls.edge[i] < 3) {
+      ++fragment;
+      EXPECT_GE(cross(x[1] - x[0], p - x[0]), 0.0);
+      EXPECT_GE(cross(x[2] - x[1], p - x[1]), 0.0);
+      EXPECT_GE(cross(x[0] - x[2], p - x[2]), 0.0);
+    } else {
+      ++bed;
+      EXPECT_LT(p.y(), 0.0);
+    }
+  }
+  EXPECT_GT(fragment, 0u);
+  EXPECT_EQ(bed, 30u * 3u);  // the bed's whole strip: the fragment above it takes none
+}
+
 // The block pushed down into the water at 0.3 m/s: after every fluid sub-step the riding and
 // fixed walls' recorded forces are minus the walls' forces on the fluid (its momentum balance
 // less gravity) to round-off, the nodes' forces sum to the riding particles' to round-off,

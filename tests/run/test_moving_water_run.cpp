@@ -1,0 +1,149 @@
+// The reservoir as moving water from the scenario (DESIGN.md §13): a block sliding down a
+// 45-degree bank into a closed flume of SPH water. The run lays the water out, settles it,
+// couples it with the solid and writes what engineers read off it (water.pvd, the gauges,
+// the wave's amplitude, run-up, overtopping, the force on the end wall, the energy handed to
+// the water); a restart gives the same record; bad sections are errors at their keys.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli_util.hpp"
+#include "io/scenario.hpp"
+#include "run/runner.hpp"
+#include "run/summary.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+namespace {
+
+const std::string kFlume = std::string(DSDEM_TEST_DATA_DIR) + "/reservoir/flume.yaml";
+
+ordered_json run_flume(const fs::path& dir, const std::vector<std::string>& overrides, long stop_at_step = 0,
+                       const std::string& restart = "", bool fields = false) {
+  auto sc = dsdem::io::load_scenario(kFlume, overrides);
+  auto prepared = dsdem::run::prepare_run(sc, (dir / "work").string());
+  dsdem::run::RunOptions options;
+  options.output_dir = (dir / "out").string();
+  options.quiet = true;
+  options.threads = 1;
+  options.write_fields = fields;
+  options.stop_at_step = stop_at_step;
+  options.restart_from = restart;
+  dsdem::run::run(prepared, options);
+  return dsdem::run::read_summary(dir / "out");
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string prepare_error(const std::vector<std::string>& overrides) {
+  try {
+    auto sc = dsdem::io::load_scenario(kFlume, overrides);
+    dsdem::run::prepare_run(sc, dsdem::test::fresh_dir("moving_water_bad").string());
+  } catch (const dsdem::io::ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
+  const fs::path dir = dsdem::test::fresh_dir("moving_water_flume");
+  const ordered_json s = run_flume(dir, {}, 0, "", true);
+  const ordered_json& m = s["moving_water"];
+  // 11 m x 2 m of water less the bank's wedge, 0.2 m apart: 395 particles, none lost.
+  EXPECT_EQ(m["particles"].get<long>(), 395);
+  EXPECT_DOUBLE_EQ(m["depth_m"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(m["sound_speed_mps"].get<double>(), 70.0);  // 10 x the expected 7 m/s
+  EXPECT_EQ(m["escaped_particles"].get<long>(), 0);
+  // The block enters at about 1 s; by 1.5 s the water stands above its still level.
+  ASSERT_TRUE(s["heller_hager"]["slide_entered_water"].get<bool>());
+  const double a = s["max_wave_amplitude_m"].get<double>();
+  EXPECT_GT(a, 0.05);
+  EXPECT_LT(a, 1.0);
+  EXPECT_GT(m["max_wave_amplitude"]["time_s"].get<double>(), s["heller_hager"]["impact_time_s"].get<double>());
+  // At rest the wall holds 2 m of water: its run-up starts at the level (within a particle
+  // spacing) and the force on it is rho g H^2 / 2 = 19.6 kN/m at least.
+  EXPECT_NEAR(m["runup"]["wall"]["elevation_m"].get<double>(), 2.0, 0.2);
+  EXPECT_TRUE(s["max_runup_m"].contains("wall"));
+  EXPECT_GT(m["force_on_curves"]["wall_face"]["max_force_N_per_m"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
+  EXPECT_GT(m["force_on_curves"]["wall_face"]["peak_pressure_Pa"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
+  EXPECT_DOUBLE_EQ(m["overtopping"]["wall_top"]["volume_m2_per_m"].get<double>(), 0.0);
+  // The slide hands some of its energy to the water; the solid's ledger still closes.
+  const double ratio = m["energy_handed_to_water_ratio"].get<double>();
+  EXPECT_GT(ratio, 0.0);
+  EXPECT_LT(ratio, 1.0);
+  EXPECT_LT(m["moving_water_work_J_per_m"].get<double>(), 0.0);  // the water took work from the solid
+  EXPECT_LT(s["energy_balance_error"].get<double>(), 0.01);
+  // The files.
+  EXPECT_TRUE(fs::exists(dir / "out" / "water.pvd"));
+  const std::string pvd = file_text(dir / "out" / "water.pvd");
+  const std::string fields = file_text(dir / "out" / "fields.pvd");
+  auto frames = [](const std::string& t) {
+    std::size_t n = 0;
+    for (std::size_t p = t.find("<DataSet"); p != std::string::npos; p = t.find("<DataSet", p + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(frames(pvd), frames(fields));
+  EXPECT_GE(frames(pvd), 6u);
+  const std::string header = file_text(dir / "out" / "history.csv").substr(0, 2000);
+  for (const char* c : {"moving_water_work_J_per_m", "mid_eta_m", "wave_amplitude_m", "wall_runup_m",
+                        "wall_top_overtopped_m2_per_m", "wall_face_force_x_N_per_m", "wall_face_peak_pressure_Pa",
+                        "water_energy_gain_J_per_m"})
+    EXPECT_NE(header.find(c), std::string::npos) << c;
+}
+
+TEST(ReservoirWater, ARestartGivesTheSameRecord) {
+  const std::vector<std::string> shorter{"time.end=1.1"};
+  const fs::path whole = dsdem::test::fresh_dir("moving_water_whole");
+  const ordered_json a = run_flume(whole, shorter);
+  for (long stop : {6800L}) {  // t = 1.03 s, just after the block entered (about step 6400)
+    const fs::path dir = dsdem::test::fresh_dir("moving_water_restart_" + std::to_string(stop));
+    run_flume(dir, shorter, stop);
+    const ordered_json b = run_flume(dir, shorter, 0, (dir / "out" / "checkpoint.h5").string());
+    EXPECT_EQ(b["moving_water"].dump(), a["moving_water"].dump()) << "stopped at step " << stop;
+    EXPECT_EQ(b["max_wave_amplitude_m"].dump(), a["max_wave_amplitude_m"].dump());
+    EXPECT_EQ(file_text(dir / "out" / "history.csv"), file_text(whole / "out" / "history.csv"));
+  }
+}
+
+TEST(ReservoirWater, BadSectionsAreErrorsAtTheirKeys) {
+  auto parse_error = [](const std::vector<std::string>& o) {
+    try {
+      dsdem::io::load_scenario(kFlume, o);
+    } catch (const dsdem::io::ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(parse_error({"reservoir.sph.spacing=-1"}).find("reservoir.sph.spacing"), std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.smoothing=3"}).find("reservoir.sph.smoothing"), std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.fill=[{rectangle: [[0, 0]]}]"}).find("reservoir.sph.fill[0].rectangle"),
+            std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.fill=[{rectangle: [[3, 0], [1, 1]]}]"}).find("x1 > x0"), std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.fill=[{polygon: [[0, 0], [1, 1]]}]"}).find("at least 3"), std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.fill=[{level: 2}]"}).find("either rectangle"), std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.gauges=[{name: a, x: 5}, {name: a, x: 6}]"}).find("two entries are named 'a'"),
+            std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.crests=[{name: c, at: [1, 2], side: up}]"}).find("reservoir.sph.crests[0].side"),
+            std::string::npos);
+  EXPECT_NE(parse_error({"reservoir.sph.spacing_m=0.1"}).find("reservoir.sph.spacing_m"), std::string::npos);
+  // Against the model: a gauge off the water, a region inside the rock.
+  const std::string off = prepare_error({"reservoir.sph.gauges=[{name: far, x: 20}]"});
+  EXPECT_NE(off.find("'far': x = 20 m lies outside the water"), std::string::npos) << off;
+  const std::string rock = prepare_error({"reservoir.sph.fill=[{rectangle: [[13.2, -0.8], [13.8, 4.5]]}]"});
+  EXPECT_NE(rock.find("no water fits"), std::string::npos) << rock;
+}
