@@ -182,8 +182,9 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
 }
 
 // The faces the water may meet: every face of a discrete triangle (its fragments' walls when
-// joints open), and the other surface faces over the filled span below the freeboard.
-std::vector<sph::SolidEdge> coupled_faces(const Model& m, double x0, double x1, double top, double reach) {
+// joints open), and the other surface faces between `bottom` and `top` over [x0, x1] (the
+// banks the water may run up; not the model's base or far sides).
+std::vector<sph::SolidEdge> coupled_faces(const Model& m, double x0, double x1, double bottom, double top) {
   std::vector<sph::SolidEdge> edges;
   const auto faces = SolidLocator::surface_faces(m);
   std::unordered_map<std::uint64_t, Index> third;  // the face's triangle's third node
@@ -200,7 +201,7 @@ std::vector<sph::SolidEdge> coupled_faces(const Model& m, double x0, double x1, 
     const Vec2 a = m.nodes.x(f[0]), b = m.nodes.x(f[1]), mid = 0.5 * (a + b);
     if (discrete[key(f[0], f[1])]) {
       edges.push_back({f[0], f[1], third[key(f[0], f[1])]});
-    } else if (mid.x() >= x0 - reach && mid.x() <= x1 + reach && std::min(a.y(), b.y()) <= top) {
+    } else if (mid.x() >= x0 && mid.x() <= x1 && std::min(a.y(), b.y()) <= top && std::max(a.y(), b.y()) >= bottom) {
       edges.push_back({f[0], f[1], kNoIndex});
     }
   }
@@ -236,9 +237,11 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   out.parameters = fluid_parameters(sc, out.depth);
   out.fluid = sph::FluidParticles{};
   fill_particles(regions, solid, out);
-  const double freeboard = w.freeboard >= 0.0 ? w.freeboard : 0.5 * out.depth;
+  const double freeboard = w.freeboard >= 0.0 ? w.freeboard : out.depth;
   const int layers = sph::wall_layers(out.parameters);
-  out.edges = coupled_faces(model, out.x_min, out.x_max, level + freeboard, layers * w.spacing);
+  const double reach = layers * w.spacing, width = out.x_max - out.x_min;
+  out.coupled_top = level + freeboard;
+  out.edges = coupled_faces(model, out.x_min - width - reach, out.x_max + width + reach, lowest - reach, out.coupled_top);
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);

@@ -129,8 +129,9 @@ void lay_out_water(PreparedRun& run) {
   if (!errors.empty()) throw io::ScenarioError(errors);
   const auto& par = w.parameters;
   run.build_log.push_back({2, fmt::format("reservoir water: {} particles {} m apart, {} m deep, sound speed {:.4g} m/s, "
-                                          "{} coupled faces carrying {} wall particles",
-                                          w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.walls.size())});
+                                          "{} coupled faces up to {} m carrying {} wall particles",
+                                          w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.coupled_top,
+                                          w.walls.size())});
   run.moving_water = std::move(w);
 }
 

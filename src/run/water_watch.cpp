@@ -48,7 +48,11 @@ void particles_near(const sph::FluidParticles& f, std::span<const Vec2> poly, do
 }  // namespace
 
 WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model)
-    : spec_(sc.reservoir.sph), level_(sc.reservoir.level), dp_(layout.parameters.dp), h_(layout.parameters.h()) {
+    : spec_(sc.reservoir.sph),
+      level_(sc.reservoir.level),
+      dp_(layout.parameters.dp),
+      h_(layout.parameters.h()),
+      top_(layout.coupled_top) {
   box_min_ = Vec2::Constant(std::numeric_limits<double>::infinity());
   box_max_ = -box_min_;
   for (const Vec2& X : model.nodes.X) box_min_ = box_min_.cwiseMin(X), box_max_ = box_max_.cwiseMax(X);
@@ -108,10 +112,13 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   row[k++] = a;
   raise(amplitude_, a, ax, t);
   observe_curves(fluid, t, row, k);
-  long out = 0;
-  for (std::size_t i = 0; i < f.size(); ++i)
+  long out = 0, above = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
     out += f.x[i] < box_min_.x() || f.x[i] > box_max_.x() || f.y[i] < box_min_.y() || f.y[i] > box_max_.y();
+    above += f.y[i] > top_;
+  }
   escaped_ = std::max(escaped_, out);
+  above_top_ = std::max(above_top_, above);
   const auto e = fluid.energy();
   const double total = e.kinetic + e.potential + e.compression;
   if (!energy_start_) energy_start_ = total;
@@ -169,6 +176,7 @@ std::vector<double> WaterWatch::state() const {
   peak(energy_gain_);
   s.push_back(energy_start_ ? *energy_start_ : kNaN);
   s.push_back(static_cast<double>(escaped_));
+  s.push_back(static_cast<double>(above_top_));
   for (const auto* list : {&runup_, &crests_, &forces_})
     for (const auto& n : *list) {
       peak(n.peak);
@@ -198,6 +206,7 @@ void WaterWatch::restore(std::span<const double> s) {
   const double e0 = take();
   energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);
   escaped_ = static_cast<long>(take());
+  above_top_ = static_cast<long>(take());
   for (auto* list : {&runup_, &crests_, &forces_})
     for (auto& n : *list) {
       peak(n.peak);

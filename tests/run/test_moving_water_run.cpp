@@ -69,6 +69,8 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_DOUBLE_EQ(m["depth_m"].get<double>(), 2.0);
   EXPECT_DOUBLE_EQ(m["sound_speed_mps"].get<double>(), 70.0);  // 10 x the expected 7 m/s
   EXPECT_EQ(m["escaped_particles"].get<long>(), 0);
+  EXPECT_DOUBLE_EQ(m["coupled_top_m"].get<double>(), 4.0);  // the level plus the default freeboard, the depth
+  EXPECT_EQ(m["above_freeboard_particles"].get<long>(), 0);
   // The block enters at about 1 s; by 1.5 s the water stands above its still level.
   ASSERT_TRUE(s["heller_hager"]["slide_entered_water"].get<bool>());
   const double a = s["max_wave_amplitude_m"].get<double>();
@@ -118,6 +120,33 @@ TEST(ReservoirWater, ARestartGivesTheSameRecord) {
     EXPECT_EQ(b["max_wave_amplitude_m"].dump(), a["max_wave_amplitude_m"].dump());
     EXPECT_EQ(file_text(dir / "out" / "history.csv"), file_text(whole / "out" / "history.csv"));
   }
+}
+
+// The bedrock faces the water may meet: the banks up to the level plus the freeboard, also
+// beyond the filled span (the water runs up them), and not the model's base. Water that
+// rises above the coupled faces is counted (the run warns), here with no freeboard at all.
+TEST(ReservoirWater, TheBanksAreCoupledUpToTheFreeboardAndWaterAboveItIsCounted) {
+  auto sc = dsdem::io::load_scenario(kFlume, {"reservoir.sph.freeboard=1"});
+  const auto prepared = dsdem::run::prepare_run(sc, dsdem::test::fresh_dir("moving_water_faces").string());
+  const auto& layout = *prepared.moving_water;
+  EXPECT_DOUBLE_EQ(layout.coupled_top, 3.0);
+  const double bottom = -3 * 0.2;  // the lowest water (the bed, y = 0) less the walls' reach
+  bool bank_beyond_the_water = false;
+  for (const auto& e : layout.edges) {
+    if (e.c != dsdem::kNoIndex) continue;  // a discrete face: always coupled
+    const auto a = prepared.model.nodes.X[e.a], b = prepared.model.nodes.X[e.b];
+    EXPECT_LE(std::min(a.y(), b.y()), 3.0 + 1e-12);
+    EXPECT_GE(std::max(a.y(), b.y()), bottom - 1e-12) << "the model's base is not coupled";
+    // The water starts where the bank crosses the level, x = 4 m; the bank above it runs to
+    // z = 3 m at x = 3 m.
+    if (0.5 * (a.x() + b.x()) < 3.5 && std::max(a.y(), b.y()) > 2.5) bank_beyond_the_water = true;
+  }
+  EXPECT_TRUE(bank_beyond_the_water);
+  const fs::path dir = dsdem::test::fresh_dir("moving_water_no_freeboard");
+  const ordered_json s = run_flume(dir, {"reservoir.sph.freeboard=0"});
+  EXPECT_DOUBLE_EQ(s["moving_water"]["coupled_top_m"].get<double>(), 2.0);
+  EXPECT_GT(s["moving_water"]["above_freeboard_particles"].get<long>(), 0) << "the wave rises above the level";
+  EXPECT_NE(file_text(dir / "out" / "dsdem.log").find("raise the freeboard"), std::string::npos);
 }
 
 TEST(ReservoirWater, BadSectionsAreErrorsAtTheirKeys) {
