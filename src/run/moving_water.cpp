@@ -245,6 +245,20 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);
+  std::vector<int> walls(out.edges.size(), 0);
+  for (const Index e : out.walls.edge)
+    if (e != kNoIndex) ++walls[static_cast<std::size_t>(e)];
+  out.thinnest_bare_triangle = std::numeric_limits<double>::infinity();
+  for (std::size_t e = 0; e < out.edges.size(); ++e) {
+    const sph::SolidEdge& f = out.edges[e];
+    if (f.c == kNoIndex || walls[e] > 0) continue;
+    ++out.faces_without_walls;
+    const Vec2 a = x[f.a], b = x[f.b], c = x[f.c];
+    const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
+    out.thinnest_bare_triangle = std::min(out.thinnest_bare_triangle, 2.0 * area / perimeter);
+  }
+  if (out.faces_without_walls == 0) out.thinnest_bare_triangle = 0.0;
   return out;
 }
 

@@ -132,6 +132,13 @@ void lay_out_water(PreparedRun& run) {
                                           "{} coupled faces up to {} m carrying {} wall particles",
                                           w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.coupled_top,
                                           w.walls.size())});
+  if (w.faces_without_walls > 0)
+    run.build_log.push_back(
+        {3, fmt::format("reservoir water: {} faces of the discrete zone carry no wall particles (their triangles are too "
+                        "thin for a particle {} m behind the face inside them; the thinnest has an inradius of {:.3g} m): "
+                        "the water passes through them. Use a reservoir.sph.spacing below twice their inradius or "
+                        "larger triangles there (summary.json moving_water.faces_without_walls)",
+                        w.faces_without_walls, 0.5 * par.dp, w.thinnest_bare_triangle)});
   run.moving_water = std::move(w);
 }
 

@@ -99,13 +99,14 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
-  const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution);
+  // A gauge reads the water body's surface, not spray thrown above it.
+  const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution, 2.0 * dp_);
   for (std::size_t g = 0; g < eta.size(); ++g) {
     row[k++] = eta[g] - level_;
     gauge_t_[g].push_back(t);
     gauge_eta_[g].push_back(eta[g] - level_);
   }
-  const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution);
+  const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution, 2.0 * dp_);
   double a = kNaN, ax = 0.0;
   for (std::size_t i = 0; i < surface.size(); ++i)
     if (!std::isnan(surface[i]) && (std::isnan(a) || surface[i] - level_ > a)) a = surface[i] - level_, ax = wave_x_[i];
