@@ -89,6 +89,18 @@ def particle_spacing(summary: dict, xy: np.ndarray | None) -> float:
     return float(math.sqrt(max(span[0] * span[1], 1e-30) / len(xy)))
 
 
+def gauge_positions(scenario: dict) -> dict[str, float]:
+    """Free-surface gauge name -> x (m), from the scenario's reservoir.sph.gauges."""
+    sph = ((scenario.get("reservoir") or {}).get("sph") or {}) if isinstance(scenario, dict) else {}
+    out = {}
+    for g in sph.get("gauges") or [] if isinstance(sph, dict) else []:
+        try:
+            out[str(g["name"])] = float(g["x"])
+        except (KeyError, TypeError, ValueError):
+            continue
+    return out
+
+
 @dataclass
 class WaterColumns:
     """history.csv columns of the moving water, by role."""

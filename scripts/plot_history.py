@@ -11,6 +11,8 @@ Figures (each only when its columns exist):
   energies.png                       every *_J_per_m column, energy balance error on a 2nd axis
   water_surface.png                  moving water: free-surface elevation at every gauge
   wave_amplitude.png                 moving water: the wave's amplitude and its envelope (running max)
+  wave_decay.png                     moving water: wave height and amplitude at the gauges against the
+                                     distance from the slide's entry, beside Heller & Hager's H(x)
   water_runup.png                    moving water: run-up on every bank, water past every crest
   water_forces.png                   moving water: force and peak pressure on every named curve
   fracture.png                       broken joints, damaged joints, fragments vs time
@@ -243,6 +245,43 @@ class Plotter:
         self._stages(ax)
         self._save(fig, "wave_amplitude.png")
 
+    def wave_decay(self, w: wat.WaterColumns):
+        """The wave at the gauges against their distance from the slide's entry, and Heller &
+        Hager's 2D decay H(x) = (3/4) (P (x/h)^(-1/3))^(4/5) h (DESIGN.md §13)."""
+        hh = self.summary.get("heller_hager") or {}
+        P, h, t0 = hh.get("impulse_product"), hh.get("depth_m"), hh.get("impact_time_s")
+        entry = (hh.get("impact_point_m") or [None])[0]
+        where = wat.gauge_positions(lib.load_yaml(lib.find_scenario(self.out, self.summary)))
+        pts = []
+        for g, c in w.gauges:
+            if g not in where or not isinstance(entry, (int, float)) or not isinstance(t0, (int, float)):
+                continue
+            y = self.h.col(c)[self.t >= t0]
+            if y.size and np.isfinite(y).any():
+                pts.append((g, abs(where[g] - entry), float(np.nanmax(y)) - float(np.nanmin(y)), float(np.nanmax(y))))
+        if not pts or not all(isinstance(v, (int, float)) and v > 0 for v in (P, h)):
+            return
+        fig, ax = _fig()
+        x = np.linspace(0.25 * h, max(max(p[1] for p in pts) * 1.3, hh.get("distance_of_max_height_m", 0) * 1.3), 200)
+        ax.plot(x, 0.75 * (P * (x / h) ** (-1 / 3)) ** 0.8 * h, color="tab:red", ls="--",
+                label="Heller & Hager H(x), wave height")
+        if isinstance(hh.get("height_m"), (int, float)) and isinstance(hh.get("distance_of_max_height_m"), (int, float)):
+            ax.plot(hh["distance_of_max_height_m"], hh["height_m"], "s", color="tab:red", ms=7,
+                    label=f"Heller & Hager H_M {hh['height_m']:.3g} m")
+        ax.plot([p[1] for p in pts], [p[2] for p in pts], "o", color="tab:blue", ms=7,
+                label="computed height: crest to trough after the entry")
+        ax.plot([p[1] for p in pts], [p[3] for p in pts], "^", color="tab:cyan", ms=7,
+                label="computed amplitude: highest surface after the entry")
+        for g, d, H, _ in pts:
+            ax.annotate(g, (d, H), xytext=(5, 5), textcoords="offset points", fontsize=9)
+        ax.set_xlabel("Distance from the slide's entry (m)")
+        ax.set_ylabel("Wave height, amplitude (m)")
+        ax.set_xlim(left=0)
+        ax.set_ylim(bottom=0)
+        lib.title_pair(ax, "The wave along the reservoir", self.run_title)
+        ax.legend(loc="best")
+        self._save(fig, "wave_decay.png")
+
     def water_runup(self, w: wat.WaterColumns):
         panels = [p for p in (w.runup, w.crests) if p]
         if not panels:
@@ -312,6 +351,7 @@ class Plotter:
             return
         self.water_surface(w)
         self.wave_amplitude(w)
+        self.wave_decay(w)
         self.water_runup(w)
         self.water_forces(w)
 

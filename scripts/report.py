@@ -44,6 +44,8 @@ WATER_PLOTS = [
     ("water_surface.png", "Free-surface elevation above the still level at the gauges"),
     ("wave_amplitude.png", "Wave amplitude over the reservoir (the highest surface above the still level at each "
                            "moment) and its envelope, the largest so far"),
+    ("wave_decay.png", "The wave at the gauges against their distance from the slide's entry, beside Heller & "
+                       "Hager's 2D decay of the wave height H(x) = (3/4) (P (x/h)^(-1/3))^(4/5) h"),
     ("water_runup.png", "Run-up (the highest water on each bank) and the water past each crest"),
     ("water_forces.png", "Force of the water on the named curves, and the peak pressure on them"),
 ]

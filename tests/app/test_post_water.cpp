@@ -102,7 +102,8 @@ class WaterPost : public ::testing::Test {
 TEST_F(WaterPost, PlotsAndReportShowTheReservoirWaveBesideHellerHager) {
   auto c = run_dsdem("plot " + out_.string() + " -q");
   ASSERT_EQ(c.exit_code, 0) << c.output;
-  for (const char* f : {"water_surface.png", "wave_amplitude.png", "water_runup.png", "water_forces.png"})
+  for (const char* f : {"water_surface.png", "wave_amplitude.png", "wave_decay.png", "water_runup.png",
+                        "water_forces.png"})
     EXPECT_TRUE(is_png(out_ / "plots" / f)) << f;
   // Every water column has its figure: none is left over for the catch-all.
   EXPECT_FALSE(fs::exists(out_ / "plots" / "other.png"));
@@ -134,8 +135,8 @@ TEST_F(WaterPost, PlotsAndReportShowTheReservoirWaveBesideHellerHager) {
             std::string::npos);
   EXPECT_NE(wave.find(cell(mw["energy_gain_J_per_m"])), std::string::npos);
   EXPECT_NE(wave.find("<b>mid</b>"), std::string::npos);  // the gauge and its period
-  // The four water plots are in the section (and only there).
-  EXPECT_EQ(count(wave, "src=\"data:image/png;base64,"), 4u);
+  // The five water plots are in the section (and only there).
+  EXPECT_EQ(count(wave, "src=\"data:image/png;base64,"), 5u);
   EXPECT_EQ(count(section(html, "plots"), "water_surface.png"), 0u);
   // The snapshot the report rendered: the last frame, with the water.
   EXPECT_TRUE(is_png(out_ / "render" / "velocity_000006.png"));
