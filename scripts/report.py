@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import dsdem_plotlib as lib  # noqa: E402
 import dsdem_water as wat  # noqa: E402
+import numpy as np  # noqa: E402
 
 PLOT_ORDER = [
     ("gauge_displacement.png", "Gauge displacement magnitude"),
@@ -299,8 +300,9 @@ def gauge_wave(out: Path, after: float | None) -> dict[str, tuple[float, float]]
     res = {}
     for g, c in wat.water_columns(h.names).gauges:
         y = h.col(c)[keep]
-        if y.size and (y == y).any():
-            res[g] = (float(max(y[y == y])), float(min(y[y == y])))
+        y = y[np.isfinite(y)]
+        if y.size:
+            res[g] = (float(y.max()), float(y.min()))
     return res
 
 
@@ -339,7 +341,7 @@ def wave_comparison(mw: dict, h, gauges: dict[str, tuple[float, float]]) -> str:
     return body
 
 
-def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]]) -> str:
+def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], since: str) -> str:
     """Where and when the wave peaked, run-up, overtopping, forces, gauges and energy."""
     peak = mw.get("max_wave_amplitude") or {}
     body = kv_table([("maximum wave amplitude", "m", peak.get("amplitude_m")), ("where: x", "m", peak.get("x_m")),
@@ -370,7 +372,7 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]]) 
             T = periods.get(n)
             rows.append([f"<td><b>{esc(n)}</b></td>", _num(hi), _num(lo),
                          _num(T) if isinstance(T, (int, float)) else '<td class="num">fewer than two up-crossings</td>'])
-        body += _table(["gauge", "highest surface (m)", "lowest surface (m)", "wave period (s)"], rows)
+        body += _table(["gauge", f"highest surface{since} (m)", f"lowest surface{since} (m)", "wave period (s)"], rows)
     gain, ke = _by_prefix(mw, "energy_gain"), _by_prefix(mw, "slide_kinetic_energy_at_impact")
     body += kv_table([("energy handed to the water (its largest gain)", "J/m", gain),
                       ("slide's kinetic energy where it entered", "J/m", ke),
@@ -400,7 +402,8 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
         parts.append(f'<p class="note">The largest amplitude came at the end of the run ({lib.fmt_num(peak_t)} s of '
                      f"{lib.fmt_num(end)} s): the wave may still have been growing; a longer run would tell.</p>")
     parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h, gauges))
-    parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges))
+    since = " after the slide's entry" if isinstance(after, (int, float)) else ""
+    parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))
     by_name = {p.name: p for p in plots}
     for name, cap in WATER_PLOTS:
         if name in by_name:

@@ -3,7 +3,7 @@
 //
 //   dsdem plot OUT [--no-show-stages]      PNG history plots into OUT/plots/
 //   dsdem render OUT [--field F] [--frames all|last|N,M|A-B] [--movie] [--fps 10]
-//                [--bbox xmin,xmax,ymin,ymax] [--water speed|pressure|none]
+//                [--bbox xmin,xmax,ymin,ymax] [--water speed|pressure|none] [--water-clim lo,hi]
 //                                          PNG snapshots (and an mp4) into OUT/render/,
 //                                          the moving water's particles with the rock
 //   dsdem report OUT                        self-contained OUT/report.html

@@ -163,6 +163,9 @@ TEST_F(WaterPost, RenderDrawsTheWaterMatchedByTime) {
   c = run_dsdem("render " + out.string() + " --frames last --water colour");
   EXPECT_NE(c.exit_code, 0);
   EXPECT_NE(c.output.find("--water"), std::string::npos) << c.output;
+  c = run_dsdem("render " + out.string() + " --frames last --water-clim 5,1");
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("--water-clim 5,1"), std::string::npos) << c.output;
   fs::remove_all(out);
 }
 
