@@ -401,6 +401,10 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     if isinstance(peak_t, (int, float)) and isinstance(end, (int, float)) and peak_t >= 0.98 * end:
         parts.append(f'<p class="note">The largest amplitude came at the end of the run ({lib.fmt_num(peak_t)} s of '
                      f"{lib.fmt_num(end)} s): the wave may still have been growing; a longer run would tell.</p>")
+    a = (mw.get("max_wave_amplitude") or {}).get("amplitude_m")
+    if isinstance(a, (int, float)) and a <= 0:
+        parts.append('<p class="note">The water\'s surface never rose above the still level in the reservoir '
+                     f"(largest amplitude {lib.fmt_num(a)} m): no wave was measured.</p>")
     parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h, gauges))
     since = " after the slide's entry" if isinstance(after, (int, float)) else ""
     parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))
