@@ -16,6 +16,10 @@ constexpr double kModifiedBoundaryDeterminant = 1e-3;
 // Below this determinant of the renormalisation matrix (1 for a full kernel) a particle is
 // too isolated for a density gradient; it gets none.
 constexpr double kRenormalisationDeterminant = 0.1;
+// The Verlet lists' skin in units of h: candidates within 2h + skin, rebuilt once a
+// particle moved half of it (at a tenth of c0 that is ~8 steps at CFL 0.2, the re-sort
+// interval's order).
+constexpr double kSkinOverH = 0.3;
 }  // namespace
 
 double sound_speed_for(double depth, double v_max, double g) {
@@ -30,6 +34,7 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   b_tait_ = tait_b(par_.rho0, par_.c0);
   grad_c_ = -5.0 * wendland_normalisation(h_) / (h_ * h_);
   support2_ = 4.0 * h_ * h_;
+  skin_ = kSkinOverH * h_;
   if (f_.mass == 0.0) f_.mass = par_.mass();
   if (b_.mass == 0.0) b_.mass = par_.mass();
   scratch_.resize(f_.size());
@@ -39,13 +44,22 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
     f_.vol[i] = f_.mass / f_.rho[i];
   }
   for (std::size_t i = 0; i < b_.size(); ++i) b_.p[i] = tait_pressure(b_.rho[i], par_.rho0, b_tait_);
-  // Room for 1.6 times a square lattice's neighbours in the support (the water compresses
-  // by a few per cent at most).
-  neighbour_capacity_ = static_cast<std::size_t>(std::ceil(1.6 * kPi * 4.0 * par_.h_over_dp * par_.h_over_dp)) + 8;
-  nb_j_.resize(f_.size() * neighbour_capacity_);
-  nb_f_.resize(f_.size() * neighbour_capacity_);
-  nb_n_.resize(f_.size());
+  // Room for 1.6 times a square lattice's neighbours within the support and skin (the
+  // water compresses by a few per cent at most).
+  const double reach = (2.0 * h_ + skin_) / par_.dp;
+  neighbour_capacity_ = static_cast<std::size_t>(std::ceil(1.6 * kPi * reach * reach)) + 8;
+  const std::size_t n = f_.size();
+  vl_j_.resize(n * neighbour_capacity_);
+  vl_n_.resize(n);
+  vl_split_.resize(n);
+  vl_x_.resize(n);
+  vl_y_.resize(n);
+  nb_j_.resize(n * neighbour_capacity_);
+  nb_f_.resize(n * neighbour_capacity_);
+  nb_n_.resize(n);
+  sums_.resize(n);
   resort_fluid();
+  rebuild_neighbour_lists();
   density_rates();  // the neighbour lists for the first accelerations
   if (par_.boundary == BoundaryCondition::ModifiedDynamic) extrapolate_boundary_densities();
   accelerations();
@@ -76,10 +90,13 @@ void Fluid::step(double dt) {
     f_.y[i] += dt * f_.vy[i];
   });
   ++steps_;
-  if (par_.resort_interval > 0 && steps_ % par_.resort_interval == 0)
+  if (par_.resort_interval > 0 && steps_ % par_.resort_interval == 0) {
     resort_fluid();
-  else
+    rebuild_neighbour_lists();
+  } else {
     update_cells();
+    if (neighbour_lists_stale()) rebuild_neighbour_lists();
+  }
   density_rates();
   update_densities(dt);
   update_boundary_densities(dt);
@@ -118,6 +135,61 @@ void Fluid::update_cells() {
   const Grid grid = grid_over(xmin, ymin, xmax, ymax, h_);
   fluid_cells_.build(grid, f_.x, f_.y, 2);
   boundary_cells_.build(grid, b_.x, b_.y, 2);
+  box_ = {xmin, ymin, xmax, ymax};
+}
+
+// The Verlet lists from the current positions (after update_cells(), whose box they use:
+// the grid grows only when the walls' box does).
+void Fluid::rebuild_neighbour_lists() {
+  const std::size_t n = f_.size(), cap = neighbour_capacity_;
+  const double cut = 2.0 * h_ + skin_, cut2 = cut * cut;
+  verlet_cells_.build(verlet_grid(), f_.x, f_.y, 2);
+  const auto order = verlet_cells_.order();
+  const double *x = f_.x.data(), *y = f_.y.data();
+  exec::parallel_for(team_, n, [&](std::size_t i) {
+    std::int32_t* list = vl_j_.data() + i * cap;
+    const double xi = x[i], yi = y[i];
+    std::size_t count = 0;
+    verlet_cells_.for_each_range(verlet_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
+      for (std::int32_t k = k0; k < k1; ++k) {
+        const auto j = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
+        const double dx = xi - x[j], dy = yi - y[j];
+        if (j == i || dx * dx + dy * dy >= cut2) continue;
+        if (count < cap) list[count] = static_cast<std::int32_t>(j);
+        ++count;
+      }
+    });
+    vl_n_[i] = static_cast<std::int32_t>(count);
+    if (count <= cap) {
+      // Ascending already right after a re-sort (cells in index order, rows bottom first).
+      if (!std::is_sorted(list, list + count)) std::sort(list, list + count);
+      vl_split_[i] = static_cast<std::int32_t>(std::upper_bound(list, list + count, static_cast<std::int32_t>(i)) - list);
+    }
+    vl_x_[i] = xi;
+    vl_y_[i] = yi;
+  });
+  for (std::size_t i = 0; i < n; ++i)
+    if (static_cast<std::size_t>(vl_n_[i]) > cap)
+      throw std::runtime_error("sph::Fluid: a particle has more than " + std::to_string(cap) +
+                               " neighbours (the water is compressed far beyond its weakly compressible range)");
+}
+
+Grid Fluid::verlet_grid() const { return grid_over(box_[0], box_[1], box_[2], box_[3], 0.5 * (2.0 * h_ + skin_)); }
+
+// A pair closer than the support now was within the support plus the skin at the rebuild
+// while no particle moved more than half the skin.
+bool Fluid::neighbour_lists_stale() const {
+  const double limit2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < f_.size(); ++i) {
+    const double dx = f_.x[i] - vl_x_[i], dy = f_.y[i] - vl_y_[i];
+    if (dx * dx + dy * dy >= limit2) return true;
+  }
+  return false;
+}
+
+// The blocks of the pair loops: one per thread, contiguous index ranges.
+std::size_t Fluid::chunks() const {
+  return std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(team_.threads()), f_.size()));
 }
 
 // The fluid arrays permuted into cell order, so that a particle's neighbours are close
@@ -125,7 +197,9 @@ void Fluid::update_cells() {
 void Fluid::resort_fluid() {
   update_cells();
   const std::size_t n = f_.size();
-  const auto order = fluid_cells_.order();
+  // The Verlet lists' cells: built right after this, they then come out ascending.
+  verlet_cells_.build(verlet_grid(), f_.x, f_.y, 2);
+  const auto order = verlet_cells_.order();
   for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol}) {
     for (std::size_t k = 0; k < n; ++k) scratch_[k] = (*a)[static_cast<std::size_t>(order[k])];
     a->swap(scratch_);
@@ -138,67 +212,16 @@ void Fluid::resort_fluid() {
 // Continuity with density diffusion (DESIGN.md §13) for the fluid, continuity alone for
 // the boundary particles (the dynamic boundary condition; fluid neighbours only).
 void Fluid::density_rates() {
-  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, c0 = par_.c0;
-  const double dhc = par_.delta * h * par_.c0;
-  const double gx = par_.gravity.x(), gy = par_.gravity.y();
-  const double mf = f_.mass, mb = b_.mass;
-  const auto forder = fluid_cells_.order();
-  const auto border = boundary_cells_.order();
-  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data(), *frho = f_.rho.data();
-  const double *fgx = f_.gx.data(), *fgy = f_.gy.data(), *fvol = f_.vol.data();
-  const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
-  const bool fourtakas = par_.diffusion == DensityDiffusion::Fourtakas;
-  const std::size_t cap = neighbour_capacity_;
-  exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
-    const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], gxi = fgx[i], gyi = fgy[i];
-    double cont = 0.0, diff = 0.0;
-    const int c = fluid_cells_.cell(i);
-    std::int32_t* list_j = nb_j_.data() + i * cap;
-    double* list_f = nb_f_.data() + i * cap;
-    std::size_t count = 0;
-    fluid_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
-        const double dx = xi - fx[j], dy = yi - fy[j];
-        const double r2 = dx * dx + dy * dy;
-        if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, inv_h, gc);
-        if (count < cap) {
-          list_j[count] = static_cast<std::int32_t>(j);
-          list_f[count] = f;
-        }
-        ++count;
-        cont += mf * f * ((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy);
-        const double vj = fvol[j];
-        if (fourtakas) {
-          const double rho_h = hydrostatic_density_difference(-(gx * dx + gy * dy), rhoi, frho[j], rho0, c0);
-          diff += density_diffusion(dhc, f, frho[j] - rhoi - rho_h, vj);
-        } else {
-          diff += density_diffusion(dhc, f, frho[j] - rhoi, vj) +
-                  density_gradient_correction(dhc, f, -((gxi + fgx[j]) * dx + (gyi + fgy[j]) * dy), vj);
-        }
-      }
-    });
-    boundary_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
-        const double dx = xi - bx[j], dy = yi - by[j];
-        const double r2 = dx * dx + dy * dy;
-        if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, inv_h, gc);
-        cont += mb * f * ((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy);
-      }
-    });
-    f_.drho[i] = cont + diff;
-    nb_n_[i] = static_cast<std::int32_t>(count);
-  });
-  for (std::size_t i = 0; i < f_.size(); ++i)
-    if (static_cast<std::size_t>(nb_n_[i]) > cap)
-      throw std::runtime_error("sph::Fluid: a particle has more than " + std::to_string(cap) +
-                               " neighbours (the water is compressed far beyond its weakly compressible range)");
+  if (par_.diffusion == DensityDiffusion::Fourtakas)
+    fluid_density_rates<true>();
+  else
+    fluid_density_rates<false>();
   if (par_.boundary != BoundaryCondition::Dynamic) return;
+  const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, mf = f_.mass;
+  const auto forder = fluid_cells_.order();
+  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
-    const double xi = bx[i], yi = by[i], vxi = bvx[i], vyi = bvy[i];
+    const double xi = b_.x[i], yi = b_.y[i], vxi = b_.vx[i], vyi = b_.vy[i];
     double cont = 0.0;
     fluid_cells_.for_each_range(boundary_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
       for (std::int32_t k = k0; k < k1; ++k) {
@@ -211,6 +234,108 @@ void Fluid::density_rates() {
       }
     });
     b_.drho[i] = cont;
+  });
+}
+
+// The fluid's rates. A fluid pair i < j gives drho_i/dt c + q V_j and drho_j/dt c - q V_i:
+// the continuity term c is symmetric, the diffusion antisymmetric once the other
+// particle's volume is taken out.
+template <bool fourtakas>
+void Fluid::fluid_density_rates() {
+  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, c0 = par_.c0;
+  const double dhc = par_.delta * h * par_.c0;
+  const double gx = par_.gravity.x(), gy = par_.gravity.y();
+  const double mf = f_.mass, mb = b_.mass;
+  const auto border = boundary_cells_.order();
+  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data(), *frho = f_.rho.data();
+  const double *fgx = f_.gx.data(), *fgy = f_.gy.data(), *fvol = f_.vol.data();
+  const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
+  const std::size_t cap = neighbour_capacity_, n = f_.size(), blocks = chunks();
+  double* drho = f_.drho.data();
+  // One particle's values, loaded once (the scatter's stores may alias the arrays).
+  struct P {
+    double x, y, vx, vy, rho, gx, gy;
+  };
+  auto load = [&](std::size_t i) { return P{fx[i], fy[i], fvx[i], fvy[i], frho[i], fgx[i], fgy[i]}; };
+  // Pair a = i < b = j (0 terms beyond the support): F, c and q.
+  auto pair = [=](const P& a, const P& b, double& f, double& c, double& q) {
+    const double dx = a.x - b.x, dy = a.y - b.y;
+    f = wendland_gradient_factor(dx * dx + dy * dy, inv_h, gc);
+    c = mf * f * ((a.vx - b.vx) * dx + (a.vy - b.vy) * dy);
+    if constexpr (fourtakas) {
+      const double rho_h = hydrostatic_density_difference(-(gx * dx + gy * dy), a.rho, b.rho, rho0, c0);
+      q = density_diffusion(dhc, f, b.rho - a.rho - rho_h, 1.0);
+    } else {
+      q = density_diffusion(dhc, f, b.rho - a.rho, 1.0) +
+          density_gradient_correction(dhc, f, -((a.gx + b.gx) * dx + (a.gy + b.gy) * dy), 1.0);
+    }
+  };
+  exec::parallel_for(team_, blocks, [&](std::size_t t) {
+    const std::size_t lo = n * t / blocks, hi = n * (t + 1) / blocks;
+    // The pairs with a partner below this block, from this side (the block below adds
+    // them to its own particles): they come first in ascending partner order.
+    for (std::size_t k = lo; k < hi; ++k) {
+      const std::int32_t* list = vl_j_.data() + k * cap;
+      const auto split = static_cast<std::size_t>(vl_split_[k]);
+      const P pk = load(k);
+      double sum = 0.0;
+      for (std::size_t s = 0; s < split; ++s) {
+        const auto j = static_cast<std::size_t>(list[s]);
+        if (j >= lo) break;
+        const double dx = fx[j] - pk.x, dy = fy[j] - pk.y;
+        if (dx * dx + dy * dy >= s2) continue;
+        double f, c, q;
+        pair(load(j), pk, f, c, q);
+        sum += c - q * fvol[j];
+      }
+      drho[k] = sum;
+    }
+    // Each pair within the block once, added to both; the partners above it to i alone.
+    // The partners within the support (first picked out without a branch) are kept with
+    // their F for the force pass.
+    for (std::size_t i = lo; i < hi; ++i) {
+      const std::int32_t* list = vl_j_.data() + i * cap;
+      std::int32_t* list_j = nb_j_.data() + i * cap;
+      double* list_f = nb_f_.data() + i * cap;
+      const auto end = static_cast<std::size_t>(vl_n_[i]);
+      const double xi = fx[i], yi = fy[i];
+      std::size_t count = 0;
+      for (auto s = static_cast<std::size_t>(vl_split_[i]); s < end; ++s) {
+        const std::int32_t j = list[s];
+        const double dx = xi - fx[j], dy = yi - fy[j];
+        list_j[count] = j;
+        count += dx * dx + dy * dy < s2 ? 1 : 0;
+      }
+      nb_n_[i] = static_cast<std::int32_t>(count);
+      const double vi = fvol[i];
+      const P pi = load(i);
+      double sum = drho[i];
+      for (std::size_t m = 0; m < count; ++m) {
+        const auto j = static_cast<std::size_t>(list_j[m]);
+        double f, c, q;
+        pair(pi, load(j), f, c, q);
+        list_f[m] = f;
+        sum += c + q * fvol[j];
+        if (j < hi) drho[j] += c - q * vi;
+      }
+      drho[i] = sum;
+    }
+    // The walls' continuity terms, a gather.
+    for (std::size_t i = lo; i < hi; ++i) {
+      const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i];
+      double cont = 0.0;
+      boundary_cells_.for_each_range(fluid_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
+        for (std::int32_t k = k0; k < k1; ++k) {
+          const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
+          const double dx = xi - bx[j], dy = yi - by[j];
+          const double r2 = dx * dx + dy * dy;
+          if (r2 >= s2) continue;
+          const double f = wendland_gradient_factor(r2, inv_h, gc);
+          cont += mb * f * ((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy);
+        }
+      });
+      drho[i] += cont;
+    }
   });
 }
 
@@ -296,75 +421,139 @@ void Fluid::extrapolate_boundary_densities() {
   });
 }
 
-// The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity.
+// The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity. A
+// fluid pair's pressure and viscous terms are equal and opposite; the renormalised density
+// gradient's sums (delta-SPH: M = -sum V_j F r r^T, sum V_j (rho_j - rho_i) F r over the
+// fluid neighbours) take the same pair products with the other particle's volume.
 void Fluid::accelerations() {
+  if (par_.diffusion == DensityDiffusion::DeltaSph)
+    fluid_accelerations<true>();
+  else
+    fluid_accelerations<false>();
+}
+
+template <bool grad>
+void Fluid::fluid_accelerations() {
   const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const double alpha_c = par_.alpha * par_.c0;
   const double gx = par_.gravity.x(), gy = par_.gravity.y();
   const double mf = f_.mass, mb = b_.mass;
-  const auto forder = fluid_cells_.order();
   const auto border = boundary_cells_.order();
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
   const double *frho = f_.rho.data(), *fp = f_.p.data(), *fvol = f_.vol.data();
   const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
   const double *brho = b_.rho.data(), *bp = b_.p.data();
-  const bool grad = par_.diffusion == DensityDiffusion::DeltaSph;
-  const std::size_t cap = neighbour_capacity_;
-  exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
-    const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], pi = fp[i];
-    double ax = 0.0, ay = 0.0;
-    // The renormalised density gradient (delta-SPH): M = -sum V F r r^T, grad = M^-1 sum V
-    // (rho_j - rho_i) F r, fluid neighbours only.
-    double mxx = 0.0, mxy = 0.0, myy = 0.0, sx = 0.0, sy = 0.0;
-    const int c = fluid_cells_.cell(i);
-    auto pair = [&](double m, double dx, double dy, double dvx, double dvy, double rhoj, double pj) {
-      const double r2 = dx * dx + dy * dy;
-      if (r2 >= s2) return 0.0;
-      const double f = wendland_gradient_factor(r2, inv_h, gc);
-      const double visc = artificial_viscosity(dvx * dx + dvy * dy, r2, rhoi, rhoj, h, alpha_c);
-      const double coef = -m * (pressure_term(pi, pj, rhoi, rhoj) + visc) * f;
-      ax += coef * dx;
-      ay += coef * dy;
-      return f;
-    };
-    // The fluid neighbours found by density_rates() at these positions, with their F.
-    const std::int32_t* list_j = nb_j_.data() + i * cap;
-    const double* list_f = nb_f_.data() + i * cap;
-    const auto count = static_cast<std::size_t>(nb_n_[i]);
-    for (std::size_t n = 0; n < count; ++n) {
-      const auto j = static_cast<std::size_t>(list_j[n]);
-      const double f = list_f[n];
-      const double dx = xi - fx[j], dy = yi - fy[j];
-      const double rhoj = frho[j];
-      const double visc = artificial_viscosity((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy, dx * dx + dy * dy, rhoi, rhoj,
-                                               h, alpha_c);
-      const double coef = -mf * (pressure_term(pi, fp[j], rhoi, rhoj) + visc) * f;
-      ax += coef * dx;
-      ay += coef * dy;
-      if (grad) {
-        const double vf = fvol[j] * f;
-        mxx -= vf * dx * dx;
-        mxy -= vf * dx * dy;
-        myy -= vf * dy * dy;
-        const double dr = (rhoj - rhoi) * vf;
-        sx += dr * dx;
-        sy += dr * dy;
-      }
+  const std::size_t cap = neighbour_capacity_, n = f_.size(), blocks = chunks();
+  ForceSums* sums = sums_.data();
+  // Pair i < j with gradient factor f: i's acceleration (j's is minus it) and the products
+  // F r r^T and (rho_j - rho_i) F r, the same for both.
+  struct PairTerms {
+    double ax = 0.0, ay = 0.0, xx = 0.0, xy = 0.0, yy = 0.0, sx = 0.0, sy = 0.0;
+  };
+  // One particle's values, loaded once (the scatter's stores may alias the arrays).
+  struct P {
+    double x, y, vx, vy, rho, p;
+  };
+  auto load = [&](std::size_t i) { return P{fx[i], fy[i], fvx[i], fvy[i], frho[i], fp[i]}; };
+  auto pair = [=](const P& a, const P& b, double f) {
+    const double dx = a.x - b.x, dy = a.y - b.y;
+    const double visc =
+        artificial_viscosity((a.vx - b.vx) * dx + (a.vy - b.vy) * dy, dx * dx + dy * dy, a.rho, b.rho, h, alpha_c);
+    const double coef = -mf * (pressure_term(a.p, b.p, a.rho, b.rho) + visc) * f;
+    PairTerms t;
+    t.ax = coef * dx;
+    t.ay = coef * dy;
+    if constexpr (grad) {
+      const double fdx = f * dx, fdy = f * dy, dr = b.rho - a.rho;
+      t.xx = fdx * dx;
+      t.xy = fdx * dy;
+      t.yy = fdy * dy;
+      t.sx = dr * fdx;
+      t.sy = dr * fdy;
     }
-    if (grad) {
-      const double det = mxx * myy - mxy * mxy;
-      const bool ok = det > kRenormalisationDeterminant;
-      f_.gx[i] = ok ? (myy * sx - mxy * sy) / det : 0.0;
-      f_.gy[i] = ok ? (mxx * sy - mxy * sx) / det : 0.0;
-    }
-    boundary_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
-        pair(mb, xi - bx[j], yi - by[j], vxi - bvx[j], vyi - bvy[j], brho[j], bp[j]);
+    return t;
+  };
+  auto add_lower = [](ForceSums& s, const PairTerms& t, double v_other) {
+    s.ax += t.ax;
+    s.ay += t.ay;
+    s.mxx -= v_other * t.xx;
+    s.mxy -= v_other * t.xy;
+    s.myy -= v_other * t.yy;
+    s.sx += v_other * t.sx;
+    s.sy += v_other * t.sy;
+  };
+  auto add_upper = [](ForceSums& s, const PairTerms& t, double v_other) {
+    s.ax -= t.ax;
+    s.ay -= t.ay;
+    s.mxx -= v_other * t.xx;
+    s.mxy -= v_other * t.xy;
+    s.myy -= v_other * t.yy;
+    s.sx += v_other * t.sx;
+    s.sy += v_other * t.sy;
+  };
+  exec::parallel_for(team_, blocks, [&](std::size_t t) {
+    const std::size_t lo = n * t / blocks, hi = n * (t + 1) / blocks;
+    // The pairs with a partner below this block, from this side, as in density_rates()
+    // (F recomputed: the same bits; 0 beyond the support).
+    for (std::size_t k = lo; k < hi; ++k) {
+      const std::int32_t* list = vl_j_.data() + k * cap;
+      const auto split = static_cast<std::size_t>(vl_split_[k]);
+      const P pk = load(k);
+      ForceSums s{};
+      for (std::size_t m = 0; m < split; ++m) {
+        const auto j = static_cast<std::size_t>(list[m]);
+        if (j >= lo) break;
+        const P pj = load(j);
+        const double dx = pj.x - pk.x, dy = pj.y - pk.y;
+        if (dx * dx + dy * dy >= s2) continue;
+        add_upper(s, pair(pj, pk, wendland_gradient_factor(dx * dx + dy * dy, inv_h, gc)), fvol[j]);
       }
-    });
-    f_.ax[i] = ax + gx;
-    f_.ay[i] = ay + gy;
+      sums[k] = s;
+    }
+    // The pairs found by density_rates() at these positions, each once.
+    for (std::size_t i = lo; i < hi; ++i) {
+      const std::int32_t* list_j = nb_j_.data() + i * cap;
+      const double* list_f = nb_f_.data() + i * cap;
+      const auto count = static_cast<std::size_t>(nb_n_[i]);
+      const double vi = fvol[i];
+      const P pi = load(i);
+      ForceSums s = sums[i];
+      for (std::size_t m = 0; m < count; ++m) {
+        const auto j = static_cast<std::size_t>(list_j[m]);
+        const PairTerms pt = pair(pi, load(j), list_f[m]);
+        add_lower(s, pt, fvol[j]);
+        if (j < hi) add_upper(sums[j], pt, vi);
+      }
+      sums[i] = s;
+    }
+    // The renormalised gradient, the walls' pressure and viscosity (a gather), gravity.
+    for (std::size_t i = lo; i < hi; ++i) {
+      const ForceSums& s = sums[i];
+      if constexpr (grad) {
+        const double det = s.mxx * s.myy - s.mxy * s.mxy;
+        const bool ok = det > kRenormalisationDeterminant;
+        f_.gx[i] = ok ? (s.myy * s.sx - s.mxy * s.sy) / det : 0.0;
+        f_.gy[i] = ok ? (s.mxx * s.sy - s.mxy * s.sx) / det : 0.0;
+      }
+      const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], pi = fp[i];
+      double ax = s.ax, ay = s.ay;
+      boundary_cells_.for_each_range(fluid_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
+        for (std::int32_t k = k0; k < k1; ++k) {
+          const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
+          const double dx = xi - bx[j], dy = yi - by[j];
+          const double r2 = dx * dx + dy * dy;
+          if (r2 >= s2) continue;
+          const double f = wendland_gradient_factor(r2, inv_h, gc);
+          const double visc =
+              artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
+          const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
+          ax += coef * dx;
+          ay += coef * dy;
+        }
+      });
+      f_.ax[i] = ax + gx;
+      f_.ay[i] = ay + gy;
+    }
   });
 }
 

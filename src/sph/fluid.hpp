@@ -9,8 +9,12 @@
 // The pressure waves (rho from v, v from rho) are then integrated by the Stormer-Verlet
 // scheme, stable for dt below the acoustic limit, in the same kick-drift-kick order as the
 // solid's integrator, so that a coupled step can run the two side by side.
-// Every loop is a gather over one particle's neighbours in a fixed order: the same bits for
-// any thread count. Nothing allocates in the time loop once the grid stopped growing.
+// Each fluid pair is evaluated once and its terms added to both particles; every particle's
+// sums run over its partners in ascending index (a fixed-order scatter within each
+// thread's block, the pairs across blocks evaluated from both sides), and the walls' terms
+// are a gather: the same bits for any thread count. Nothing allocates in the time loop
+// once the grid stopped growing.
+#include <array>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -128,31 +132,55 @@ class Fluid {
   void restore(const State& s);
 
  private:
+  // One particle's sums of the force pass: acceleration and the renormalised gradient's
+  // matrix and right-hand side (one cache line, for the pair scatter).
+  struct ForceSums {
+    double ax, ay, mxx, mxy, myy, sx, sy, pad;
+  };
+
   void update_cells();
   void resort_fluid();
+  void rebuild_neighbour_lists();
+  Grid verlet_grid() const;
+  bool neighbour_lists_stale() const;
+  std::size_t chunks() const;
   void density_rates();
+  template <bool fourtakas>
+  void fluid_density_rates();
   void update_densities(double dt);
   void update_boundary_densities(double dt);
   void extrapolate_boundary_densities();
   void accelerations();
+  template <bool grad>
+  void fluid_accelerations();
   void gather_boundary_forces(std::span<double> fx, std::span<double> fy) const;
 
   FluidParameters par_;
   FluidParticles f_;
   BoundaryParticles b_;
   exec::Team team_;
-  CellList fluid_cells_, boundary_cells_;
+  CellList fluid_cells_, boundary_cells_, verlet_cells_;
   double h_ = 0.0, b_tait_ = 0.0, grad_c_ = 0.0, support2_ = 0.0;
+  double skin_ = 0.0;
+  std::array<double, 4> box_{};  // the cell lists' box (x0, y0, x1, y1) at the last update_cells()
   double time_ = 0.0;
   long steps_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   double damping_rate_ = 0.0;
-  // Each fluid particle's fluid neighbours and their gradient factors F, found by the
-  // density pass and read by the force pass (the same positions): neighbour_capacity_ slots
-  // per particle, nb_n_ used.
+  // Each fluid particle's Verlet list: the fluid particles within the support plus a skin
+  // at the last rebuild, ascending (vl_split_: the first above the particle itself),
+  // neighbour_capacity_ slots per particle, vl_n_ used. Rebuilt after every re-sort and
+  // when a particle moved half the skin from vl_x_, vl_y_. The sums run over partners in
+  // ascending index whatever the list holds beyond the support (those add exact zeros), so
+  // the results do not depend on when the lists were rebuilt.
   std::size_t neighbour_capacity_ = 0;
+  std::vector<std::int32_t> vl_j_, vl_n_, vl_split_;
+  std::vector<double> vl_x_, vl_y_;
+  // The partners above each particle within the support and their gradient factors F,
+  // found by the density pass and read by the force pass (the same positions).
   std::vector<std::int32_t> nb_j_, nb_n_;
   std::vector<double> nb_f_;
+  std::vector<ForceSums> sums_;
   bool record_ = false;
   std::vector<double> rec_fx_, rec_fy_;  // recorded boundary forces (set_record_boundary_forces)
   std::vector<double> scratch_;          // re-sort buffer

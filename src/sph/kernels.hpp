@@ -28,7 +28,9 @@ inline double wendland(double r2, double h) {
 inline double wendland_gradient_factor(double r2, double inv_h, double minus_five_aD_over_h2) {
   const double q = std::sqrt(r2) * inv_h;
   const double t = 1.0 - 0.5 * q;
-  const double u = t > 0.0 ? t : 0.0;  // not std::fmax: a library call without -ffast-math
+  // max(t, 0) without a branch (a neighbour list with a skin holds pairs beyond the support;
+  // not std::fmax: a library call without -ffast-math). Exact: t + |t| = 2t or 0.
+  const double u = 0.5 * (t + std::fabs(t));
   return minus_five_aD_over_h2 * u * u * u;
 }
 inline double wendland_gradient_factor(double r2, double h) {
