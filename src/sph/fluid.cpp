@@ -16,10 +16,6 @@ constexpr double kModifiedBoundaryDeterminant = 1e-3;
 // Below this determinant of the renormalisation matrix (1 for a full kernel) a particle is
 // too isolated for a density gradient; it gets none.
 constexpr double kRenormalisationDeterminant = 0.1;
-// The Verlet lists' skin in units of h: candidates within 2h + skin, rebuilt once a
-// particle moved half of it (at a tenth of c0 that is ~8 steps at CFL 0.2, the re-sort
-// interval's order).
-constexpr double kSkinOverH = 0.3;
 }  // namespace
 
 double sound_speed_for(double depth, double v_max, double g) {
@@ -30,11 +26,12 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
     : par_(parameters), f_(std::move(fluid)), b_(std::move(boundary)), team_(parallel, false) {
   if (!(par_.dp > 0.0) || !(par_.h_over_dp > 0.0) || !(par_.c0 > 0.0) || !(par_.rho0 > 0.0))
     throw std::invalid_argument("sph::Fluid: dp, h_over_dp, c0 and rho0 must be positive");
+  if (!(par_.verlet_skin > 0.0)) throw std::invalid_argument("sph::Fluid: verlet_skin must be positive");
   h_ = par_.h();
   b_tait_ = tait_b(par_.rho0, par_.c0);
   grad_c_ = -5.0 * wendland_normalisation(h_) / (h_ * h_);
   support2_ = 4.0 * h_ * h_;
-  skin_ = kSkinOverH * h_;
+  skin_ = par_.verlet_skin * h_;
   if (f_.mass == 0.0) f_.mass = par_.mass();
   if (b_.mass == 0.0) b_.mass = par_.mass();
   scratch_.resize(f_.size());
@@ -135,22 +132,21 @@ void Fluid::update_cells() {
   const Grid grid = grid_over(xmin, ymin, xmax, ymax, h_);
   fluid_cells_.build(grid, f_.x, f_.y, 2);
   boundary_cells_.build(grid, b_.x, b_.y, 2);
-  box_ = {xmin, ymin, xmax, ymax};
 }
 
-// The Verlet lists from the current positions (after update_cells(), whose box they use:
-// the grid grows only when the walls' box does).
+// The Verlet lists from the current positions and cell lists (after update_cells()): the
+// cells of h within the support and skin.
 void Fluid::rebuild_neighbour_lists() {
   const std::size_t n = f_.size(), cap = neighbour_capacity_;
   const double cut = 2.0 * h_ + skin_, cut2 = cut * cut;
-  verlet_cells_.build(verlet_grid(), f_.x, f_.y, 2);
-  const auto order = verlet_cells_.order();
+  const int reach = static_cast<int>(std::ceil(cut / h_));
+  const auto order = fluid_cells_.order();
   const double *x = f_.x.data(), *y = f_.y.data();
   exec::parallel_for(team_, n, [&](std::size_t i) {
     std::int32_t* list = vl_j_.data() + i * cap;
     const double xi = x[i], yi = y[i];
     std::size_t count = 0;
-    verlet_cells_.for_each_range(verlet_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
+    fluid_cells_.for_each_range(fluid_cells_.cell(i), reach, [&](std::int32_t k0, std::int32_t k1) {
       for (std::int32_t k = k0; k < k1; ++k) {
         const auto j = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
         const double dx = xi - x[j], dy = yi - y[j];
@@ -161,7 +157,8 @@ void Fluid::rebuild_neighbour_lists() {
     });
     vl_n_[i] = static_cast<std::int32_t>(count);
     if (count <= cap) {
-      // Ascending already right after a re-sort (cells in index order, rows bottom first).
+      // Ascending already right after a re-sort (the cells in index order, rows bottom
+      // first, as for_each_range walks them).
       if (!std::is_sorted(list, list + count)) std::sort(list, list + count);
       vl_split_[i] = static_cast<std::int32_t>(std::upper_bound(list, list + count, static_cast<std::int32_t>(i)) - list);
     }
@@ -173,8 +170,6 @@ void Fluid::rebuild_neighbour_lists() {
       throw std::runtime_error("sph::Fluid: a particle has more than " + std::to_string(cap) +
                                " neighbours (the water is compressed far beyond its weakly compressible range)");
 }
-
-Grid Fluid::verlet_grid() const { return grid_over(box_[0], box_[1], box_[2], box_[3], 0.5 * (2.0 * h_ + skin_)); }
 
 // A pair closer than the support now was within the support plus the skin at the rebuild
 // while no particle moved more than half the skin.
@@ -197,9 +192,7 @@ std::size_t Fluid::chunks() const {
 void Fluid::resort_fluid() {
   update_cells();
   const std::size_t n = f_.size();
-  // The Verlet lists' cells: built right after this, they then come out ascending.
-  verlet_cells_.build(verlet_grid(), f_.x, f_.y, 2);
-  const auto order = verlet_cells_.order();
+  const auto order = fluid_cells_.order();
   for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol}) {
     for (std::size_t k = 0; k < n; ++k) scratch_[k] = (*a)[static_cast<std::size_t>(order[k])];
     a->swap(scratch_);
@@ -368,11 +361,11 @@ void Fluid::update_boundary_densities(double dt) {
 // system is singular (few fluid neighbours) Shepard's average; with none, rho0. Never below
 // rho0: a wall does not pull the fluid.
 void Fluid::extrapolate_boundary_densities() {
-  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, b = b_tait_;
+  const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, b = b_tait_;
   const double aD = wendland_normalisation(h_);
   const double mf = f_.mass;
   const auto forder = fluid_cells_.order();
-  const double *fx = f_.x.data(), *fy = f_.y.data(), *frho = f_.rho.data();
+  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvol = f_.vol.data();
   const Grid& grid = fluid_cells_.grid();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
     const double two_d = 2.0 * b_.wall_distance[i];
@@ -386,11 +379,11 @@ void Fluid::extrapolate_boundary_densities() {
         const double dx = fx[j] - gx, dy = fy[j] - gy;  // x_j - x_g
         const double r2 = dx * dx + dy * dy;
         if (r2 >= s2) continue;
-        const double q = std::sqrt(r2) / h, u = 1.0 - 0.5 * q, u2 = u * u;
+        const double q = std::sqrt(r2) * inv_h, u = 1.0 - 0.5 * q, u2 = u * u;
         const double w = aD * u2 * u2 * (2.0 * q + 1.0);
         const double f = wendland_gradient_factor(r2, inv_h, gc);
         const double wx = -f * dx, wy = -f * dy;  // grad_g W_gj = F (x_g - x_j)
-        const double v = mf / frho[j];
+        const double v = fvol[j];  // m / rho
         a00 += v * w;
         a01 += v * dx * w;
         a02 += v * dy * w;
