@@ -132,6 +132,15 @@ void Fluid::update_cells() {
   const Grid grid = grid_over(xmin, ymin, xmax, ymax, h_);
   fluid_cells_.build(grid, f_.x, f_.y, 2);
   boundary_cells_.build(grid, b_.x, b_.y, 2);
+  // The cells whose 5 x 5 block holds a boundary particle: the fluid elsewhere skips the
+  // walls' loops (most of it).
+  near_wall_.assign(grid.cells(), 0);
+  for (std::size_t b = 0; b < b_.size(); ++b) {
+    const int c = boundary_cells_.cell(b), cx = c % grid.nx, cy = c / grid.nx;
+    for (int y = std::max(0, cy - 2); y <= std::min(grid.ny - 1, cy + 2); ++y)
+      for (int x = std::max(0, cx - 2); x <= std::min(grid.nx - 1, cx + 2); ++x)
+        near_wall_[static_cast<std::size_t>(y * grid.nx + x)] = 1;
+  }
 }
 
 // The Verlet lists from the current positions and cell lists (after update_cells()): the
@@ -160,7 +169,8 @@ void Fluid::rebuild_neighbour_lists() {
       // Ascending already right after a re-sort (the cells in index order, rows bottom
       // first, as for_each_range walks them).
       if (!std::is_sorted(list, list + count)) std::sort(list, list + count);
-      vl_split_[i] = static_cast<std::int32_t>(std::upper_bound(list, list + count, static_cast<std::int32_t>(i)) - list);
+      const std::int32_t* above = std::upper_bound(list, list + count, static_cast<std::int32_t>(i));
+      vl_split_[i] = static_cast<std::int32_t>(above - list);
     }
     vl_x_[i] = xi;
     vl_y_[i] = yi;
@@ -315,9 +325,11 @@ void Fluid::fluid_density_rates() {
     }
     // The walls' continuity terms, a gather.
     for (std::size_t i = lo; i < hi; ++i) {
+      const int cell = fluid_cells_.cell(i);
+      if (!near_wall_[static_cast<std::size_t>(cell)]) continue;
       const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i];
       double cont = 0.0;
-      boundary_cells_.for_each_range(fluid_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
+      boundary_cells_.for_each_range(cell, [&](std::int32_t k0, std::int32_t k1) {
         for (std::int32_t k = k0; k < k1; ++k) {
           const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
           const double dx = xi - bx[j], dy = yi - by[j];
@@ -530,20 +542,23 @@ void Fluid::fluid_accelerations() {
       }
       const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], pi = fp[i];
       double ax = s.ax, ay = s.ay;
-      boundary_cells_.for_each_range(fluid_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
-        for (std::int32_t k = k0; k < k1; ++k) {
-          const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
-          const double dx = xi - bx[j], dy = yi - by[j];
-          const double r2 = dx * dx + dy * dy;
-          if (r2 >= s2) continue;
-          const double f = wendland_gradient_factor(r2, inv_h, gc);
-          const double visc =
-              artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
-          const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
-          ax += coef * dx;
-          ay += coef * dy;
-        }
-      });
+      const int cell = fluid_cells_.cell(i);
+      if (near_wall_[static_cast<std::size_t>(cell)]) {
+        boundary_cells_.for_each_range(cell, [&](std::int32_t k0, std::int32_t k1) {
+          for (std::int32_t k = k0; k < k1; ++k) {
+            const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
+            const double dx = xi - bx[j], dy = yi - by[j];
+            const double r2 = dx * dx + dy * dy;
+            if (r2 >= s2) continue;
+            const double f = wendland_gradient_factor(r2, inv_h, gc);
+            const double visc =
+                artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
+            const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
+            ax += coef * dx;
+            ay += coef * dy;
+          }
+        });
+      }
       f_.ax[i] = ax + gx;
       f_.ay[i] = ay + gy;
     }

@@ -163,6 +163,7 @@ class Fluid {
   BoundaryParticles b_;
   exec::Team team_;
   CellList fluid_cells_, boundary_cells_;
+  std::vector<std::uint8_t> near_wall_;  // per cell: a boundary particle within the search block
   double h_ = 0.0, b_tait_ = 0.0, grad_c_ = 0.0, support2_ = 0.0;
   double skin_ = 0.0;
   double time_ = 0.0;
