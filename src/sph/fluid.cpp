@@ -175,6 +175,7 @@ void Fluid::rebuild_neighbour_lists() {
     vl_x_[i] = xi;
     vl_y_[i] = yi;
   });
+  vl_built_at_ = steps_;
   for (std::size_t i = 0; i < n; ++i)
     if (static_cast<std::size_t>(vl_n_[i]) > cap)
       throw std::runtime_error("sph::Fluid: a particle has more than " + std::to_string(cap) +

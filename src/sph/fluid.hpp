@@ -110,6 +110,9 @@ class Fluid {
 
   double time() const { return time_; }
   long steps() const { return steps_; }
+  // The step count when the neighbour lists were last built (diagnostics and tests: the
+  // results do not depend on it).
+  long neighbour_lists_built_at() const { return vl_built_at_; }
   const FluidParameters& parameters() const { return par_; }
   const FluidParticles& fluid() const { return f_; }
   const BoundaryParticles& boundary() const { return b_; }
@@ -168,6 +171,7 @@ class Fluid {
   double skin_ = 0.0;
   double time_ = 0.0;
   long steps_ = 0;
+  long vl_built_at_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   double damping_rate_ = 0.0;
   // Each fluid particle's Verlet list: the fluid particles within the support plus a skin
