@@ -21,6 +21,7 @@
 #include "exec/team.hpp"
 #include "model/types.hpp"
 #include "sph/cell_list.hpp"
+#include "sph/pair_terms.hpp"
 #include "sph/particles.hpp"
 
 namespace dsdem::sph {
@@ -139,12 +140,6 @@ class Fluid {
   void restore(const State& s);
 
  private:
-  // One particle's sums of the force pass: acceleration and the renormalised gradient's
-  // matrix and right-hand side (one cache line, for the pair scatter).
-  struct ForceSums {
-    double ax, ay, mxx, mxy, myy, sx, sy, pad;
-  };
-
   void update_cells();
   void resort_fluid();
   void rebuild_neighbour_lists();
@@ -153,12 +148,29 @@ class Fluid {
   void density_rates();
   template <bool fourtakas>
   void fluid_density_rates();
+  template <bool fourtakas>
+  void density_from_below(std::size_t lo, std::size_t hi);
+  template <bool fourtakas>
+  void density_within(std::size_t lo, std::size_t hi);
+  void density_from_walls(std::size_t lo, std::size_t hi);
   void update_densities(double dt);
   void update_boundary_densities(double dt);
   void extrapolate_boundary_densities();
   void accelerations();
   template <bool grad>
   void fluid_accelerations();
+  template <bool grad>
+  void forces_from_below(std::size_t lo, std::size_t hi);
+  template <bool grad>
+  void forces_within(std::size_t lo, std::size_t hi);
+  template <bool grad>
+  void finish_accelerations(std::size_t lo, std::size_t hi);
+  DensityPairConstants density_constants() const;
+  ForcePairConstants force_constants() const;
+  DensityPoint density_point(std::size_t i) const {
+    return {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.gx[i], f_.gy[i]};
+  }
+  ForcePoint force_point(std::size_t i) const { return {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.p[i]}; }
   void gather_boundary_forces(std::span<double> fx, std::span<double> fy) const;
 
   FluidParameters par_;

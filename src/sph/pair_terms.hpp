@@ -1,0 +1,99 @@
+#pragma once
+// A fluid pair's terms in the two passes of sph::Fluid (DESIGN.md §13), from the kernels of
+// kernels.hpp: pure functions of the two particles' values. Each pair is evaluated once
+// (a = the lower index, b = the higher) and its terms added to both particles: the
+// continuity term and the gradient products are symmetric, the diffusion and the
+// acceleration antisymmetric, exactly (the same values negated), so that a and b get what
+// evaluating the pair from either side would give.
+#include "sph/kernels.hpp"
+
+namespace dsdem::sph {
+
+// One particle's values read by the density pass.
+struct DensityPoint {
+  double x, y, vx, vy, rho, gx, gy;
+};
+struct DensityPairConstants {
+  double inv_h, grad_c, mass, delta_h_c0, gx, gy, rho0, c0;
+};
+// F (grad_a W_ab = F r_ab), the continuity term c = m F v_ab . r_ab (drho_a/dt and drho_b/dt
+// both gain it) and the diffusion q without the other's volume (drho_a/dt gains q V_b,
+// drho_b/dt loses q V_a). Fourtakas et al. (2019) eq. 13, or delta-SPH (Antuono et al. 2010)
+// with the renormalised gradients gx, gy. Beyond the support every term is 0.
+struct DensityPairTerms {
+  double f, c, q;
+};
+template <bool fourtakas>
+inline DensityPairTerms density_pair(const DensityPairConstants& k, const DensityPoint& a, const DensityPoint& b) {
+  const double dx = a.x - b.x, dy = a.y - b.y;
+  DensityPairTerms t;
+  t.f = wendland_gradient_factor(dx * dx + dy * dy, k.inv_h, k.grad_c);
+  t.c = k.mass * t.f * ((a.vx - b.vx) * dx + (a.vy - b.vy) * dy);
+  if constexpr (fourtakas) {
+    const double rho_h = hydrostatic_density_difference(-(k.gx * dx + k.gy * dy), a.rho, b.rho, k.rho0, k.c0);
+    t.q = density_diffusion(k.delta_h_c0, t.f, b.rho - a.rho - rho_h, 1.0);
+  } else {
+    t.q = density_diffusion(k.delta_h_c0, t.f, b.rho - a.rho, 1.0) +
+          density_gradient_correction(k.delta_h_c0, t.f, -((a.gx + b.gx) * dx + (a.gy + b.gy) * dy), 1.0);
+  }
+  return t;
+}
+
+// One particle's values read by the force pass.
+struct ForcePoint {
+  double x, y, vx, vy, rho, p;
+};
+struct ForcePairConstants {
+  double h, alpha_c, mass;
+};
+// With the pair's F: a's acceleration from b (pressure and artificial viscosity; b's is
+// minus it) and the renormalised gradient's products F r r^T and (rho_b - rho_a) F r, the
+// same for both (each weighted by the other's volume: M = -sum V F r r^T, sum V (rho_j -
+// rho_i) F r; Marrone et al. 2011).
+struct ForcePairTerms {
+  double ax = 0.0, ay = 0.0, xx = 0.0, xy = 0.0, yy = 0.0, sx = 0.0, sy = 0.0;
+};
+template <bool grad>
+inline ForcePairTerms force_pair(const ForcePairConstants& k, const ForcePoint& a, const ForcePoint& b, double f) {
+  const double dx = a.x - b.x, dy = a.y - b.y;
+  const double visc =
+      artificial_viscosity((a.vx - b.vx) * dx + (a.vy - b.vy) * dy, dx * dx + dy * dy, a.rho, b.rho, k.h, k.alpha_c);
+  const double coef = -k.mass * (pressure_term(a.p, b.p, a.rho, b.rho) + visc) * f;
+  ForcePairTerms t;
+  t.ax = coef * dx;
+  t.ay = coef * dy;
+  if constexpr (grad) {
+    const double fdx = f * dx, fdy = f * dy, dr = b.rho - a.rho;
+    t.xx = fdx * dx;
+    t.xy = fdx * dy;
+    t.yy = fdy * dy;
+    t.sx = dr * fdx;
+    t.sy = dr * fdy;
+  }
+  return t;
+}
+
+// One particle's sums of the force pass: acceleration and the renormalised gradient's
+// matrix and right-hand side (one cache line, for the pair scatter).
+struct ForceSums {
+  double ax, ay, mxx, mxy, myy, sx, sy, pad;
+};
+// A pair's terms added to the lower particle's sums (sign +1) or the higher's (-1), the
+// gradient's products weighted by the other particle's volume.
+template <int sign>
+inline void add_pair(ForceSums& s, const ForcePairTerms& t, double v_other) {
+  if constexpr (sign > 0) {
+    s.ax += t.ax;
+    s.ay += t.ay;
+  } else {
+    s.ax -= t.ax;
+    s.ay -= t.ay;
+  }
+  s.mxx -= v_other * t.xx;
+  s.mxy -= v_other * t.xy;
+  s.myy -= v_other * t.yy;
+  s.sx += v_other * t.sx;
+  s.sy += v_other * t.sy;
+}
+
+}  // namespace dsdem::sph
