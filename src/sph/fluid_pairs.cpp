@@ -10,6 +10,7 @@
 #include <string>
 
 #include "sph/fluid.hpp"
+#include "sph/pair_lanes.hpp"
 #include "sph/pair_terms.hpp"
 
 namespace dsdem::sph {
@@ -18,6 +19,24 @@ namespace {
 // Below this determinant of the renormalisation matrix (1 for a full kernel) a particle is
 // too isolated for a density gradient; it gets none.
 constexpr double kRenormalisationDeterminant = 0.1;
+
+// Lane l of four pairs' force terms added to the lower particle's sums (sign +1) or the
+// higher's (-1): add_pair() with the products by the other's volume formed in the lanes.
+template <int sign>
+inline void add_lane(ForceSums& s, const ForceLanes& t, std::size_t l, const double (&w)[5][4]) {
+  if constexpr (sign > 0) {
+    s.ax += t.ax[l];
+    s.ay += t.ay[l];
+  } else {
+    s.ax -= t.ax[l];
+    s.ay -= t.ay[l];
+  }
+  s.mxx -= w[0][l];
+  s.mxy -= w[1][l];
+  s.myy -= w[2][l];
+  s.sx += w[3][l];
+  s.sy += w[4][l];
+}
 }  // namespace
 
 // The Verlet lists from the current positions and cell lists (after update_cells()): the
@@ -125,6 +144,10 @@ void Fluid::fluid_density_rates() {
 // them to its own particles): they come first in ascending partner order.
 template <bool fourtakas>
 void Fluid::density_from_below(std::size_t lo, std::size_t hi) {
+  if (lo == 0) {  // the first block: no partner below it
+    std::fill(f_.drho.begin(), f_.drho.begin() + static_cast<std::ptrdiff_t>(hi), 0.0);
+    return;
+  }
   const DensityPairConstants k = density_constants();
   const double s2 = support2_;
   const std::size_t cap = neighbour_capacity_;
@@ -147,14 +170,19 @@ void Fluid::density_from_below(std::size_t lo, std::size_t hi) {
 
 // Each pair within the block once, added to both; the partners above it to i alone. The
 // partners within the support (first picked out without a branch) are kept with their F
-// for the force pass (the same positions).
+// for the force pass (the same positions). Four pairs' terms at a time (pair_lanes.hpp),
+// added in order.
 template <bool fourtakas>
 void Fluid::density_within(std::size_t lo, std::size_t hi) {
   const DensityPairConstants k = density_constants();
+  const bool avx2 = pair_lanes_avx2();
   const double s2 = support2_;
   const std::size_t cap = neighbour_capacity_;
-  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvol = f_.vol.data();
+  const DensityArrays arrays{f_.x.data(),   f_.y.data(),  f_.vx.data(), f_.vy.data(),
+                             f_.rho.data(), f_.gx.data(), f_.gy.data(), f_.vol.data()};
+  const double *fx = f_.x.data(), *fy = f_.y.data();
   double* drho = f_.drho.data();
+  DensityLanes lanes;
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list = vl_j_.data() + i * cap;
     std::int32_t* list_j = nb_j_.data() + i * cap;
@@ -169,15 +197,24 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
       count += dx * dx + dy * dy < s2 ? 1 : 0;
     }
     nb_n_[i] = static_cast<std::int32_t>(count);
-    const double vi = fvol[i];
+    const double vi = f_.vol[i];
     const DensityPoint pi = density_point(i);
     double sum = drho[i];
-    for (std::size_t m = 0; m < count; ++m) {
-      const auto j = static_cast<std::size_t>(list_j[m]);
-      const DensityPairTerms t = density_pair<fourtakas>(k, pi, density_point(j));
-      list_f[m] = t.f;
-      sum += t.c + t.q * fvol[j];
-      if (j < hi) drho[j] += t.c - t.q * vi;
+    for (std::size_t m = 0; m < count; m += 4) {
+      const std::size_t w = std::min<std::size_t>(4, count - m);
+      // The last group padded with its first partner (terms computed, not added).
+      std::int32_t js[4];
+      for (std::size_t l = 0; l < 4; ++l) js[l] = list_j[m + (l < w ? l : 0)];
+      if (avx2)
+        density_lanes_avx2<fourtakas>(k, pi, vi, arrays, js, lanes);
+      else
+        density_lanes_scalar<fourtakas>(k, pi, vi, arrays, js, lanes);
+      for (std::size_t l = 0; l < w; ++l) {
+        const auto j = static_cast<std::size_t>(js[l]);
+        list_f[m + l] = lanes.f[l];
+        sum += lanes.ti[l];
+        if (j < hi) drho[j] += lanes.tj[l];
+      }
     }
     drho[i] = sum;
   }
@@ -234,6 +271,10 @@ void Fluid::fluid_accelerations() {
 // recomputed: the same bits; 0 beyond the support).
 template <bool grad>
 void Fluid::forces_from_below(std::size_t lo, std::size_t hi) {
+  if (lo == 0) {  // the first block: no partner below it
+    std::fill(sums_.begin(), sums_.begin() + static_cast<std::ptrdiff_t>(hi), ForceSums{});
+    return;
+  }
   const ForcePairConstants k = force_constants();
   const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const std::size_t cap = neighbour_capacity_;
@@ -254,25 +295,40 @@ void Fluid::forces_from_below(std::size_t lo, std::size_t hi) {
   }
 }
 
-// The pairs found by the density pass at these positions, each once.
+// The pairs found by the density pass at these positions, each once, four at a time
+// (pair_lanes.hpp) and added in order: i's sums and j's as add_pair<1> and add_pair<-1>.
 template <bool grad>
 void Fluid::forces_within(std::size_t lo, std::size_t hi) {
   const ForcePairConstants k = force_constants();
+  const bool avx2 = pair_lanes_avx2();
   const std::size_t cap = neighbour_capacity_;
-  const double* fvol = f_.vol.data();
+  const ForceArrays arrays{f_.x.data(), f_.y.data(), f_.vx.data(), f_.vy.data(), f_.rho.data(), f_.p.data(), f_.vol.data()};
   ForceSums* sums = sums_.data();
+  ForceLanes lanes;
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list_j = nb_j_.data() + i * cap;
     const double* list_f = nb_f_.data() + i * cap;
     const auto count = static_cast<std::size_t>(nb_n_[i]);
-    const double vi = fvol[i];
+    const double vi = f_.vol[i];
     const ForcePoint pi = force_point(i);
     ForceSums s = sums[i];
-    for (std::size_t m = 0; m < count; ++m) {
-      const auto j = static_cast<std::size_t>(list_j[m]);
-      const ForcePairTerms t = force_pair<grad>(k, pi, force_point(j), list_f[m]);
-      add_pair<1>(s, t, fvol[j]);
-      if (j < hi) add_pair<-1>(sums[j], t, vi);
+    for (std::size_t m = 0; m < count; m += 4) {
+      const std::size_t w = std::min<std::size_t>(4, count - m);
+      std::int32_t js[4];
+      double fs[4];
+      for (std::size_t l = 0; l < 4; ++l) {
+        js[l] = list_j[m + (l < w ? l : 0)];
+        fs[l] = list_f[m + (l < w ? l : 0)];
+      }
+      if (avx2)
+        force_lanes_avx2<grad>(k, pi, vi, arrays, js, fs, lanes);
+      else
+        force_lanes_scalar<grad>(k, pi, vi, arrays, js, fs, lanes);
+      for (std::size_t l = 0; l < w; ++l) {
+        const auto j = static_cast<std::size_t>(js[l]);
+        add_lane<1>(s, lanes, l, lanes.wi);
+        if (j < hi) add_lane<-1>(sums[j], lanes, l, lanes.wj);
+      }
     }
     sums[i] = s;
   }
