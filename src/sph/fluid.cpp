@@ -45,7 +45,6 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   const std::size_t n = f_.size();
   vl_j_.resize(n * neighbour_capacity_);
   vl_n_.resize(n);
-  vl_split_.resize(n);
   vl_x_.resize(n);
   vl_y_.resize(n);
   nb_j_.resize(n * neighbour_capacity_);

@@ -9,11 +9,10 @@
 // The pressure waves (rho from v, v from rho) are then integrated by the Stormer-Verlet
 // scheme, stable for dt below the acoustic limit, in the same kick-drift-kick order as the
 // solid's integrator, so that a coupled step can run the two side by side.
-// Each fluid pair is evaluated once and its terms added to both particles; every particle's
-// sums run over its partners in ascending index (a fixed-order scatter within each
-// thread's block, the pairs across blocks evaluated from both sides), and the walls' terms
-// are a gather: the same bits for any thread count. Nothing allocates in the time loop
-// once the grid stopped growing.
+// Each particle gathers its sums over its fluid partners within the support, picked out of
+// a Verlet list (support plus a skin) in ascending index and summed in a fixed order
+// (pair_lanes.hpp), and over the walls: the same bits for any thread count and whenever the
+// lists were built. Nothing allocates in the time loop once the grid stopped growing.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -149,8 +148,6 @@ class Fluid {
   template <bool fourtakas>
   void fluid_density_rates();
   template <bool fourtakas>
-  void density_from_below(std::size_t lo, std::size_t hi);
-  template <bool fourtakas>
   void density_within(std::size_t lo, std::size_t hi);
   void density_from_walls(std::size_t lo, std::size_t hi);
   void update_densities(double dt);
@@ -159,8 +156,6 @@ class Fluid {
   void accelerations();
   template <bool grad>
   void fluid_accelerations();
-  template <bool grad>
-  void forces_from_below(std::size_t lo, std::size_t hi);
   template <bool grad>
   void forces_within(std::size_t lo, std::size_t hi);
   template <bool grad>
@@ -187,16 +182,15 @@ class Fluid {
   double v_max_ = 0.0, a_max_ = 0.0;
   double damping_rate_ = 0.0;
   // Each fluid particle's Verlet list: the fluid particles within the support plus a skin
-  // at the last rebuild, ascending (vl_split_: the first above the particle itself),
-  // neighbour_capacity_ slots per particle, vl_n_ used. Rebuilt after every re-sort and
-  // when a particle moved half the skin from vl_x_, vl_y_. The sums run over partners in
-  // ascending index whatever the list holds beyond the support (those add exact zeros), so
-  // the results do not depend on when the lists were rebuilt.
+  // at the last rebuild, ascending, neighbour_capacity_ slots per particle, vl_n_ used.
+  // Rebuilt after every re-sort and when a particle moved half the skin from vl_x_, vl_y_.
+  // The sums run over the partners within the support whatever the list holds beyond it,
+  // so the results do not depend on when the lists were rebuilt.
   std::size_t neighbour_capacity_ = 0;
-  std::vector<std::int32_t> vl_j_, vl_n_, vl_split_;
+  std::vector<std::int32_t> vl_j_, vl_n_;
   std::vector<double> vl_x_, vl_y_;
-  // The partners above each particle within the support and their gradient factors F,
-  // found by the density pass and read by the force pass (the same positions).
+  // Each particle's partners within the support and their gradient factors F, found by
+  // the density pass and read by the force pass (the same positions).
   std::vector<std::int32_t> nb_j_, nb_n_;
   std::vector<double> nb_f_;
   std::vector<ForceSums> sums_;

@@ -1,9 +1,8 @@
 // sph::Fluid's pair passes (DESIGN.md §13): the neighbour lists, the density rates and the
-// accelerations. Each fluid pair is evaluated once (pair_terms.hpp). Every particle's sums
-// run over its partners in ascending index: the partners below its thread's block first
-// (evaluated from this side, *_from_below), then a fixed-order scatter within the block
-// (*_within): the same bits for any thread count, and whatever the lists hold beyond the
-// support, so for any time the lists were built at.
+// accelerations. Each particle gathers its sums over the fluid partners within the support,
+// picked out of its Verlet list in ascending index (pair_lanes.hpp sums them four pairs at a
+// time in a fixed order): the same bits for any thread count, and whatever the lists hold
+// beyond the support, so for any time the lists were built at.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -11,7 +10,6 @@
 
 #include "sph/fluid.hpp"
 #include "sph/pair_lanes.hpp"
-#include "sph/pair_terms.hpp"
 
 namespace dsdem::sph {
 
@@ -20,23 +18,6 @@ namespace {
 // too isolated for a density gradient; it gets none.
 constexpr double kRenormalisationDeterminant = 0.1;
 
-// Lane l of four pairs' force terms added to the lower particle's sums (sign +1) or the
-// higher's (-1): add_pair() with the products by the other's volume formed in the lanes.
-template <int sign>
-inline void add_lane(ForceSums& s, const ForceLanes& t, std::size_t l, const double (&w)[5][4]) {
-  if constexpr (sign > 0) {
-    s.ax += t.ax[l];
-    s.ay += t.ay[l];
-  } else {
-    s.ax -= t.ax[l];
-    s.ay -= t.ay[l];
-  }
-  s.mxx -= w[0][l];
-  s.mxy -= w[1][l];
-  s.myy -= w[2][l];
-  s.sx += w[3][l];
-  s.sy += w[4][l];
-}
 }  // namespace
 
 // The Verlet lists from the current positions and cell lists (after update_cells()): the
@@ -61,13 +42,9 @@ void Fluid::rebuild_neighbour_lists() {
       }
     });
     vl_n_[i] = static_cast<std::int32_t>(count);
-    if (count <= cap) {
-      // Ascending already right after a re-sort (the cells in index order, rows bottom
-      // first, as for_each_range walks them).
-      if (!std::is_sorted(list, list + count)) std::sort(list, list + count);
-      const std::int32_t* above = std::upper_bound(list, list + count, static_cast<std::int32_t>(i));
-      vl_split_[i] = static_cast<std::int32_t>(above - list);
-    }
+    // Ascending already right after a re-sort (the cells in index order, rows bottom first,
+    // as for_each_range walks them).
+    if (count <= cap && !std::is_sorted(list, list + count)) std::sort(list, list + count);
     vl_x_[i] = xi;
     vl_y_[i] = yi;
   });
@@ -128,50 +105,19 @@ void Fluid::density_rates() {
   });
 }
 
-// The fluid's rates. A fluid pair i < j gives drho_i/dt c + q V_j and drho_j/dt c - q V_i.
+// The fluid's rates: each particle's own gather, in blocks of indices.
 template <bool fourtakas>
 void Fluid::fluid_density_rates() {
   const std::size_t n = f_.size(), blocks = chunks();
   exec::parallel_for(team_, blocks, [&](std::size_t t) {
     const std::size_t lo = n * t / blocks, hi = n * (t + 1) / blocks;
-    density_from_below<fourtakas>(lo, hi);
     density_within<fourtakas>(lo, hi);
     density_from_walls(lo, hi);
   });
 }
 
-// The pairs with a partner below the block [lo, hi), from this side (the block below adds
-// them to its own particles): they come first in ascending partner order.
-template <bool fourtakas>
-void Fluid::density_from_below(std::size_t lo, std::size_t hi) {
-  if (lo == 0) {  // the first block: no partner below it
-    std::fill(f_.drho.begin(), f_.drho.begin() + static_cast<std::ptrdiff_t>(hi), 0.0);
-    return;
-  }
-  const DensityPairConstants k = density_constants();
-  const double s2 = support2_;
-  const std::size_t cap = neighbour_capacity_;
-  for (std::size_t i = lo; i < hi; ++i) {
-    const std::int32_t* list = vl_j_.data() + i * cap;
-    const auto split = static_cast<std::size_t>(vl_split_[i]);
-    const DensityPoint pi = density_point(i);
-    double sum = 0.0;
-    for (std::size_t s = 0; s < split; ++s) {
-      const auto j = static_cast<std::size_t>(list[s]);
-      if (j >= lo) break;
-      const double dx = f_.x[j] - pi.x, dy = f_.y[j] - pi.y;
-      if (dx * dx + dy * dy >= s2) continue;
-      const DensityPairTerms t = density_pair<fourtakas>(k, density_point(j), pi);
-      sum += t.c - t.q * f_.vol[j];
-    }
-    f_.drho[i] = sum;
-  }
-}
-
-// Each pair within the block once, added to both; the partners above it to i alone. The
-// partners within the support (first picked out without a branch) are kept with their F
-// for the force pass (the same positions). Four pairs' terms at a time (pair_lanes.hpp),
-// added in order.
+// Each particle's partners within the support (picked out without a branch), kept with
+// their F for the force pass (the same positions), and its continuity and diffusion sum.
 template <bool fourtakas>
 void Fluid::density_within(std::size_t lo, std::size_t hi) {
   const DensityPairConstants k = density_constants();
@@ -181,8 +127,6 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
   const DensityArrays arrays{f_.x.data(),   f_.y.data(),  f_.vx.data(), f_.vy.data(),
                              f_.rho.data(), f_.gx.data(), f_.gy.data(), f_.vol.data()};
   const double *fx = f_.x.data(), *fy = f_.y.data();
-  double* drho = f_.drho.data();
-  DensityLanes lanes;
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list = vl_j_.data() + i * cap;
     std::int32_t* list_j = nb_j_.data() + i * cap;
@@ -190,33 +134,16 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
     const auto end = static_cast<std::size_t>(vl_n_[i]);
     const double xi = fx[i], yi = fy[i];
     std::size_t count = 0;
-    for (auto s = static_cast<std::size_t>(vl_split_[i]); s < end; ++s) {
+    for (std::size_t s = 0; s < end; ++s) {
       const std::int32_t j = list[s];
       const double dx = xi - fx[j], dy = yi - fy[j];
       list_j[count] = j;
       count += dx * dx + dy * dy < s2 ? 1 : 0;
     }
     nb_n_[i] = static_cast<std::int32_t>(count);
-    const double vi = f_.vol[i];
     const DensityPoint pi = density_point(i);
-    double sum = drho[i];
-    for (std::size_t m = 0; m < count; m += 4) {
-      const std::size_t w = std::min<std::size_t>(4, count - m);
-      // The last group padded with its first partner (terms computed, not added).
-      std::int32_t js[4];
-      for (std::size_t l = 0; l < 4; ++l) js[l] = list_j[m + (l < w ? l : 0)];
-      if (avx2)
-        density_lanes_avx2<fourtakas>(k, pi, vi, arrays, js, lanes);
-      else
-        density_lanes_scalar<fourtakas>(k, pi, vi, arrays, js, lanes);
-      for (std::size_t l = 0; l < w; ++l) {
-        const auto j = static_cast<std::size_t>(js[l]);
-        list_f[m + l] = lanes.f[l];
-        sum += lanes.ti[l];
-        if (j < hi) drho[j] += lanes.tj[l];
-      }
-    }
-    drho[i] = sum;
+    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, arrays, list_j, count, list_f)
+                      : density_sum_scalar<fourtakas>(k, pi, arrays, list_j, count, list_f);
   }
 }
 
@@ -245,9 +172,8 @@ void Fluid::density_from_walls(std::size_t lo, std::size_t hi) {
   }
 }
 
-// The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity. A
-// fluid pair's pressure and viscous terms are equal and opposite; the renormalised density
-// gradient's sums take the same pair products with the other particle's volume.
+// The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity, and the
+// renormalised density gradient's sums.
 void Fluid::accelerations() {
   if (par_.diffusion == DensityDiffusion::DeltaSph)
     fluid_accelerations<true>();
@@ -260,77 +186,26 @@ void Fluid::fluid_accelerations() {
   const std::size_t n = f_.size(), blocks = chunks();
   exec::parallel_for(team_, blocks, [&](std::size_t t) {
     const std::size_t lo = n * t / blocks, hi = n * (t + 1) / blocks;
-    forces_from_below<grad>(lo, hi);
     forces_within<grad>(lo, hi);
     finish_accelerations<grad>(lo, hi);
   });
 }
 
 
-// The pairs with a partner below the block, from this side, as in density_from_below() (F
-// recomputed: the same bits; 0 beyond the support).
-template <bool grad>
-void Fluid::forces_from_below(std::size_t lo, std::size_t hi) {
-  if (lo == 0) {  // the first block: no partner below it
-    std::fill(sums_.begin(), sums_.begin() + static_cast<std::ptrdiff_t>(hi), ForceSums{});
-    return;
-  }
-  const ForcePairConstants k = force_constants();
-  const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
-  const std::size_t cap = neighbour_capacity_;
-  for (std::size_t i = lo; i < hi; ++i) {
-    const std::int32_t* list = vl_j_.data() + i * cap;
-    const auto split = static_cast<std::size_t>(vl_split_[i]);
-    const ForcePoint pi = force_point(i);
-    ForceSums s{};
-    for (std::size_t m = 0; m < split; ++m) {
-      const auto j = static_cast<std::size_t>(list[m]);
-      if (j >= lo) break;
-      const ForcePoint pj = force_point(j);
-      const double dx = pj.x - pi.x, dy = pj.y - pi.y;
-      if (dx * dx + dy * dy >= s2) continue;
-      add_pair<-1>(s, force_pair<grad>(k, pj, pi, wendland_gradient_factor(dx * dx + dy * dy, inv_h, gc)), f_.vol[j]);
-    }
-    sums_[i] = s;
-  }
-}
-
-// The pairs found by the density pass at these positions, each once, four at a time
-// (pair_lanes.hpp) and added in order: i's sums and j's as add_pair<1> and add_pair<-1>.
+// Each particle's sums over the partners found by the density pass at these positions.
 template <bool grad>
 void Fluid::forces_within(std::size_t lo, std::size_t hi) {
   const ForcePairConstants k = force_constants();
   const bool avx2 = pair_lanes_avx2();
   const std::size_t cap = neighbour_capacity_;
   const ForceArrays arrays{f_.x.data(), f_.y.data(), f_.vx.data(), f_.vy.data(), f_.rho.data(), f_.p.data(), f_.vol.data()};
-  ForceSums* sums = sums_.data();
-  ForceLanes lanes;
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list_j = nb_j_.data() + i * cap;
     const double* list_f = nb_f_.data() + i * cap;
     const auto count = static_cast<std::size_t>(nb_n_[i]);
-    const double vi = f_.vol[i];
     const ForcePoint pi = force_point(i);
-    ForceSums s = sums[i];
-    for (std::size_t m = 0; m < count; m += 4) {
-      const std::size_t w = std::min<std::size_t>(4, count - m);
-      std::int32_t js[4];
-      double fs[4];
-      for (std::size_t l = 0; l < 4; ++l) {
-        js[l] = list_j[m + (l < w ? l : 0)];
-        fs[l] = list_f[m + (l < w ? l : 0)];
-      }
-      if (avx2)
-        force_lanes_avx2<grad>(k, pi, vi, arrays, js, fs, lanes);
-      else
-        force_lanes_scalar<grad>(k, pi, vi, arrays, js, fs, lanes);
-      for (std::size_t l = 0; l < w; ++l) {
-        const auto j = static_cast<std::size_t>(js[l]);
-        add_lane<1>(s, lanes, l, lanes.wi);
-        if (j < hi) add_lane<-1>(sums[j], lanes, l, lanes.wj);
-      }
-    }
-    sums[i] = s;
+    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, arrays, list_j, list_f, count)
+                    : force_sum_scalar<grad>(k, pi, arrays, list_j, list_f, count);
   }
 }
 

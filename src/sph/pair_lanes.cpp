@@ -9,34 +9,49 @@ bool pair_lanes_avx2() {
   return avx2;
 }
 
+namespace {
+// The four lanes' sums, added in the fixed order.
+inline double reduce(const double (&s)[4]) { return (s[0] + s[2]) + (s[1] + s[3]); }
+}  // namespace
+
+// The reference: lane l = pair m + l of each group of four; a group's missing pairs add 0.
 template <bool fourtakas>
-void density_lanes_scalar(const DensityPairConstants& k, const DensityPoint& pi, double vi, const DensityArrays& a,
-                          const std::int32_t* js, DensityLanes& out) {
-  for (int l = 0; l < 4; ++l) {
-    const auto j = static_cast<std::size_t>(js[l]);
-    const DensityPairTerms t =
-        density_pair<fourtakas>(k, pi, DensityPoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.gx[j], a.gy[j]});
-    out.f[l] = t.f;
-    out.ti[l] = t.c + t.q * a.vol[j];
-    out.tj[l] = t.c - t.q * vi;
-  }
+double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                          const std::int32_t* js, std::size_t n, double* f) {
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  for (std::size_t m = 0; m < n; m += 4)
+    for (std::size_t l = 0; l < 4; ++l) {
+      if (m + l >= n) {
+        s[l] += 0.0;
+        continue;
+      }
+      const auto j = static_cast<std::size_t>(js[m + l]);
+      const DensityPairTerms t =
+          density_pair<fourtakas>(k, pi, DensityPoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.gx[j], a.gy[j]});
+      f[m + l] = t.f;
+      s[l] += t.c + t.q * a.vol[j];
+    }
+  return reduce(s);
 }
 
 template <bool grad>
-void force_lanes_scalar(const ForcePairConstants& k, const ForcePoint& pi, double vi, const ForceArrays& a,
-                        const std::int32_t* js, const double* f, ForceLanes& out) {
-  for (int l = 0; l < 4; ++l) {
-    const auto j = static_cast<std::size_t>(js[l]);
-    const ForcePairTerms t = force_pair<grad>(k, pi, ForcePoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.p[j]}, f[l]);
-    const double vj = a.vol[j];
-    out.ax[l] = t.ax;
-    out.ay[l] = t.ay;
-    const double w[5] = {t.xx, t.xy, t.yy, t.sx, t.sy};
-    for (int c = 0; c < 5; ++c) {
-      out.wi[c][l] = vj * w[c];
-      out.wj[c][l] = vi * w[c];
+ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                           const std::int32_t* js, const double* f, std::size_t n) {
+  double s[7][4] = {};
+  for (std::size_t m = 0; m < n; m += 4)
+    for (std::size_t l = 0; l < 4; ++l) {
+      if (m + l >= n) {
+        for (auto& c : s) c[l] += 0.0;
+        continue;
+      }
+      const auto j = static_cast<std::size_t>(js[m + l]);
+      const ForcePairTerms t =
+          force_pair<grad>(k, pi, ForcePoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.p[j]}, f[m + l]);
+      const double v = a.vol[j];
+      const double terms[7] = {t.ax, t.ay, v * t.xx, v * t.xy, v * t.yy, v * t.sx, v * t.sy};
+      for (int c = 0; c < 7; ++c) s[c][l] += terms[c];
     }
-  }
+  return {reduce(s[0]), reduce(s[1]), -reduce(s[2]), -reduce(s[3]), -reduce(s[4]), reduce(s[5]), reduce(s[6]), 0.0};
 }
 
 // The AVX2 lanes: each line the scalar kernel's operation, in its order (kernels.hpp). AVX2
@@ -52,26 +67,40 @@ DSDEM_LANES V gather(const double* a, const std::int32_t* js) { return _mm256_se
 DSDEM_LANES V add(V a, V b) { return _mm256_add_pd(a, b); }
 DSDEM_LANES V sub(V a, V b) { return _mm256_sub_pd(a, b); }
 DSDEM_LANES V mul(V a, V b) { return _mm256_mul_pd(a, b); }
-DSDEM_LANES V div(V a, V b) { return _mm256_div_pd(a, b); }
+DSDEM_LANES V vdiv(V a, V b) { return _mm256_div_pd(a, b); }
 DSDEM_LANES V neg(V a) { return _mm256_xor_pd(a, all(-0.0)); }
-DSDEM_LANES V abs(V a) { return _mm256_andnot_pd(all(-0.0), a); }
+DSDEM_LANES V vabs(V a) { return _mm256_andnot_pd(all(-0.0), a); }
+DSDEM_LANES double reduce(V s) {
+  double x[4];
+  _mm256_storeu_pd(x, s);
+  return (x[0] + x[2]) + (x[1] + x[3]);
+}
 
 // wendland_gradient_factor: q = sqrt(r2) / h, t = 1 - q/2, u = max(t, 0), c u^3.
 DSDEM_LANES V gradient_factor(V r2, double inv_h, double c) {
   const V q = mul(_mm256_sqrt_pd(r2), all(inv_h));
   const V t = sub(all(1.0), mul(all(0.5), q));
-  const V u = mul(all(0.5), add(t, abs(t)));
+  const V u = mul(all(0.5), add(t, vabs(t)));
   return mul(mul(mul(all(c), u), u), u);
 }
-}  // namespace
 
+// A group of w < 4 pairs: its indices padded with the first (terms computed, masked to 0).
+struct Group {
+  std::int32_t js[4];
+  V mask;
+  Group(const std::int32_t* js0, std::size_t w) {
+    for (std::size_t l = 0; l < 4; ++l) js[l] = js0[l < w ? l : 0];
+    mask = _mm256_castsi256_pd(_mm256_set_epi64x(w > 3 ? -1 : 0, w > 2 ? -1 : 0, w > 1 ? -1 : 0, -1));
+  }
+};
+
+// density_pair's c + q V_j for the four pairs (i, js[l]); f: their F.
 template <bool fourtakas>
-void density_lanes_avx2(const DensityPairConstants& k, const DensityPoint& pi,
-                                                        double vi, const DensityArrays& a, const std::int32_t* js,
-                                                        DensityLanes& out) {
+DSDEM_LANES V density_terms(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                            const std::int32_t* js, V& f) {
   const V dx = sub(all(pi.x), gather(a.x, js)), dy = sub(all(pi.y), gather(a.y, js));
   const V rho_j = gather(a.rho, js);
-  const V f = gradient_factor(add(mul(dx, dx), mul(dy, dy)), k.inv_h, k.grad_c);
+  f = gradient_factor(add(mul(dx, dx), mul(dy, dy)), k.inv_h, k.grad_c);
   const V vr = add(mul(sub(all(pi.vx), gather(a.vx, js)), dx), mul(sub(all(pi.vy), gather(a.vy, js)), dy));
   const V c = mul(mul(all(k.mass), f), vr);
   const V diffusion = mul(all(-2.0 * k.delta_h_c0), f);  // density_diffusion without its rho difference
@@ -80,70 +109,99 @@ void density_lanes_avx2(const DensityPairConstants& k, const DensityPoint& pi,
     // hydrostatic_density_difference(-(g . r), rho_i, rho_j): rho g.r_ji / (c0^2 (rho/rho0)^6).
     const V g_dot = neg(add(mul(all(k.gx), dx), mul(all(k.gy), dy)));
     const V rho = mul(all(0.5), add(all(pi.rho), rho_j));
-    const V r = div(rho, all(k.rho0));
+    const V r = vdiv(rho, all(k.rho0));
     const V r2 = mul(r, r);
-    const V rho_h = div(mul(rho, g_dot), mul(mul(mul(all(k.c0 * k.c0), r2), r2), r2));
+    const V rho_h = vdiv(mul(rho, g_dot), mul(mul(mul(all(k.c0 * k.c0), r2), r2), r2));
     q = mul(diffusion, sub(sub(rho_j, all(pi.rho)), rho_h));
   } else {
-    const V gsum =
-        neg(add(mul(add(all(pi.gx), gather(a.gx, js)), dx), mul(add(all(pi.gy), gather(a.gy, js)), dy)));
+    const V gsum = neg(add(mul(add(all(pi.gx), gather(a.gx, js)), dx), mul(add(all(pi.gy), gather(a.gy, js)), dy)));
     q = add(mul(diffusion, sub(rho_j, all(pi.rho))), mul(mul(all(k.delta_h_c0), f), gsum));
   }
-  _mm256_storeu_pd(out.f, f);
-  _mm256_storeu_pd(out.ti, add(c, mul(q, gather(a.vol, js))));
-  _mm256_storeu_pd(out.tj, sub(c, mul(q, all(vi))));
+  return add(c, mul(q, gather(a.vol, js)));
 }
 
+// force_pair's terms for the four pairs (i, js[l]) with F f, into the seven lane sums (the
+// gradient's products times V_j).
 template <bool grad>
-void force_lanes_avx2(const ForcePairConstants& k, const ForcePoint& pi, double vi,
-                                                      const ForceArrays& a, const std::int32_t* js, const double* fp,
-                                                      ForceLanes& out) {
+DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                                 const std::int32_t* js, V f, V mask, V (&s)[7]) {
   const V dx = sub(all(pi.x), gather(a.x, js)), dy = sub(all(pi.y), gather(a.y, js));
-  const V rho_j = gather(a.rho, js), f = _mm256_loadu_pd(fp);
+  const V rho_j = gather(a.rho, js);
   const V vr = add(mul(sub(all(pi.vx), gather(a.vx, js)), dx), mul(sub(all(pi.vy), gather(a.vy, js)), dy));
   const V r2 = add(mul(dx, dx), mul(dy, dy));
   // artificial_viscosity: -2 alpha c h min(v.r, 0) / ((r^2 + 0.01 h^2) (rho_i + rho_j)).
-  const V visc = div(mul(all(-2.0 * k.alpha_c * k.h), mul(all(0.5), sub(vr, abs(vr)))),
-                     mul(add(r2, all(0.01 * k.h * k.h)), add(all(pi.rho), rho_j)));
-  const V pressure = div(add(all(pi.p), gather(a.p, js)), mul(all(pi.rho), rho_j));  // pressure_term
+  const V visc = vdiv(mul(all(-2.0 * k.alpha_c * k.h), mul(all(0.5), sub(vr, vabs(vr)))),
+                      mul(add(r2, all(0.01 * k.h * k.h)), add(all(pi.rho), rho_j)));
+  const V pressure = vdiv(add(all(pi.p), gather(a.p, js)), mul(all(pi.rho), rho_j));  // pressure_term
   const V coef = mul(mul(all(-k.mass), add(pressure, visc)), f);
-  _mm256_storeu_pd(out.ax, mul(coef, dx));
-  _mm256_storeu_pd(out.ay, mul(coef, dy));
-  const V vj = gather(a.vol, js), vi4 = all(vi);
-  V w[5];
+  V t[7] = {mul(coef, dx), mul(coef, dy), all(0.0), all(0.0), all(0.0), all(0.0), all(0.0)};
   if constexpr (grad) {
+    const V v = gather(a.vol, js);
     const V fdx = mul(f, dx), fdy = mul(f, dy), dr = sub(rho_j, all(pi.rho));
-    w[0] = mul(fdx, dx);
-    w[1] = mul(fdx, dy);
-    w[2] = mul(fdy, dy);
-    w[3] = mul(dr, fdx);
-    w[4] = mul(dr, fdy);
-  } else {
-    for (V& x : w) x = all(0.0);
+    t[2] = mul(v, mul(fdx, dx));
+    t[3] = mul(v, mul(fdx, dy));
+    t[4] = mul(v, mul(fdy, dy));
+    t[5] = mul(v, mul(dr, fdx));
+    t[6] = mul(v, mul(dr, fdy));
   }
-  for (int c = 0; c < 5; ++c) {
-    _mm256_storeu_pd(out.wi[c], mul(vj, w[c]));
-    _mm256_storeu_pd(out.wj[c], mul(vi4, w[c]));
-  }
+  for (int c = 0; c < 7; ++c) s[c] = add(s[c], _mm256_and_pd(t[c], mask));
 }
-template void density_lanes_avx2<true>(const DensityPairConstants&, const DensityPoint&, double, const DensityArrays&,
-                                       const std::int32_t*, DensityLanes&);
-template void density_lanes_avx2<false>(const DensityPairConstants&, const DensityPoint&, double, const DensityArrays&,
-                                        const std::int32_t*, DensityLanes&);
-template void force_lanes_avx2<true>(const ForcePairConstants&, const ForcePoint&, double, const ForceArrays&,
-                                     const std::int32_t*, const double*, ForceLanes&);
-template void force_lanes_avx2<false>(const ForcePairConstants&, const ForcePoint&, double, const ForceArrays&,
-                                      const std::int32_t*, const double*, ForceLanes&);
+}  // namespace
+
+template <bool fourtakas>
+double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                        const std::int32_t* js, std::size_t n, double* f) {
+  V s = all(0.0), fv;
+  std::size_t m = 0;
+  for (; m + 4 <= n; m += 4) {
+    s = add(s, density_terms<fourtakas>(k, pi, a, js + m, fv));
+    _mm256_storeu_pd(f + m, fv);
+  }
+  if (m < n) {
+    const Group g(js + m, n - m);
+    s = add(s, _mm256_and_pd(density_terms<fourtakas>(k, pi, a, g.js, fv), g.mask));
+    double fl[4];
+    _mm256_storeu_pd(fl, fv);
+    for (std::size_t l = 0; m + l < n; ++l) f[m + l] = fl[l];
+  }
+  return reduce(s);
+}
+
+template <bool grad>
+ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                         const std::int32_t* js, const double* f, std::size_t n) {
+  V s[7];
+  for (V& x : s) x = all(0.0);
+  const V every = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  std::size_t m = 0;
+  for (; m + 4 <= n; m += 4) add_force_terms<grad>(k, pi, a, js + m, _mm256_loadu_pd(f + m), every, s);
+  if (m < n) {
+    const Group g(js + m, n - m);
+    double fl[4];
+    for (std::size_t l = 0; l < 4; ++l) fl[l] = f[m + (m + l < n ? l : 0)];
+    add_force_terms<grad>(k, pi, a, g.js, _mm256_loadu_pd(fl), g.mask, s);
+  }
+  return {reduce(s[0]), reduce(s[1]), -reduce(s[2]), -reduce(s[3]), -reduce(s[4]), reduce(s[5]), reduce(s[6]), 0.0};
+}
+
+template double density_sum_avx2<true>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+                                       const std::int32_t*, std::size_t, double*);
+template double density_sum_avx2<false>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+                                        const std::int32_t*, std::size_t, double*);
+template ForceSums force_sum_avx2<true>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+                                        const std::int32_t*, const double*, std::size_t);
+template ForceSums force_sum_avx2<false>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+                                         const std::int32_t*, const double*, std::size_t);
 #undef DSDEM_LANES
 #pragma GCC pop_options
 
-template void density_lanes_scalar<true>(const DensityPairConstants&, const DensityPoint&, double,
-                                         const DensityArrays&, const std::int32_t*, DensityLanes&);
-template void density_lanes_scalar<false>(const DensityPairConstants&, const DensityPoint&, double,
-                                          const DensityArrays&, const std::int32_t*, DensityLanes&);
-template void force_lanes_scalar<true>(const ForcePairConstants&, const ForcePoint&, double, const ForceArrays&,
-                                       const std::int32_t*, const double*, ForceLanes&);
-template void force_lanes_scalar<false>(const ForcePairConstants&, const ForcePoint&, double, const ForceArrays&,
-                                        const std::int32_t*, const double*, ForceLanes&);
+template double density_sum_scalar<true>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+                                         const std::int32_t*, std::size_t, double*);
+template double density_sum_scalar<false>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+                                          const std::int32_t*, std::size_t, double*);
+template ForceSums force_sum_scalar<true>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+                                          const std::int32_t*, const double*, std::size_t);
+template ForceSums force_sum_scalar<false>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+                                           const std::int32_t*, const double*, std::size_t);
 
 }  // namespace dsdem::sph

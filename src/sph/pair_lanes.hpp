@@ -1,16 +1,19 @@
 #pragma once
-// Four fluid pairs (i, j_0..j_3) of sph::Fluid's pair passes at once (DESIGN.md §13): the
-// terms of pair_terms.hpp evaluated lane by lane with AVX2 where the CPU has it. Each lane
-// does the scalar kernels' operations in the same order (no fused multiply-add), so a lane
-// gives the scalar function's bits; the sums that take the terms stay scalar and in order.
-// The *_scalar functions are the reference (and the path without AVX2).
+// One fluid particle's sums over its partners (sph::Fluid's pair passes, DESIGN.md §13),
+// four pairs at a time: the terms of pair_terms.hpp evaluated lane by lane (AVX2 where the
+// CPU has it: each lane does the scalar kernels' operations in their order, without fused
+// multiply-adds) and summed in four lanes, lane l taking partners l, l + 4, l + 8, ... in
+// list order, the lanes then added as (s0 + s2) + (s1 + s3). The *_scalar functions do the
+// same in the same order: the same bits on any CPU. The sums depend only on the list
+// (the partners within the support, ascending), not on the thread count.
+#include <cstddef>
 #include <cstdint>
 
 #include "sph/pair_terms.hpp"
 
 namespace dsdem::sph {
 
-// The fluid's arrays read by the lanes.
+// The fluid's arrays read by the sums.
 struct DensityArrays {
   const double *x, *y, *vx, *vy, *rho, *gx, *gy, *vol;
 };
@@ -18,32 +21,25 @@ struct ForceArrays {
   const double *x, *y, *vx, *vy, *rho, *p, *vol;
 };
 
-// Pair l: F, drho_i/dt's term c + q V_j and drho_j/dt's term c - q V_i (density_pair).
-struct DensityLanes {
-  double f[4], ti[4], tj[4];
-};
-// Pair l: i's acceleration from j (j's is minus it) and the gradient's products F r r^T
-// (xx, xy, yy) and (rho_j - rho_i) F r (sx, sy) times V_j (wi, for i's sums) and times V_i
-// (wj, for j's), as add_pair() forms them.
-struct ForceLanes {
-  double ax[4], ay[4], wi[5][4], wj[5][4];
-};
-
 // True when the CPU runs the AVX2 lanes.
 bool pair_lanes_avx2();
 
+// drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j));
+// writes each pair's F to f[0..n) for the force pass.
 template <bool fourtakas>
-void density_lanes_scalar(const DensityPairConstants& k, const DensityPoint& pi, double vi, const DensityArrays& a,
-                          const std::int32_t* js, DensityLanes& out);
+double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                          const std::int32_t* js, std::size_t n, double* f);
 template <bool fourtakas>
-void density_lanes_avx2(const DensityPairConstants& k, const DensityPoint& pi, double vi, const DensityArrays& a,
-                        const std::int32_t* js, DensityLanes& out);
-// f: the pairs' gradient factors (from the density pass).
+double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                        const std::int32_t* js, std::size_t n, double* f);
+
+// i's force sums over the partners js[0..n) with their F: the accelerations of force_pair(i,
+// j), M = -sum V_j F r r^T and sum V_j (rho_j - rho_i) F r.
 template <bool grad>
-void force_lanes_scalar(const ForcePairConstants& k, const ForcePoint& pi, double vi, const ForceArrays& a,
-                        const std::int32_t* js, const double* f, ForceLanes& out);
+ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                           const std::int32_t* js, const double* f, std::size_t n);
 template <bool grad>
-void force_lanes_avx2(const ForcePairConstants& k, const ForcePoint& pi, double vi, const ForceArrays& a,
-                      const std::int32_t* js, const double* f, ForceLanes& out);
+ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                         const std::int32_t* js, const double* f, std::size_t n);
 
 }  // namespace dsdem::sph

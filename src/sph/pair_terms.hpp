@@ -1,10 +1,8 @@
 #pragma once
 // A fluid pair's terms in the two passes of sph::Fluid (DESIGN.md §13), from the kernels of
-// kernels.hpp: pure functions of the two particles' values. Each pair is evaluated once
-// (a = the lower index, b = the higher) and its terms added to both particles: the
-// continuity term and the gradient products are symmetric, the diffusion and the
-// acceleration antisymmetric, exactly (the same values negated), so that a and b get what
-// evaluating the pair from either side would give.
+// kernels.hpp: pure functions of the two particles' values (a = the particle whose sums take
+// them, b = its partner). Seen from b the terms are the same mirrored exactly: continuity
+// and the gradient products symmetric, diffusion and acceleration the same values negated.
 #include "sph/kernels.hpp"
 
 namespace dsdem::sph {
@@ -74,26 +72,8 @@ inline ForcePairTerms force_pair(const ForcePairConstants& k, const ForcePoint& 
 }
 
 // One particle's sums of the force pass: acceleration and the renormalised gradient's
-// matrix and right-hand side (one cache line, for the pair scatter).
+// matrix and right-hand side (one cache line).
 struct ForceSums {
   double ax, ay, mxx, mxy, myy, sx, sy, pad;
 };
-// A pair's terms added to the lower particle's sums (sign +1) or the higher's (-1), the
-// gradient's products weighted by the other particle's volume.
-template <int sign>
-inline void add_pair(ForceSums& s, const ForcePairTerms& t, double v_other) {
-  if constexpr (sign > 0) {
-    s.ax += t.ax;
-    s.ay += t.ay;
-  } else {
-    s.ax -= t.ax;
-    s.ay -= t.ay;
-  }
-  s.mxx -= v_other * t.xx;
-  s.mxy -= v_other * t.xy;
-  s.myy -= v_other * t.yy;
-  s.sx += v_other * t.sx;
-  s.sy += v_other * t.sy;
-}
-
 }  // namespace dsdem::sph

@@ -1,10 +1,12 @@
-// A fluid pair's terms (pair_terms.hpp) and four of them at once (pair_lanes.hpp): a pair
-// evaluated from either side gives the same terms mirrored exactly, which is what lets
-// sph::Fluid evaluate each pair once and add it to both particles; the AVX2 lanes give the
-// scalar functions' bits, so the water's results do not depend on the CPU.
+// A fluid pair's terms (pair_terms.hpp) and a particle's sums over its partners four pairs
+// at a time (pair_lanes.hpp): a pair evaluated from either side gives the same terms
+// mirrored exactly (equal and opposite forces); the sums are the pair terms' sums, and the
+// AVX2 lanes give the scalar functions' bits, so the water's results do not depend on the CPU.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <vector>
 #include <random>
 
 #include "sph/kernels.hpp"
@@ -64,7 +66,9 @@ void expect_density_pair_mirrored(const Cloud& c) {
       const DensityPairTerms t = density_pair<fourtakas>(density_constants(), c.density_point(b), c.density_point(a));
       // Equal values (==: beyond the support a 0 may come with either sign).
       EXPECT_TRUE(s.f == t.f && s.c == t.c && s.q == -t.q) << a << ", " << b;
-      if (s.f != 0.0) EXPECT_TRUE(same_bits(s.q, -t.q)) << a << ", " << b;
+      if (s.f != 0.0) {
+        EXPECT_TRUE(same_bits(s.q, -t.q)) << a << ", " << b;
+      }
       inside += s.f != 0.0 ? 1 : 0;
     }
   EXPECT_GT(inside, 100);
@@ -101,35 +105,64 @@ TEST(SphPairTerms, PairBeyondTheSupportAddsNothing) {
   EXPECT_EQ(t.q, 0.0);
 }
 
-// Many groups of four partners of one particle (some beyond the support, a padded group
-// repeating a partner), both density variants and both force variants: every output of the
-// AVX2 lanes equals the scalar reference's bit for bit.
-TEST(SphPairLanes, Avx2LanesGiveTheScalarBits) {
-  if (!pair_lanes_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+// A particle's sums over lists of 0 to 30 partners (some beyond the support, so groups of
+// four and a padded last group): the AVX2 lanes give the scalar reference's bits, and both
+// are the plain sums of the pair terms (to round-off: the lanes add in another order).
+TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
   const Cloud c(64, 3);
   std::mt19937 g(4);
   std::uniform_int_distribution<std::int32_t> pick(1, 63);
-  int groups = 0;
+  const bool avx2 = pair_lanes_avx2();
+  int nonzero = 0;
   for (int rep = 0; rep < 200; ++rep) {
-    const int i = rep % 64;
-    std::int32_t js[4] = {pick(g), pick(g), pick(g), pick(g)};
-    if (rep % 7 == 0) js[3] = js[2] = js[0];  // a padded last group
-    const double vi = c.vol[static_cast<std::size_t>(i)];
-    DensityLanes d1{}, d2{};
-    density_lanes_scalar<false>(density_constants(), c.density_point(i), vi, c.density_arrays(), js, d1);
-    density_lanes_avx2<false>(density_constants(), c.density_point(i), vi, c.density_arrays(), js, d2);
-    EXPECT_TRUE(same_bits(d1, d2)) << "delta-SPH, group " << rep;
-    density_lanes_scalar<true>(density_constants(), c.density_point(i), vi, c.density_arrays(), js, d1);
-    density_lanes_avx2<true>(density_constants(), c.density_point(i), vi, c.density_arrays(), js, d2);
-    EXPECT_TRUE(same_bits(d1, d2)) << "Fourtakas, group " << rep;
-    ForceLanes f1{}, f2{};
-    force_lanes_scalar<true>(force_constants(), c.force_point(i), vi, c.force_arrays(), js, d1.f, f1);
-    force_lanes_avx2<true>(force_constants(), c.force_point(i), vi, c.force_arrays(), js, d1.f, f2);
-    EXPECT_TRUE(same_bits(f1, f2)) << "forces with the gradient, group " << rep;
-    force_lanes_scalar<false>(force_constants(), c.force_point(i), vi, c.force_arrays(), js, d1.f, f1);
-    force_lanes_avx2<false>(force_constants(), c.force_point(i), vi, c.force_arrays(), js, d1.f, f2);
-    EXPECT_TRUE(same_bits(f1, f2)) << "forces, group " << rep;
-    groups += d1.f[0] != 0.0 && d1.f[1] != 0.0 ? 1 : 0;
+    const std::size_t n = static_cast<std::size_t>(rep % 31);
+    std::vector<std::int32_t> js(n);
+    for (auto& j : js) j = pick(g);
+    const DensityPoint di = c.density_point(0);
+    const ForcePoint fi = c.force_point(0);
+    for (bool fourtakas : {false, true}) {
+      std::vector<double> f1(n), f2(n);
+      const double s1 = fourtakas ? density_sum_scalar<true>(density_constants(), di, c.density_arrays(), js.data(), n, f1.data())
+                                  : density_sum_scalar<false>(density_constants(), di, c.density_arrays(), js.data(), n, f1.data());
+      double plain = 0.0, scale = 0.0;
+      for (std::size_t m = 0; m < n; ++m) {
+        const DensityPairTerms t = fourtakas ? density_pair<true>(density_constants(), di, c.density_point(js[m]))
+                                             : density_pair<false>(density_constants(), di, c.density_point(js[m]));
+        EXPECT_EQ(f1[m], t.f);
+        plain += t.c + t.q * c.vol[static_cast<std::size_t>(js[m])];
+        scale += std::abs(t.c) + std::abs(t.q * c.vol[static_cast<std::size_t>(js[m])]);
+      }
+      EXPECT_NEAR(s1, plain, 1e-14 * scale) << n << " partners";
+      nonzero += s1 != 0.0 ? 1 : 0;
+      if (!avx2) continue;
+      const double s2 = fourtakas ? density_sum_avx2<true>(density_constants(), di, c.density_arrays(), js.data(), n, f2.data())
+                                  : density_sum_avx2<false>(density_constants(), di, c.density_arrays(), js.data(), n, f2.data());
+      EXPECT_TRUE(same_bits(s1, s2) && f1 == f2) << (fourtakas ? "Fourtakas, " : "delta-SPH, ") << n << " partners";
+    }
+    std::vector<double> f(n);
+    density_sum_scalar<false>(density_constants(), di, c.density_arrays(), js.data(), n, f.data());
+    const ForceSums t1 = force_sum_scalar<true>(force_constants(), fi, c.force_arrays(), js.data(), f.data(), n);
+    double ax = 0.0, mxx = 0.0, sy = 0.0, scale = 0.0;
+    for (std::size_t m = 0; m < n; ++m) {
+      const ForcePairTerms t = force_pair<true>(force_constants(), fi, c.force_point(js[m]), f[m]);
+      const double v = c.vol[static_cast<std::size_t>(js[m])];
+      ax += t.ax;
+      mxx -= v * t.xx;
+      sy += v * t.sy;
+      scale += std::abs(t.ax) + std::abs(v * t.xx) + std::abs(v * t.sy);
+    }
+    EXPECT_NEAR(t1.ax, ax, 1e-14 * scale);
+    EXPECT_NEAR(t1.mxx, mxx, 1e-14 * scale);
+    EXPECT_NEAR(t1.sy, sy, 1e-14 * scale);
+    if (!avx2) continue;
+    for (bool grad : {true, false}) {
+      const ForceSums a = grad ? force_sum_scalar<true>(force_constants(), fi, c.force_arrays(), js.data(), f.data(), n)
+                               : force_sum_scalar<false>(force_constants(), fi, c.force_arrays(), js.data(), f.data(), n);
+      const ForceSums b = grad ? force_sum_avx2<true>(force_constants(), fi, c.force_arrays(), js.data(), f.data(), n)
+                               : force_sum_avx2<false>(force_constants(), fi, c.force_arrays(), js.data(), f.data(), n);
+      EXPECT_TRUE(same_bits(a, b)) << (grad ? "with" : "without") << " the gradient, " << n << " partners";
+    }
   }
-  EXPECT_GT(groups, 20);  // most groups hold pairs within the support
+  EXPECT_GT(nonzero, 300);
+  if (!avx2) GTEST_SKIP() << "no AVX2 on this CPU: the scalar sums checked alone";
 }
