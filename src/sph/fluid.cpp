@@ -48,7 +48,6 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   vl_x_.resize(n);
   vl_y_.resize(n);
   nb_j_.resize(n * neighbour_capacity_);
-  nb_f_.resize(n * neighbour_capacity_);
   nb_n_.resize(n);
   sums_.resize(n);
   resort_fluid();

@@ -189,10 +189,9 @@ class Fluid {
   std::size_t neighbour_capacity_ = 0;
   std::vector<std::int32_t> vl_j_, vl_n_;
   std::vector<double> vl_x_, vl_y_;
-  // Each particle's partners within the support and their gradient factors F, found by
-  // the density pass and read by the force pass (the same positions).
+  // Each particle's partners within the support, found by the density pass and read by
+  // the force pass (the same positions; F recomputed there: cheaper than its memory).
   std::vector<std::int32_t> nb_j_, nb_n_;
-  std::vector<double> nb_f_;
   std::vector<ForceSums> sums_;
   bool record_ = false;
   std::vector<double> rec_fx_, rec_fy_;  // recorded boundary forces (set_record_boundary_forces)

@@ -75,7 +75,7 @@ DensityPairConstants Fluid::density_constants() const {
   return {1.0 / h_, grad_c_, f_.mass, par_.delta * h_ * par_.c0, par_.gravity.x(), par_.gravity.y(), par_.rho0, par_.c0};
 }
 
-ForcePairConstants Fluid::force_constants() const { return {h_, par_.alpha * par_.c0, f_.mass}; }
+ForcePairConstants Fluid::force_constants() const { return {h_, par_.alpha * par_.c0, f_.mass, 1.0 / h_, grad_c_}; }
 
 // Continuity with density diffusion (DESIGN.md §13) for the fluid, continuity alone for
 // the boundary particles (the dynamic boundary condition; fluid neighbours only).
@@ -116,8 +116,8 @@ void Fluid::fluid_density_rates() {
   });
 }
 
-// Each particle's partners within the support (picked out without a branch), kept with
-// their F for the force pass (the same positions), and its continuity and diffusion sum.
+// Each particle's partners within the support (picked out without a branch), kept for the
+// force pass (the same positions), and its continuity and diffusion sum.
 template <bool fourtakas>
 void Fluid::density_within(std::size_t lo, std::size_t hi) {
   const DensityPairConstants k = density_constants();
@@ -130,7 +130,6 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list = vl_j_.data() + i * cap;
     std::int32_t* list_j = nb_j_.data() + i * cap;
-    double* list_f = nb_f_.data() + i * cap;
     const auto end = static_cast<std::size_t>(vl_n_[i]);
     const double xi = fx[i], yi = fy[i];
     std::size_t count = 0;
@@ -142,8 +141,8 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
     }
     nb_n_[i] = static_cast<std::int32_t>(count);
     const DensityPoint pi = density_point(i);
-    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, arrays, list_j, count, list_f)
-                      : density_sum_scalar<fourtakas>(k, pi, arrays, list_j, count, list_f);
+    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, arrays, list_j, count)
+                      : density_sum_scalar<fourtakas>(k, pi, arrays, list_j, count);
   }
 }
 
@@ -201,11 +200,10 @@ void Fluid::forces_within(std::size_t lo, std::size_t hi) {
   const ForceArrays arrays{f_.x.data(), f_.y.data(), f_.vx.data(), f_.vy.data(), f_.rho.data(), f_.p.data(), f_.vol.data()};
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list_j = nb_j_.data() + i * cap;
-    const double* list_f = nb_f_.data() + i * cap;
     const auto count = static_cast<std::size_t>(nb_n_[i]);
     const ForcePoint pi = force_point(i);
-    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, arrays, list_j, list_f, count)
-                    : force_sum_scalar<grad>(k, pi, arrays, list_j, list_f, count);
+    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, arrays, list_j, count)
+                    : force_sum_scalar<grad>(k, pi, arrays, list_j, count);
   }
 }
 

@@ -17,7 +17,7 @@ inline double reduce(const double (&s)[4]) { return (s[0] + s[2]) + (s[1] + s[3]
 // The reference: lane l = pair m + l of each group of four; a group's missing pairs add 0.
 template <bool fourtakas>
 double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
-                          const std::int32_t* js, std::size_t n, double* f) {
+                          const std::int32_t* js, std::size_t n) {
   double s[4] = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t m = 0; m < n; m += 4)
     for (std::size_t l = 0; l < 4; ++l) {
@@ -28,7 +28,6 @@ double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi,
       const auto j = static_cast<std::size_t>(js[m + l]);
       const DensityPairTerms t =
           density_pair<fourtakas>(k, pi, DensityPoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.gx[j], a.gy[j]});
-      f[m + l] = t.f;
       s[l] += t.c + t.q * a.vol[j];
     }
   return reduce(s);
@@ -36,7 +35,7 @@ double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi,
 
 template <bool grad>
 ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
-                           const std::int32_t* js, const double* f, std::size_t n) {
+                           const std::int32_t* js, std::size_t n) {
   double s[7][4] = {};
   for (std::size_t m = 0; m < n; m += 4)
     for (std::size_t l = 0; l < 4; ++l) {
@@ -45,8 +44,10 @@ ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, co
         continue;
       }
       const auto j = static_cast<std::size_t>(js[m + l]);
+      const double dx = pi.x - a.x[j], dy = pi.y - a.y[j];
+      const double f = wendland_gradient_factor(dx * dx + dy * dy, k.inv_h, k.grad_c);
       const ForcePairTerms t =
-          force_pair<grad>(k, pi, ForcePoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.p[j]}, f[m + l]);
+          force_pair<grad>(k, pi, ForcePoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.p[j]}, f);
       const double v = a.vol[j];
       const double terms[7] = {t.ax, t.ay, v * t.xx, v * t.xy, v * t.yy, v * t.sx, v * t.sy};
       for (int c = 0; c < 7; ++c) s[c][l] += terms[c];
@@ -120,15 +121,16 @@ DSDEM_LANES V density_terms(const DensityPairConstants& k, const DensityPoint& p
   return add(c, mul(q, gather(a.vol, js)));
 }
 
-// force_pair's terms for the four pairs (i, js[l]) with F f, into the seven lane sums (the
+// force_pair's terms for the four pairs (i, js[l]), into the seven lane sums (the
 // gradient's products times V_j).
 template <bool grad>
 DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
-                                 const std::int32_t* js, V f, V mask, V (&s)[7]) {
+                                 const std::int32_t* js, V mask, V (&s)[7]) {
   const V dx = sub(all(pi.x), gather(a.x, js)), dy = sub(all(pi.y), gather(a.y, js));
   const V rho_j = gather(a.rho, js);
   const V vr = add(mul(sub(all(pi.vx), gather(a.vx, js)), dx), mul(sub(all(pi.vy), gather(a.vy, js)), dy));
   const V r2 = add(mul(dx, dx), mul(dy, dy));
+  const V f = gradient_factor(r2, k.inv_h, k.grad_c);
   // artificial_viscosity: -2 alpha c h min(v.r, 0) / ((r^2 + 0.01 h^2) (rho_i + rho_j)).
   const V visc = vdiv(mul(all(-2.0 * k.alpha_c * k.h), mul(all(0.5), sub(vr, vabs(vr)))),
                       mul(add(r2, all(0.01 * k.h * k.h)), add(all(pi.rho), rho_j)));
@@ -150,58 +152,50 @@ DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& 
 
 template <bool fourtakas>
 double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
-                        const std::int32_t* js, std::size_t n, double* f) {
+                        const std::int32_t* js, std::size_t n) {
   V s = all(0.0), fv;
   std::size_t m = 0;
-  for (; m + 4 <= n; m += 4) {
-    s = add(s, density_terms<fourtakas>(k, pi, a, js + m, fv));
-    _mm256_storeu_pd(f + m, fv);
-  }
+  for (; m + 4 <= n; m += 4) s = add(s, density_terms<fourtakas>(k, pi, a, js + m, fv));
   if (m < n) {
     const Group g(js + m, n - m);
     s = add(s, _mm256_and_pd(density_terms<fourtakas>(k, pi, a, g.js, fv), g.mask));
-    double fl[4];
-    _mm256_storeu_pd(fl, fv);
-    for (std::size_t l = 0; m + l < n; ++l) f[m + l] = fl[l];
   }
   return reduce(s);
 }
 
 template <bool grad>
 ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
-                         const std::int32_t* js, const double* f, std::size_t n) {
+                         const std::int32_t* js, std::size_t n) {
   V s[7];
   for (V& x : s) x = all(0.0);
   const V every = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
   std::size_t m = 0;
-  for (; m + 4 <= n; m += 4) add_force_terms<grad>(k, pi, a, js + m, _mm256_loadu_pd(f + m), every, s);
+  for (; m + 4 <= n; m += 4) add_force_terms<grad>(k, pi, a, js + m, every, s);
   if (m < n) {
     const Group g(js + m, n - m);
-    double fl[4];
-    for (std::size_t l = 0; l < 4; ++l) fl[l] = f[m + (m + l < n ? l : 0)];
-    add_force_terms<grad>(k, pi, a, g.js, _mm256_loadu_pd(fl), g.mask, s);
+    add_force_terms<grad>(k, pi, a, g.js, g.mask, s);
   }
   return {reduce(s[0]), reduce(s[1]), -reduce(s[2]), -reduce(s[3]), -reduce(s[4]), reduce(s[5]), reduce(s[6]), 0.0};
 }
 
 template double density_sum_avx2<true>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
-                                       const std::int32_t*, std::size_t, double*);
+                                       const std::int32_t*, std::size_t);
 template double density_sum_avx2<false>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
-                                        const std::int32_t*, std::size_t, double*);
+                                        const std::int32_t*, std::size_t);
 template ForceSums force_sum_avx2<true>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
-                                        const std::int32_t*, const double*, std::size_t);
+                                        const std::int32_t*, std::size_t);
 template ForceSums force_sum_avx2<false>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
-                                         const std::int32_t*, const double*, std::size_t);
+                                         const std::int32_t*, std::size_t);
 #undef DSDEM_LANES
 #pragma GCC pop_options
 
 template double density_sum_scalar<true>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
-                                         const std::int32_t*, std::size_t, double*);
+                                         const std::int32_t*, std::size_t);
 template double density_sum_scalar<false>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
-                                          const std::int32_t*, std::size_t, double*);
+                                          const std::int32_t*, std::size_t);
 template ForceSums force_sum_scalar<true>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
-                                          const std::int32_t*, const double*, std::size_t);
+                                          const std::int32_t*, std::size_t);
 template ForceSums force_sum_scalar<false>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
-                                           const std::int32_t*, const double*, std::size_t);
+                                           const std::int32_t*, std::size_t);
 
 }  // namespace dsdem::sph

@@ -24,22 +24,21 @@ struct ForceArrays {
 // True when the CPU runs the AVX2 lanes.
 bool pair_lanes_avx2();
 
-// drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j));
-// writes each pair's F to f[0..n) for the force pass.
+// drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j)).
 template <bool fourtakas>
 double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
-                          const std::int32_t* js, std::size_t n, double* f);
+                          const std::int32_t* js, std::size_t n);
 template <bool fourtakas>
 double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
-                        const std::int32_t* js, std::size_t n, double* f);
+                        const std::int32_t* js, std::size_t n);
 
-// i's force sums over the partners js[0..n) with their F: the accelerations of force_pair(i,
+// i's force sums over the partners js[0..n) (F from wendland_gradient_factor): the accelerations of force_pair(i,
 // j), M = -sum V_j F r r^T and sum V_j (rho_j - rho_i) F r.
 template <bool grad>
 ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
-                           const std::int32_t* js, const double* f, std::size_t n);
+                           const std::int32_t* js, std::size_t n);
 template <bool grad>
 ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
-                         const std::int32_t* js, const double* f, std::size_t n);
+                         const std::int32_t* js, std::size_t n);
 
 }  // namespace dsdem::sph

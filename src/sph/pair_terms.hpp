@@ -42,7 +42,7 @@ struct ForcePoint {
   double x, y, vx, vy, rho, p;
 };
 struct ForcePairConstants {
-  double h, alpha_c, mass;
+  double h, alpha_c, mass, inv_h, grad_c;  // grad_c: wendland_gradient_factor's constant
 };
 // With the pair's F: a's acceleration from b (pressure and artificial viscosity; b's is
 // minus it) and the renormalised gradient's products F r r^T and (rho_b - rho_a) F r, the
