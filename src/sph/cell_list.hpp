@@ -45,9 +45,14 @@ class CellList {
   // ranges [k0, k1) of order(), one per row of the block, bottom row first.
   template <class F>
   void for_each_range(int c, F&& f) const {
+    for_each_range(c, reach_, f);
+  }
+  // The same with `reach` cells on each side instead of build()'s (a wider search).
+  template <class F>
+  void for_each_range(int c, int reach, F&& f) const {
     const int cx = c % grid_.nx, cy = c / grid_.nx;
-    const int x_lo = cx > reach_ ? cx - reach_ : 0, x_hi = cx + reach_ < grid_.nx ? cx + reach_ : grid_.nx - 1;
-    const int y_lo = cy > reach_ ? cy - reach_ : 0, y_hi = cy + reach_ < grid_.ny ? cy + reach_ : grid_.ny - 1;
+    const int x_lo = cx > reach ? cx - reach : 0, x_hi = cx + reach < grid_.nx ? cx + reach : grid_.nx - 1;
+    const int y_lo = cy > reach ? cy - reach : 0, y_hi = cy + reach < grid_.ny ? cy + reach : grid_.ny - 1;
     for (int row = y_lo; row <= y_hi; ++row) {
       const std::int32_t k0 = start_[static_cast<std::size_t>(row * grid_.nx + x_lo)];
       const std::int32_t k1 = start_[static_cast<std::size_t>(row * grid_.nx + x_hi + 1)];

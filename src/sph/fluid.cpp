@@ -13,9 +13,6 @@ namespace {
 // Below this determinant the ghost node's first-order system is left for Shepard's average
 // (DualSPHysics' default threshold).
 constexpr double kModifiedBoundaryDeterminant = 1e-3;
-// Below this determinant of the renormalisation matrix (1 for a full kernel) a particle is
-// too isolated for a density gradient; it gets none.
-constexpr double kRenormalisationDeterminant = 0.1;
 }  // namespace
 
 double sound_speed_for(double depth, double v_max, double g) {
@@ -26,10 +23,12 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
     : par_(parameters), f_(std::move(fluid)), b_(std::move(boundary)), team_(parallel, false) {
   if (!(par_.dp > 0.0) || !(par_.h_over_dp > 0.0) || !(par_.c0 > 0.0) || !(par_.rho0 > 0.0))
     throw std::invalid_argument("sph::Fluid: dp, h_over_dp, c0 and rho0 must be positive");
+  if (!(par_.verlet_skin > 0.0)) throw std::invalid_argument("sph::Fluid: verlet_skin must be positive");
   h_ = par_.h();
   b_tait_ = tait_b(par_.rho0, par_.c0);
   grad_c_ = -5.0 * wendland_normalisation(h_) / (h_ * h_);
   support2_ = 4.0 * h_ * h_;
+  skin_ = par_.verlet_skin * h_;
   if (f_.mass == 0.0) f_.mass = par_.mass();
   if (b_.mass == 0.0) b_.mass = par_.mass();
   scratch_.resize(f_.size());
@@ -39,13 +38,20 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
     f_.vol[i] = f_.mass / f_.rho[i];
   }
   for (std::size_t i = 0; i < b_.size(); ++i) b_.p[i] = tait_pressure(b_.rho[i], par_.rho0, b_tait_);
-  // Room for 1.6 times a square lattice's neighbours in the support (the water compresses
-  // by a few per cent at most).
-  neighbour_capacity_ = static_cast<std::size_t>(std::ceil(1.6 * kPi * 4.0 * par_.h_over_dp * par_.h_over_dp)) + 8;
-  nb_j_.resize(f_.size() * neighbour_capacity_);
-  nb_f_.resize(f_.size() * neighbour_capacity_);
-  nb_n_.resize(f_.size());
+  // Room for 1.6 times a square lattice's neighbours within the support and skin (the
+  // water compresses by a few per cent at most).
+  const double reach = (2.0 * h_ + skin_) / par_.dp;
+  neighbour_capacity_ = static_cast<std::size_t>(std::ceil(1.6 * kPi * reach * reach)) + 8;
+  const std::size_t n = f_.size();
+  vl_j_.resize(n * neighbour_capacity_);
+  vl_n_.resize(n);
+  vl_x_.resize(n);
+  vl_y_.resize(n);
+  nb_j_.resize(n * neighbour_capacity_);
+  nb_n_.resize(n);
+  sums_.resize(n);
   resort_fluid();
+  rebuild_neighbour_lists();
   density_rates();  // the neighbour lists for the first accelerations
   if (par_.boundary == BoundaryCondition::ModifiedDynamic) extrapolate_boundary_densities();
   accelerations();
@@ -76,10 +82,13 @@ void Fluid::step(double dt) {
     f_.y[i] += dt * f_.vy[i];
   });
   ++steps_;
-  if (par_.resort_interval > 0 && steps_ % par_.resort_interval == 0)
+  if (par_.resort_interval > 0 && steps_ % par_.resort_interval == 0) {
     resort_fluid();
-  else
+    rebuild_neighbour_lists();
+  } else {
     update_cells();
+    if (neighbour_lists_stale()) rebuild_neighbour_lists();
+  }
   density_rates();
   update_densities(dt);
   update_boundary_densities(dt);
@@ -118,6 +127,15 @@ void Fluid::update_cells() {
   const Grid grid = grid_over(xmin, ymin, xmax, ymax, h_);
   fluid_cells_.build(grid, f_.x, f_.y, 2);
   boundary_cells_.build(grid, b_.x, b_.y, 2);
+  // The cells whose 5 x 5 block holds a boundary particle: the fluid elsewhere skips the
+  // walls' loops (most of it).
+  near_wall_.assign(grid.cells(), 0);
+  for (std::size_t b = 0; b < b_.size(); ++b) {
+    const int c = boundary_cells_.cell(b), cx = c % grid.nx, cy = c / grid.nx;
+    for (int y = std::max(0, cy - 2); y <= std::min(grid.ny - 1, cy + 2); ++y)
+      for (int x = std::max(0, cx - 2); x <= std::min(grid.nx - 1, cx + 2); ++x)
+        near_wall_[static_cast<std::size_t>(y * grid.nx + x)] = 1;
+  }
 }
 
 // The fluid arrays permuted into cell order, so that a particle's neighbours are close
@@ -133,85 +151,6 @@ void Fluid::resort_fluid() {
   for (std::size_t k = 0; k < n; ++k) scratch_id_[k] = f_.id[static_cast<std::size_t>(order[k])];
   f_.id.swap(scratch_id_);
   update_cells();
-}
-
-// Continuity with density diffusion (DESIGN.md §13) for the fluid, continuity alone for
-// the boundary particles (the dynamic boundary condition; fluid neighbours only).
-void Fluid::density_rates() {
-  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, c0 = par_.c0;
-  const double dhc = par_.delta * h * par_.c0;
-  const double gx = par_.gravity.x(), gy = par_.gravity.y();
-  const double mf = f_.mass, mb = b_.mass;
-  const auto forder = fluid_cells_.order();
-  const auto border = boundary_cells_.order();
-  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data(), *frho = f_.rho.data();
-  const double *fgx = f_.gx.data(), *fgy = f_.gy.data(), *fvol = f_.vol.data();
-  const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
-  const bool fourtakas = par_.diffusion == DensityDiffusion::Fourtakas;
-  const std::size_t cap = neighbour_capacity_;
-  exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
-    const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], gxi = fgx[i], gyi = fgy[i];
-    double cont = 0.0, diff = 0.0;
-    const int c = fluid_cells_.cell(i);
-    std::int32_t* list_j = nb_j_.data() + i * cap;
-    double* list_f = nb_f_.data() + i * cap;
-    std::size_t count = 0;
-    fluid_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
-        const double dx = xi - fx[j], dy = yi - fy[j];
-        const double r2 = dx * dx + dy * dy;
-        if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, inv_h, gc);
-        if (count < cap) {
-          list_j[count] = static_cast<std::int32_t>(j);
-          list_f[count] = f;
-        }
-        ++count;
-        cont += mf * f * ((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy);
-        const double vj = fvol[j];
-        if (fourtakas) {
-          const double rho_h = hydrostatic_density_difference(-(gx * dx + gy * dy), rhoi, frho[j], rho0, c0);
-          diff += density_diffusion(dhc, f, frho[j] - rhoi - rho_h, vj);
-        } else {
-          diff += density_diffusion(dhc, f, frho[j] - rhoi, vj) +
-                  density_gradient_correction(dhc, f, -((gxi + fgx[j]) * dx + (gyi + fgy[j]) * dy), vj);
-        }
-      }
-    });
-    boundary_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
-        const double dx = xi - bx[j], dy = yi - by[j];
-        const double r2 = dx * dx + dy * dy;
-        if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, inv_h, gc);
-        cont += mb * f * ((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy);
-      }
-    });
-    f_.drho[i] = cont + diff;
-    nb_n_[i] = static_cast<std::int32_t>(count);
-  });
-  for (std::size_t i = 0; i < f_.size(); ++i)
-    if (static_cast<std::size_t>(nb_n_[i]) > cap)
-      throw std::runtime_error("sph::Fluid: a particle has more than " + std::to_string(cap) +
-                               " neighbours (the water is compressed far beyond its weakly compressible range)");
-  if (par_.boundary != BoundaryCondition::Dynamic) return;
-  exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
-    const double xi = bx[i], yi = by[i], vxi = bvx[i], vyi = bvy[i];
-    double cont = 0.0;
-    fluid_cells_.for_each_range(boundary_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
-        const double dx = xi - fx[j], dy = yi - fy[j];
-        const double r2 = dx * dx + dy * dy;
-        if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, inv_h, gc);
-        cont += mf * f * ((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy);
-      }
-    });
-    b_.drho[i] = cont;
-  });
 }
 
 void Fluid::update_densities(double dt) {
@@ -243,11 +182,11 @@ void Fluid::update_boundary_densities(double dt) {
 // system is singular (few fluid neighbours) Shepard's average; with none, rho0. Never below
 // rho0: a wall does not pull the fluid.
 void Fluid::extrapolate_boundary_densities() {
-  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, b = b_tait_;
+  const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, rho0 = par_.rho0, b = b_tait_;
   const double aD = wendland_normalisation(h_);
   const double mf = f_.mass;
   const auto forder = fluid_cells_.order();
-  const double *fx = f_.x.data(), *fy = f_.y.data(), *frho = f_.rho.data();
+  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvol = f_.vol.data();
   const Grid& grid = fluid_cells_.grid();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
     const double two_d = 2.0 * b_.wall_distance[i];
@@ -261,11 +200,11 @@ void Fluid::extrapolate_boundary_densities() {
         const double dx = fx[j] - gx, dy = fy[j] - gy;  // x_j - x_g
         const double r2 = dx * dx + dy * dy;
         if (r2 >= s2) continue;
-        const double q = std::sqrt(r2) / h, u = 1.0 - 0.5 * q, u2 = u * u;
+        const double q = std::sqrt(r2) * inv_h, u = 1.0 - 0.5 * q, u2 = u * u;
         const double w = aD * u2 * u2 * (2.0 * q + 1.0);
         const double f = wendland_gradient_factor(r2, inv_h, gc);
         const double wx = -f * dx, wy = -f * dy;  // grad_g W_gj = F (x_g - x_j)
-        const double v = mf / frho[j];
+        const double v = fvol[j];  // m / rho
         a00 += v * w;
         a01 += v * dx * w;
         a02 += v * dy * w;
@@ -293,78 +232,6 @@ void Fluid::extrapolate_boundary_densities() {
     }
     b_.rho[i] = std::max(rho0, rho);
     b_.p[i] = tait_pressure(b_.rho[i], rho0, b);
-  });
-}
-
-// The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity.
-void Fluid::accelerations() {
-  const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
-  const double alpha_c = par_.alpha * par_.c0;
-  const double gx = par_.gravity.x(), gy = par_.gravity.y();
-  const double mf = f_.mass, mb = b_.mass;
-  const auto forder = fluid_cells_.order();
-  const auto border = boundary_cells_.order();
-  const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
-  const double *frho = f_.rho.data(), *fp = f_.p.data(), *fvol = f_.vol.data();
-  const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
-  const double *brho = b_.rho.data(), *bp = b_.p.data();
-  const bool grad = par_.diffusion == DensityDiffusion::DeltaSph;
-  const std::size_t cap = neighbour_capacity_;
-  exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
-    const double xi = fx[i], yi = fy[i], vxi = fvx[i], vyi = fvy[i], rhoi = frho[i], pi = fp[i];
-    double ax = 0.0, ay = 0.0;
-    // The renormalised density gradient (delta-SPH): M = -sum V F r r^T, grad = M^-1 sum V
-    // (rho_j - rho_i) F r, fluid neighbours only.
-    double mxx = 0.0, mxy = 0.0, myy = 0.0, sx = 0.0, sy = 0.0;
-    const int c = fluid_cells_.cell(i);
-    auto pair = [&](double m, double dx, double dy, double dvx, double dvy, double rhoj, double pj) {
-      const double r2 = dx * dx + dy * dy;
-      if (r2 >= s2) return 0.0;
-      const double f = wendland_gradient_factor(r2, inv_h, gc);
-      const double visc = artificial_viscosity(dvx * dx + dvy * dy, r2, rhoi, rhoj, h, alpha_c);
-      const double coef = -m * (pressure_term(pi, pj, rhoi, rhoj) + visc) * f;
-      ax += coef * dx;
-      ay += coef * dy;
-      return f;
-    };
-    // The fluid neighbours found by density_rates() at these positions, with their F.
-    const std::int32_t* list_j = nb_j_.data() + i * cap;
-    const double* list_f = nb_f_.data() + i * cap;
-    const auto count = static_cast<std::size_t>(nb_n_[i]);
-    for (std::size_t n = 0; n < count; ++n) {
-      const auto j = static_cast<std::size_t>(list_j[n]);
-      const double f = list_f[n];
-      const double dx = xi - fx[j], dy = yi - fy[j];
-      const double rhoj = frho[j];
-      const double visc = artificial_viscosity((vxi - fvx[j]) * dx + (vyi - fvy[j]) * dy, dx * dx + dy * dy, rhoi, rhoj,
-                                               h, alpha_c);
-      const double coef = -mf * (pressure_term(pi, fp[j], rhoi, rhoj) + visc) * f;
-      ax += coef * dx;
-      ay += coef * dy;
-      if (grad) {
-        const double vf = fvol[j] * f;
-        mxx -= vf * dx * dx;
-        mxy -= vf * dx * dy;
-        myy -= vf * dy * dy;
-        const double dr = (rhoj - rhoi) * vf;
-        sx += dr * dx;
-        sy += dr * dy;
-      }
-    }
-    if (grad) {
-      const double det = mxx * myy - mxy * mxy;
-      const bool ok = det > kRenormalisationDeterminant;
-      f_.gx[i] = ok ? (myy * sx - mxy * sy) / det : 0.0;
-      f_.gy[i] = ok ? (mxx * sy - mxy * sx) / det : 0.0;
-    }
-    boundary_cells_.for_each_range(c, [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(k)]);
-        pair(mb, xi - bx[j], yi - by[j], vxi - bvx[j], vyi - bvy[j], brho[j], bp[j]);
-      }
-    });
-    f_.ax[i] = ax + gx;
-    f_.ay[i] = ay + gy;
   });
 }
 

@@ -9,8 +9,10 @@
 // The pressure waves (rho from v, v from rho) are then integrated by the Stormer-Verlet
 // scheme, stable for dt below the acoustic limit, in the same kick-drift-kick order as the
 // solid's integrator, so that a coupled step can run the two side by side.
-// Every loop is a gather over one particle's neighbours in a fixed order: the same bits for
-// any thread count. Nothing allocates in the time loop once the grid stopped growing.
+// Each particle gathers its sums over its fluid partners within the support, picked out of
+// a Verlet list (support plus a skin) in ascending index and summed in a fixed order
+// (pair_lanes.hpp), and over the walls: the same bits for any thread count and whenever the
+// lists were built. Nothing allocates in the time loop once the grid stopped growing.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "exec/team.hpp"
 #include "model/types.hpp"
 #include "sph/cell_list.hpp"
+#include "sph/pair_terms.hpp"
 #include "sph/particles.hpp"
 
 namespace dsdem::sph {
@@ -47,6 +50,11 @@ struct FluidParameters {
   Vec2 gravity{0.0, -9.81};
   double cfl = 0.2;       // dt <= cfl h / (c0 + v_max)
   int resort_interval = 16;  // steps between re-sorts of the fluid arrays by cell
+  // The neighbour lists' skin in units of h: candidates within 2h + skin, rebuilt once a
+  // particle moved half of it. Speed only: the results do not depend on it. 0.3: at a
+  // tenth of c0 a particle moves half of it in ~8 steps at CFL 0.2 (the re-sort interval's
+  // order), for 1.3 times the neighbours as candidates.
+  double verlet_skin = 0.3;
   BoundaryCondition boundary = BoundaryCondition::ModifiedDynamic;
 
   double h() const { return h_over_dp * dp; }
@@ -102,6 +110,9 @@ class Fluid {
 
   double time() const { return time_; }
   long steps() const { return steps_; }
+  // The step count when the neighbour lists were last built (diagnostics and tests: the
+  // results do not depend on it).
+  long neighbour_lists_built_at() const { return vl_built_at_; }
   const FluidParameters& parameters() const { return par_; }
   const FluidParticles& fluid() const { return f_; }
   const BoundaryParticles& boundary() const { return b_; }
@@ -130,11 +141,31 @@ class Fluid {
  private:
   void update_cells();
   void resort_fluid();
+  void rebuild_neighbour_lists();
+  bool neighbour_lists_stale() const;
+  std::size_t chunks() const;
   void density_rates();
+  template <bool fourtakas>
+  void fluid_density_rates();
+  template <bool fourtakas>
+  void density_within(std::size_t lo, std::size_t hi);
+  void density_from_walls(std::size_t lo, std::size_t hi);
   void update_densities(double dt);
   void update_boundary_densities(double dt);
   void extrapolate_boundary_densities();
   void accelerations();
+  template <bool grad>
+  void fluid_accelerations();
+  template <bool grad>
+  void forces_within(std::size_t lo, std::size_t hi);
+  template <bool grad>
+  void finish_accelerations(std::size_t lo, std::size_t hi);
+  DensityPairConstants density_constants() const;
+  ForcePairConstants force_constants() const;
+  DensityPoint density_point(std::size_t i) const {
+    return {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.gx[i], f_.gy[i]};
+  }
+  ForcePoint force_point(std::size_t i) const { return {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.p[i]}; }
   void gather_boundary_forces(std::span<double> fx, std::span<double> fy) const;
 
   FluidParameters par_;
@@ -142,17 +173,26 @@ class Fluid {
   BoundaryParticles b_;
   exec::Team team_;
   CellList fluid_cells_, boundary_cells_;
+  std::vector<std::uint8_t> near_wall_;  // per cell: a boundary particle within the search block
   double h_ = 0.0, b_tait_ = 0.0, grad_c_ = 0.0, support2_ = 0.0;
+  double skin_ = 0.0;
   double time_ = 0.0;
   long steps_ = 0;
+  long vl_built_at_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   double damping_rate_ = 0.0;
-  // Each fluid particle's fluid neighbours and their gradient factors F, found by the
-  // density pass and read by the force pass (the same positions): neighbour_capacity_ slots
-  // per particle, nb_n_ used.
+  // Each fluid particle's Verlet list: the fluid particles within the support plus a skin
+  // at the last rebuild, ascending, neighbour_capacity_ slots per particle, vl_n_ used.
+  // Rebuilt after every re-sort and when a particle moved half the skin from vl_x_, vl_y_.
+  // The sums run over the partners within the support whatever the list holds beyond it,
+  // so the results do not depend on when the lists were rebuilt.
   std::size_t neighbour_capacity_ = 0;
+  std::vector<std::int32_t> vl_j_, vl_n_;
+  std::vector<double> vl_x_, vl_y_;
+  // Each particle's partners within the support, found by the density pass and read by
+  // the force pass (the same positions; F recomputed there: cheaper than its memory).
   std::vector<std::int32_t> nb_j_, nb_n_;
-  std::vector<double> nb_f_;
+  std::vector<ForceSums> sums_;
   bool record_ = false;
   std::vector<double> rec_fx_, rec_fy_;  // recorded boundary forces (set_record_boundary_forces)
   std::vector<double> scratch_;          // re-sort buffer

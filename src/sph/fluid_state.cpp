@@ -51,9 +51,12 @@ void Fluid::restore(const State& s) {
   record_ = s.record;
   rec_fx_ = record_ ? s.rec_fx : std::vector<double>();
   rec_fy_ = record_ ? s.rec_fy : std::vector<double>();
-  // The cell lists of the restored positions (boundary_forces() between steps reads them;
-  // a step rebuilds its own). The neighbour lists are rebuilt by every step before use.
+  // The cell lists of the restored positions (boundary_forces() between steps reads them)
+  // and neighbour lists built from them: the uninterrupted run built its lists at another
+  // step, which leaves the sums unchanged (each runs over the pairs within the support in
+  // ascending index, whatever the lists hold), so the lists need not be saved.
   update_cells();
+  rebuild_neighbour_lists();
 }
 
 void SolidCoupling::restore(const State& s) {

@@ -28,7 +28,9 @@ inline double wendland(double r2, double h) {
 inline double wendland_gradient_factor(double r2, double inv_h, double minus_five_aD_over_h2) {
   const double q = std::sqrt(r2) * inv_h;
   const double t = 1.0 - 0.5 * q;
-  const double u = t > 0.0 ? t : 0.0;  // not std::fmax: a library call without -ffast-math
+  // max(t, 0) without a branch (a neighbour list with a skin holds pairs beyond the support;
+  // not std::fmax: a library call without -ffast-math). Exact: t + |t| = 2t or 0.
+  const double u = 0.5 * (t + std::fabs(t));
   return minus_five_aD_over_h2 * u * u * u;
 }
 inline double wendland_gradient_factor(double r2, double h) {
@@ -55,8 +57,9 @@ inline double tait_sound_speed(double rho, double rho0, double c0) {
 // particles (v_ij . r_ij < 0), mu_ij = h v_ij . r_ij / (r^2 + 0.01 h^2), else 0. It enters
 // the momentum equation as -m_j Pi_ij grad_i W_ij. Symmetric in i and j.
 inline double artificial_viscosity(double vr, double r2, double rho_i, double rho_j, double h, double alpha_c) {
-  // One division: -alpha c h v.r / ((r^2 + 0.01 h^2) (rho_i + rho_j) / 2).
-  return -2.0 * alpha_c * h * (vr < 0.0 ? vr : 0.0) / ((r2 + 0.01 * h * h) * (rho_i + rho_j));
+  // One division: -alpha c h v.r / ((r^2 + 0.01 h^2) (rho_i + rho_j) / 2). min(v.r, 0)
+  // without a branch (approaching and receding pairs are mixed): v.r - |v.r| = 2 v.r or 0.
+  return -2.0 * alpha_c * h * (0.5 * (vr - std::fabs(vr))) / ((r2 + 0.01 * h * h) * (rho_i + rho_j));
 }
 
 // Pressure part of the momentum equation (DualSPHysics' form): -m_j (p_i + p_j) / (rho_i

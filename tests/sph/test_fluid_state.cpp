@@ -29,8 +29,7 @@ FluidParameters parameters() {
 }
 
 // A water column 0.1 x 0.2 m at the left of a 0.4 m tank, released: a small dam break.
-Fluid column(bool parallel, double width = 0.1) {
-  const FluidParameters par = parameters();
+Fluid column(bool parallel, double width = 0.1, const FluidParameters& par = parameters()) {
   FluidParticles water;
   BoundaryParticles walls;
   fill_rectangle(water, 0.0, 0.0, width, 0.2, par, 0.2);
@@ -100,6 +99,51 @@ TEST(SphFluidState, RestoredFluidContinuesBitIdenticallyAtEveryResortPhase) {
     }
   }
   omp_set_num_threads(1);
+}
+
+// The neighbour lists (Verlet lists with a skin) are not in the state: a restored fluid
+// builds its own at the restore, while the run that went on built its lists steps before
+// and rebuilds them at other steps. A thin skin and no re-sorts: rebuilds every few steps,
+// when the falling column has moved half the skin.
+TEST(SphFluidState, RestoredFluidContinuesBitIdenticallyBetweenNeighbourListRebuilds) {
+  FluidParameters par = parameters();
+  par.resort_interval = 0;
+  par.verlet_skin = 0.05;
+  Fluid a = column(false, 0.1, par);
+  const double dt = a.stable_dt();
+  // A checkpoint two or more steps after the last rebuild, the column falling.
+  while (a.steps() < 30 || a.neighbour_lists_built_at() > a.steps() - 2) {
+    a.step(dt);
+    ASSERT_LT(a.steps(), 400) << "no step between two neighbour list rebuilds";
+  }
+  const Fluid::State s = a.state();
+  omp_set_num_threads(2);
+  Fluid b1 = column(false, 0.1, par), b2 = column(true, 0.1, par);
+  for (Fluid* b : {&b1, &b2}) {
+    b->set_settling_damping(0.0);
+    b->restore(s);
+    EXPECT_EQ(b->neighbour_lists_built_at(), s.steps);
+  }
+  EXPECT_LT(a.neighbour_lists_built_at(), s.steps);
+  int rebuilds = 0, steps_on_other_lists = 0;
+  for (int k = 0; k < 60; ++k) {
+    const long before = a.neighbour_lists_built_at();
+    a.step(dt);
+    b1.step(dt);
+    b2.step(dt);
+    rebuilds += a.neighbour_lists_built_at() != before ? 1 : 0;
+    steps_on_other_lists += a.neighbour_lists_built_at() != b1.neighbour_lists_built_at() ? 1 : 0;
+  }
+  omp_set_num_threads(1);
+  EXPECT_GE(rebuilds, 2);
+  EXPECT_GT(steps_on_other_lists, 0);
+  for (const Fluid* b : {&b1, &b2}) {
+    expect_same_state(a, *b);
+    std::vector<double> fx(a.boundary().size()), fy(fx.size()), gx(fx.size()), gy(fx.size());
+    a.boundary_forces(fx, fy);
+    b->boundary_forces(gx, gy);
+    EXPECT_TRUE(same(fx, gx) && same(fy, gy));
+  }
 }
 
 TEST(SphFluidState, StateOfAnotherSetUpIsRefused) {

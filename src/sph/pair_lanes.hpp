@@ -1,0 +1,44 @@
+#pragma once
+// One fluid particle's sums over its partners (sph::Fluid's pair passes, DESIGN.md §13),
+// four pairs at a time: the terms of pair_terms.hpp evaluated lane by lane (AVX2 where the
+// CPU has it: each lane does the scalar kernels' operations in their order, without fused
+// multiply-adds) and summed in four lanes, lane l taking partners l, l + 4, l + 8, ... in
+// list order, the lanes then added as (s0 + s2) + (s1 + s3). The *_scalar functions do the
+// same in the same order: the same bits on any CPU. The sums depend only on the list
+// (the partners within the support, ascending), not on the thread count.
+#include <cstddef>
+#include <cstdint>
+
+#include "sph/pair_terms.hpp"
+
+namespace dsdem::sph {
+
+// The fluid's arrays read by the sums.
+struct DensityArrays {
+  const double *x, *y, *vx, *vy, *rho, *gx, *gy, *vol;
+};
+struct ForceArrays {
+  const double *x, *y, *vx, *vy, *rho, *p, *vol;
+};
+
+// True when the CPU runs the AVX2 lanes.
+bool pair_lanes_avx2();
+
+// drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j)).
+template <bool fourtakas>
+double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                          const std::int32_t* js, std::size_t n);
+template <bool fourtakas>
+double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+                        const std::int32_t* js, std::size_t n);
+
+// i's force sums over the partners js[0..n) (F from wendland_gradient_factor): the accelerations of force_pair(i,
+// j), M = -sum V_j F r r^T and sum V_j (rho_j - rho_i) F r.
+template <bool grad>
+ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                           const std::int32_t* js, std::size_t n);
+template <bool grad>
+ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+                         const std::int32_t* js, std::size_t n);
+
+}  // namespace dsdem::sph
