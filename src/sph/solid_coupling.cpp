@@ -1,7 +1,9 @@
 #include "sph/solid_coupling.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -47,23 +49,47 @@ struct EdgeGrid {
   }
 };
 
-// Edge o is a face of the same triangle as edge e (both name their third node).
-bool same_triangle(const SolidEdge& e, const SolidEdge& o) {
-  if (e.c == kNoIndex || o.c == kNoIndex) return false;
-  auto in_e = [&](Index n) { return n == e.a || n == e.b || n == e.c; };
-  return in_e(o.a) && in_e(o.b) && in_e(o.c);
-}
-
-// p inside the triangle (a, b, c) or on its sides (to a relative tolerance).
-bool inside_triangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
-  auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
-  const double area = cross(b - a, c - a), tol = -1e-9 * std::abs(area);
-  const double sign = area < 0.0 ? -1.0 : 1.0;
-  return sign * cross(b - a, p - a) >= tol && sign * cross(c - b, p - b) >= tol && sign * cross(a - c, p - c) >= tol;
-}
-
 void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                          int layers, const FluidParameters& par, double surface);
+
+void add_riding(BoundaryParticles& walls, const Vec2& p, const Vec2& n, double d, double s, std::size_t e,
+                const FluidParameters& par, double surface) {
+  walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n, d);
+  walls.edge.back() = static_cast<Index>(e);
+  walls.s.back() = s;
+}
+
+// A fragment's triangle is cut by its angle bisectors into three parts, one per face (the
+// points nearer that face than the others). Face e's part (a, b, incentre I) gets rows
+// parallel to the face, `rows` of them delta = r / rows apart (r the inradius; delta = dp
+// once the triangle is deeper than the walls), each row's stations about dp^2 / delta apart:
+// about one particle per dp^2 of the triangle, however small, inside it, each behind its
+// nearest face. `owed` carries the rows' fractions of a particle from face to face of the
+// triangle (rounded once over the triangle, not per row). Returns how many it laid.
+int lay_fragment_face(BoundaryParticles& walls, std::size_t e, const Vec2& a, const Vec2& b, const Vec2& c,
+                      int layers, const FluidParameters& par, double surface, double& owed) {
+  const double dp = par.dp, la = (c - b).norm(), lb = (a - c).norm(), lc = (b - a).norm();
+  const double perimeter = la + lb + lc;
+  const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  const double r = 2.0 * area / perimeter;
+  const Vec2 incentre = (la * a + lb * b + lc * c) / perimeter, n = edge_normal(a, b);
+  const bool deep = r >= layers * dp;
+  const int rows = deep ? layers : std::max(1, static_cast<int>(std::lround(r / dp)));
+  const double delta = deep ? dp : r / rows;
+  int laid = 0;
+  for (int k = 0; k < rows; ++k) {
+    const double d = (k + 0.5) * delta, f = d / r;
+    const Vec2 p0 = a + f * (incentre - a), p1 = b + f * (incentre - b);  // the row between the bisectors
+    const double share = (p1 - p0).norm() * delta / (dp * dp);
+    const int stations = std::max(0, static_cast<int>(std::lround(owed + share)));
+    owed += share - stations;
+    for (int i = 0; i < stations; ++i, ++laid) {
+      const Vec2 p = p0 + (i + 0.5) / stations * (p1 - p0);
+      add_riding(walls, p, n, d, (p - a).dot(b - a) / (lc * lc), e, par, surface);
+    }
+  }
+  return laid;
+}
 
 }  // namespace
 
@@ -71,24 +97,36 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
                         int layers, const FluidParameters& par, double surface) {
   const double dp = par.dp, reach = layers * dp, tol = 1e-9 * dp;
   const EdgeGrid grid(edges, x, reach, std::max(reach, dp));
+  // A fragment's triangle whose faces laid nothing (smaller than about dp^2) still carries
+  // one particle, at its incentre, riding its first face: no fragment is transparent.
+  struct Fragment {
+    std::size_t first = 0;  // its first face
+    int laid = 0;
+    double owed = 0.0;
+  };
+  std::map<std::array<Index, 3>, Fragment> fragment;  // by its sorted nodes
   for (std::size_t e = 0; e < edges.size(); ++e) {
     const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
     const double length = (b - a).norm();
     if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
     const Vec2 n = edge_normal(a, b);
+    if (edges[e].c != kNoIndex) {
+      std::array<Index, 3> key{edges[e].a, edges[e].b, edges[e].c};
+      std::sort(key.begin(), key.end());
+      Fragment& f = fragment.try_emplace(key, Fragment{e, 0, 0.0}).first->second;
+      f.laid += lay_fragment_face(walls, e, a, b, x[edges[e].c], layers, par, surface, f.owed);
+      continue;
+    }
     const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
     for (int i = 0; i < stations; ++i) {
       const double s = (i + 0.5) / stations;
       for (int k = 0; k < layers; ++k) {
         const double d = (k + 0.5) * dp;
         const Vec2 p = (1.0 - s) * a + s * b - d * n;
-        const bool owned = edges[e].c != kNoIndex;
-        if (owned && !inside_triangle(p, a, b, x[edges[e].c])) continue;
-        // Kept unless another face is nearer behind which the particle also lies.
+        // Kept unless another continuous face is nearer behind which the particle also lies.
         bool kept = true;
         for (std::size_t o : grid.at(p)) {
-          if (o == e) continue;
-          if (owned ? !same_triangle(edges[e], edges[o]) : edges[o].c != kNoIndex) continue;
+          if (o == e || edges[o].c != kNoIndex) continue;
           const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
           const Vec2 ot = ob - oa;
           const double os = (p - oa).dot(ot) / ot.squaredNorm();
@@ -100,12 +138,17 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
             break;
           }
         }
-        if (!kept) continue;
-        walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n, d);
-        walls.edge.back() = static_cast<Index>(e);
-        walls.s.back() = s;
+        if (kept) add_riding(walls, p, n, d, s, e, par, surface);
       }
     }
+  }
+  for (const auto& [nodes, frag] : fragment) {
+    if (frag.laid > 0) continue;
+    const SolidEdge& f = edges[frag.first];
+    const Vec2 &a = x[f.a], &b = x[f.b], &c = x[f.c];
+    const double la = (c - b).norm(), lb = (a - c).norm(), lc = (b - a).norm();
+    const Vec2 incentre = (la * a + lb * b + lc * c) / (la + lb + lc), n = edge_normal(a, b);
+    add_riding(walls, incentre, n, -(incentre - a).dot(n), (incentre - a).dot(b - a) / (lc * lc), frag.first, par, surface);
   }
   fill_reflex_corners(walls, edges, x, layers, par, surface);
   walls.mass = par.mass();
