@@ -170,7 +170,9 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const Vec2 p(x0 + (i + 0.5) * dp, top - (j + 0.5) * dp);
-        if (!inside_polygon(poly, p) || solid.in_solid(p) || solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-9)) continue;
+        // dp/2 from the solid, less a thousandth: a spacing rounded to six digits that divides
+        // the depth keeps its bottom row.
+        if (!inside_polygon(poly, p) || solid.in_solid(p) || solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-3)) continue;
         bool earlier = false;
         for (std::size_t q = 0; q < r && !earlier; ++q)
           earlier = inside_polygon(regions[q].polygon, p) && p.y() < regions[q].level;

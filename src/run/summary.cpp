@@ -115,6 +115,7 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["sound_speed_mps"] = layout.parameters.c0;
   m["coupled_faces"] = static_cast<long>(layout.edges.size());
   m["escaped_particles"] = w.escaped_particles();
+  m["still_level_m"] = w.still_level();
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
   Json runup = Json::object();
   for (const auto& r : w.runup()) runup[r.name] = peak(r.peak, "elevation_m", false);

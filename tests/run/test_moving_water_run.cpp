@@ -147,3 +147,23 @@ TEST(ReservoirWater, BadSectionsAreErrorsAtTheirKeys) {
   const std::string rock = prepare_error({"reservoir.sph.fill=[{rectangle: [[13.2, -0.8], [13.8, 4.5]]}]"});
   EXPECT_NE(rock.find("no water fits"), std::string::npos) << rock;
 }
+
+// The particles hang from the level dp/2 apart; where the depth (2 m here) is no whole number
+// of spacings the bottom row is missing and the water settles below the level: the run says
+// so at the spacing's key and names a spacing that fills the depth; with one that divides it
+// (0.2 m) it says nothing.
+TEST(ReservoirWater, ASpacingThatLeavesTheBottomRowOutIsWarnedOf) {
+  auto warnings = [](const std::string& spacing) {
+    auto sc = dsdem::io::load_scenario(kFlume, {"reservoir.sph.spacing=" + spacing});
+    const auto prepared = dsdem::run::prepare_run(sc, dsdem::test::fresh_dir("moving_water_depth").string());
+    std::string out;
+    for (const auto& l : prepared.build_log)
+      if (l.level >= 3) out += l.text + "\n";
+    return out;
+  };
+  const std::string off = warnings("0.15");  // 13 rows: 1.95 m of 2 m
+  EXPECT_NE(off.find("key 'reservoir.sph.spacing': the particles fill 1.95 m of the 2 m"), std::string::npos) << off;
+  EXPECT_NE(off.find("e.g. 0.153846 m"), std::string::npos) << off;
+  EXPECT_EQ(warnings("0.2"), "");
+  EXPECT_EQ(warnings("0.153846"), "");  // the spacing it names, as printed
+}
