@@ -9,6 +9,12 @@ Figures (each only when its columns exist):
   gauge_velocity.png                 |v| of every gauge (peak marked)
   gauge_acceleration.png             |a| of every gauge
   energies.png                       every *_J_per_m column, energy balance error on a 2nd axis
+  water_surface.png                  moving water: free-surface elevation at every gauge
+  wave_amplitude.png                 moving water: the wave's amplitude and its envelope (running max)
+  wave_decay.png                     moving water: wave height and amplitude at the gauges against the
+                                     distance from the slide's entry, beside Heller & Hager's H(x)
+  water_runup.png                    moving water: run-up on every bank, water past every crest
+  water_forces.png                   moving water: force and peak pressure on every named curve
   fracture.png                       broken joints, damaged joints, fragments vs time
   contacts.png                       contact counts vs time
   loads.png                          reactions / loads / forces vs time
@@ -28,6 +34,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import dsdem_plotlib as lib  # noqa: E402
+import dsdem_water as wat  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -180,6 +187,173 @@ class Plotter:
         lib.title_pair(axes[0], "Gauge displacement components", self.run_title)
         self._legend(axes[0], len(series))
         self._save(fig, "gauge_displacement_components.png")
+
+    # ---------------------------------------------------------------- moving water
+    def _impact(self, ax) -> None:
+        """The slide's entry into the water (summary.json heller_hager), a dotted line."""
+        t = (self.summary.get("heller_hager") or {}).get("impact_time_s")
+        if isinstance(t, (int, float)):
+            ax.axvline(t, color="0.3", ls=":", lw=1.2, zorder=0.5, label=f"slide enters the water ({t:.3g} s)")
+
+    def _heller_hager(self, ax, key: str, what: str) -> None:
+        v = (self.summary.get("heller_hager") or {}).get(key)
+        if isinstance(v, (int, float)):
+            ax.axhline(v, color="tab:red", ls="--", lw=1.2, zorder=0.5, label=f"Heller & Hager {what} {v:.3g} m")
+
+    def water_surface(self, w: wat.WaterColumns):
+        if not w.gauges:
+            return
+        fig, ax = _fig()
+        for g, c in w.gauges:
+            y = self.h.col(c)
+            (line,) = ax.plot(self.t, y, label=g)
+            if np.isfinite(y).any():
+                i = int(np.nanargmax(y))
+                ax.plot(self.t[i], y[i], "o", color=line.get_color(), ms=5, zorder=3)
+                line.set_label(f"{g} (max {y[i]:.3g} m at {self.t[i]:.3g} s)")
+            self.used.add(c)
+        ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
+        self._impact(ax)
+        self._heller_hager(ax, "amplitude_m", "a_M")
+        self._time_axis(ax)
+        ax.set_ylabel("Free surface above the still level (m)")
+        lib.title_pair(ax, "Free surface at the gauges", self.run_title)
+        self._legend(ax, len(w.gauges) + 2)
+        self._stages(ax)
+        self._save(fig, "water_surface.png")
+
+    def wave_amplitude(self, w: wat.WaterColumns):
+        if not w.amplitude:
+            return
+        fig, ax = _fig()
+        a = self.h.col(w.amplitude)
+        ax.plot(self.t, a, lw=1.0, color="tab:blue", alpha=0.7, label="amplitude (highest surface above the level)")
+        env = np.fmax.accumulate(np.where(np.isfinite(a), a, -np.inf))
+        ax.plot(self.t, env, lw=2.0, color="tab:blue", label="envelope (largest so far)")
+        peak = (self.summary.get("moving_water") or {}).get("max_wave_amplitude") or {}
+        if isinstance(peak.get("amplitude_m"), (int, float)):
+            ax.plot(peak["time_s"], peak["amplitude_m"], "o", color="tab:blue", ms=6, zorder=3,
+                    label=f"max {peak['amplitude_m']:.3g} m at x = {peak['x_m']:.4g} m, t = {peak['time_s']:.3g} s")
+        self.used.add(w.amplitude)
+        ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
+        self._impact(ax)
+        self._heller_hager(ax, "amplitude_m", "a_M")
+        self._time_axis(ax)
+        ax.set_ylabel("Wave amplitude (m)")
+        lib.title_pair(ax, "Wave amplitude over the reservoir", self.run_title)
+        ax.legend(loc="best")
+        self._stages(ax)
+        self._save(fig, "wave_amplitude.png")
+
+    def wave_decay(self, w: wat.WaterColumns):
+        """The wave at the gauges against their distance from the slide's entry, and Heller &
+        Hager's 2D decay H(x) = (3/4) (P (x/h)^(-1/3))^(4/5) h (DESIGN.md §13)."""
+        hh = self.summary.get("heller_hager") or {}
+        P, h, t0 = hh.get("impulse_product"), hh.get("depth_m"), hh.get("impact_time_s")
+        entry = (hh.get("impact_point_m") or [None])[0]
+        where = wat.gauge_positions(lib.load_yaml(lib.find_scenario(self.out, self.summary)))
+        pts = []
+        for g, c in w.gauges:
+            if g not in where or not isinstance(entry, (int, float)) or not isinstance(t0, (int, float)):
+                continue
+            y = self.h.col(c)[self.t >= t0]
+            if y.size and np.isfinite(y).any():
+                pts.append((g, abs(where[g] - entry), float(np.nanmax(y)) - float(np.nanmin(y)), float(np.nanmax(y))))
+        if not pts or not all(isinstance(v, (int, float)) and v > 0 for v in (P, h)):
+            return
+        fig, ax = _fig()
+        x = np.linspace(0.25 * h, max(max(p[1] for p in pts) * 1.3, hh.get("distance_of_max_height_m", 0) * 1.3), 200)
+        ax.plot(x, 0.75 * (P * (x / h) ** (-1 / 3)) ** 0.8 * h, color="tab:red", ls="--",
+                label="Heller & Hager H(x), wave height")
+        if isinstance(hh.get("height_m"), (int, float)) and isinstance(hh.get("distance_of_max_height_m"), (int, float)):
+            ax.plot(hh["distance_of_max_height_m"], hh["height_m"], "s", color="tab:red", ms=7,
+                    label=f"Heller & Hager H_M {hh['height_m']:.3g} m")
+        ax.plot([p[1] for p in pts], [p[2] for p in pts], "o", color="tab:blue", ms=7,
+                label="computed height: crest to trough after the entry")
+        ax.plot([p[1] for p in pts], [p[3] for p in pts], "^", color="tab:cyan", ms=7,
+                label="computed amplitude: highest surface after the entry")
+        for g, d, H, _ in pts:
+            ax.annotate(g, (d, H), xytext=(5, 5), textcoords="offset points", fontsize=9)
+        ax.set_xlabel("Distance from the slide's entry (m)")
+        ax.set_ylabel("Wave height, amplitude (m)")
+        ax.set_xlim(left=0)
+        ax.set_ylim(bottom=0)
+        lib.title_pair(ax, "The wave along the reservoir", self.run_title)
+        ax.legend(loc="best")
+        self._save(fig, "wave_decay.png")
+
+    def water_runup(self, w: wat.WaterColumns):
+        panels = [p for p in (w.runup, w.crests) if p]
+        if not panels:
+            return
+        fig, axes = plt.subplots(len(panels), 1, figsize=(9.5, 1.5 + 3.5 * len(panels)), sharex=True,
+                                 layout="constrained", squeeze=False)
+        level = (self.summary.get("heller_hager") or {}).get("still_level_m")
+        for ax, cols in zip(axes[:, 0], panels):
+            for name, c in cols:
+                y = self.h.col(c)
+                label = name
+                if np.isfinite(y).any():
+                    i = int(np.nanargmax(y))
+                    label += f" (max {y[i]:.4g} at {self.t[i]:.3g} s)"
+                ax.plot(self.t, y, label=label)
+                self.used.add(c)
+            if cols is w.runup:
+                if isinstance(level, (int, float)):
+                    ax.axhline(level, color="0.5", lw=0.8, ls="--", zorder=0.5, label=f"still level {level:g} m")
+                ax.set_ylabel("Run-up: highest water on the bank (m)")
+            else:
+                ax.set_ylabel("Water past the crest (m²/m)")
+                ax.set_ylim(bottom=0)
+            self._impact(ax)
+            ax.legend(loc="best")
+            self._stages(ax, labels=ax is axes[0, 0])
+        self._time_axis(axes[-1, 0])
+        lib.title_pair(axes[0, 0], "Run-up and overtopping", self.run_title)
+        self._save(fig, "water_runup.png")
+
+    def water_forces(self, w: wat.WaterColumns):
+        if not w.forces:
+            return
+        pressures = dict(w.pressures)
+        fig, axes = plt.subplots(2 if pressures else 1, 1, figsize=(9.5, 8.0 if pressures else 5.0), sharex=True,
+                                 layout="constrained", squeeze=False)
+        unit = lib.split_unit(w.forces[0][1])[1]
+        mags = [np.hypot(self.h.col(x), self.h.col(y)) for _, x, y in w.forces]
+        f, u = self._scaled(mags, unit)
+        for (name, x, y), mag in zip(w.forces, mags):
+            (line,) = axes[0, 0].plot(self.t, mag * f, label=f"{name} |F|")
+            axes[0, 0].plot(self.t, self.h.col(x) * f, color=line.get_color(), lw=0.9, ls="--", label=f"{name} F_x")
+            axes[0, 0].plot(self.t, self.h.col(y) * f, color=line.get_color(), lw=0.9, ls=":", label=f"{name} F_y")
+            self.used.update({x, y})
+        axes[0, 0].axhline(0, color="0.5", lw=0.8, zorder=0.5)
+        axes[0, 0].set_ylabel(lib.axis_label("Force of the water", u))
+        self._impact(axes[0, 0])
+        axes[0, 0].legend(loc="best")
+        if pressures:
+            cols = list(pressures.values())
+            fp, up = self._scaled([self.h.col(c) for c in cols], "Pa")
+            for name, c in pressures.items():
+                axes[1, 0].plot(self.t, self.h.col(c) * fp, label=name)
+                self.used.add(c)
+            axes[1, 0].set_ylabel(lib.axis_label("Peak pressure on the curve", up))
+            self._impact(axes[1, 0])
+            axes[1, 0].legend(loc="best")
+        for i, ax in enumerate(axes[:, 0]):
+            self._stages(ax, labels=i == 0)
+        self._time_axis(axes[-1, 0])
+        lib.title_pair(axes[0, 0], "Force of the water on curves", self.run_title)
+        self._save(fig, "water_forces.png")
+
+    def water(self):
+        w = wat.water_columns(self.h.names)
+        if not w:
+            return
+        self.water_surface(w)
+        self.wave_amplitude(w)
+        self.wave_decay(w)
+        self.water_runup(w)
+        self.water_forces(w)
 
     # ---------------------------------------------------------------- energies
     def energies(self):
@@ -361,6 +535,7 @@ class Plotter:
         self.gauge_magnitude("velocity", "m_per_s", "m/s", "gauge_velocity.png", "Gauge velocity magnitude", "peak")
         self.gauge_magnitude("acceleration", "m_per_s2", "m/s²", "gauge_acceleration.png",
                              "Gauge acceleration magnitude", "peak")
+        self.water()
         self.energies()
         self.counts(_COUNT_FRACTURE, "fracture.png", "Fracture")
         self.counts(_COUNT_CONTACT, "contacts.png", "Contacts")

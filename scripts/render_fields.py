@@ -4,12 +4,17 @@
     render_fields.py OUT [--field velocity|displacement|material|stress|damage|ARRAY]
                          [--frames all|last|first|N,M,A-B] [--movie] [--fps 10]
                          [--bbox xmin,xmax,ymin,ymax] [--clim lo,hi] [--width 1280]
-                         [--no-cracks] [--no-gauges] [--quiet]
+                         [--water speed|pressure|none] [--water-clim lo,hi] [--no-cracks] [--no-gauges] [--quiet]
 
 Reads OUT/fields.pvd (OUT/fields/fields_NNNNNN.vtu, triangles at the deformed
 configuration) and, when present, OUT/cracks.pvd (joint segments of the same frame:
-broken joints drawn dark, damaged ones coloured by damage). Writes
-OUT/render/<field>_NNNNNN.png and, with --movie, OUT/render/<field>.mp4.
+broken joints drawn dark, damaged ones coloured by damage) and OUT/water.pvd (the moving
+water's particles at the same time, drawn over the rock as discs of the particle spacing
+in a blue scale of their own, by speed or pressure; the rock's colour map then has no
+blue). Writes
+OUT/render/<field>_NNNNNN.png and, with --movie, OUT/render/<field>.mp4. Each PNG carries
+its view in the text chunk "dsdem:view" (axes box in pixels from the top left, x and y
+limits in m) and the time of the water drawn in "dsdem:water_time".
 
 Colour limits and the view box are fixed across frames (taken from every frame of the
 series) so that a movie does not flicker or jump.
@@ -41,6 +46,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import dsdem_plotlib as lib  # noqa: E402
+import dsdem_water as wat  # noqa: E402
 import matplotlib  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -189,6 +195,7 @@ class FrameData:
     tri: np.ndarray               # (m, 3)
     values: np.ndarray | None     # per triangle
     cracks: tuple | None          # (segments (k,2,2), state (k,), damage (k,))
+    water: tuple | None = None    # (positions (n,2), value (n,), time) of the water frame
 
 
 def read_mesh(path: Path):
@@ -371,6 +378,18 @@ def water_polyline(line, x0: float, x1: float) -> np.ndarray:
     return np.column_stack([x, np.interp(x, xs, zs)])
 
 
+WATER_BAR = 115  # px of the water's colour bar right of the rock's
+
+
+def category_colors(n: int, without_blue: bool) -> list:
+    """n distinct colours for categories; without the blues (tab10's blue and cyan, tab20's
+    blue pairs) when the water is drawn in blue."""
+    base = matplotlib.colormaps["tab10" if n <= (8 if without_blue else 10) else "tab20"]
+    blue = {0, 9} if base.N == 10 else {0, 1, 18, 19}
+    idx = [i for i in range(base.N) if not (without_blue and i in blue)]
+    return [base(idx[i % len(idx)]) for i in range(n)]
+
+
 def time_format(times: list[float]) -> str:
     ts = np.array([t for t in times if math.isfinite(t)])
     if ts.size >= 2:
@@ -450,6 +469,8 @@ class Renderer:
             self.all_times.append(mesh_time(m, fr.time))
         self.has_cracks = bool(cracks) and not self.a.no_cracks
         self.frames = data
+        self.model_box = bb if math.isfinite(bb[0]) else [-math.inf, math.inf, -math.inf, math.inf]
+        self.load_water()
         if self.a.clim:
             lo, hi = parse_floats(self.a.clim, 2, "--clim")
         elif self.spec.array is not None and not self.spec.categorical:
@@ -474,6 +495,88 @@ class Renderer:
             pad = 0.02 * max(bb[1] - bb[0], bb[3] - bb[2], 1e-12)
             self.bbox = [bb[0] - pad, bb[1] + pad, bb[2] - pad, bb[3] + pad]
 
+    def load_water(self) -> None:
+        """The water frame of each selected frame (matched by time) and the water's colour
+        limits over every water frame."""
+        self.has_water = False
+        wframes = [] if self.a.water == "none" else wat.water_frames(self.out)
+        if not wframes:
+            return
+        match = wat.match_by_time([(fd.number, fd.time) for fd in self.frames], wframes)
+        wanted = {id(w) for w in match.values()}
+        read: dict[int, tuple] = {}
+        sample, first_xy = [], None
+        x0, x1, y0, y1 = self.model_box
+        for w in wframes:
+            xy, vals = wat.read_water_frame(w.path, self.a.water)
+            if first_xy is None:
+                first_xy = xy
+            # Particles that left the model (a leak) fall freely: they would set the scale.
+            inside = (xy[:, 0] >= x0) & (xy[:, 0] <= x1) & (xy[:, 1] >= y0) & (xy[:, 1] <= y1) & np.isfinite(vals)
+            v = vals[inside]
+            sample.append(v[:: max(1, v.size // 20000)])
+            if id(w) in wanted:
+                read[id(w)] = (xy, vals, w.time)
+        for fd in self.frames:
+            w = match.get(fd.number)
+            fd.water = read.get(id(w)) if w is not None else None
+        self.has_water = True
+        pooled = np.concatenate(sample) if sample else np.empty(0)
+        # The 99th percentile of every particle of every frame, not the max: the bulk of the water
+        # keeps its shades; the few splashing fastest saturate (the bar's arrow).
+        hi = float(np.percentile(pooled, 99)) if pooled.size else 0.0
+        self.water_lo, self.water_hi = 0.0, hi if hi > 0 else 1.0
+        if self.a.water_clim:
+            self.water_lo, self.water_hi = parse_floats(self.a.water_clim, 2, "--water-clim")
+            if not self.water_hi > self.water_lo:
+                raise lib.InputError(f"--water-clim {self.a.water_clim}: need lo < hi")
+        self.water_dp = wat.particle_spacing(self.summary, first_xy)
+
+    # -------------------------------------------------------------- moving water
+    def rock_colormap(self, name: str):
+        """The rock's colour map: the usual one, or one without blue when the water is drawn."""
+        if not self.has_water:
+            return matplotlib.colormaps[name]
+        if name == "RdBu_r":
+            return matplotlib.colormaps["PiYG_r"]
+        ylorbr = matplotlib.colormaps["YlOrBr"]  # from its 15%: rock at rest still shows on white
+        return ListedColormap(ylorbr(np.linspace(0.15, 1.0, 256)), name="rock")
+
+    def build_water(self, W: int, right: int, bottom: int, axh: float, H: int) -> None:
+        """The particles and their colour bar: over the rock, under the joints; each a disc of
+        diameter dp, so that water at rest just reaches the faces and water inside a solid shows."""
+        self.water_sc = None
+        if not self.has_water:
+            return
+        blues = matplotlib.colormaps["Blues"]  # from its 35%: slow water is still clearly blue
+        cmap = ListedColormap(blues(np.linspace(0.35, 1.0, 256)), name="water")
+        label, unit = wat.WATER_VALUES[self.a.water]
+        self.water_factor, unit = lib.autoscale(self.water_hi, unit)
+        norm = Normalize(self.water_lo * self.water_factor, self.water_hi * self.water_factor)
+        self.ax.apply_aspect()
+        box = self.ax.get_window_extent()
+        px_per_m = box.width / (self.ax.get_xlim()[1] - self.ax.get_xlim()[0])
+        d_px = max(1.5, self.water_dp * px_per_m)
+        size = (d_px * 72.0 / self.savedpi) ** 2
+        self.water_sc = self.ax.scatter(np.empty(0), np.empty(0), s=size, c=np.empty(0), cmap=cmap, norm=norm,
+                                        marker="o", linewidths=0, zorder=2)
+        wcax = self.fig.add_axes([(W - right + 22 + WATER_BAR) / W, bottom / H, 18 / W, axh / H])
+        cb = self.fig.colorbar(self.water_sc, cax=wcax, extend="max")
+        cb.set_label(lib.axis_label(label, unit))
+        cb.formatter.set_useMathText(True)
+
+    def view_metadata(self, fd: FrameData) -> dict[str, str]:
+        """Where the axes are in the PNG, so that a tool can find a point in the picture."""
+        self.ax.apply_aspect()  # the limits as drawn (equal aspect widens one of them)
+        box = self.ax.get_window_extent()
+        H = self.fig.get_size_inches()[1] * self.savedpi
+        x0, x1 = self.ax.get_xlim()
+        y0, y1 = self.ax.get_ylim()
+        view = (f"axes_px {box.x0:.2f} {H - box.y1:.2f} {box.x1:.2f} {H - box.y0:.2f} "
+                f"xlim {x0!r} {x1!r} ylim {y0!r} {y1!r}")
+        wt = "" if fd.water is None else repr(float(fd.water[2]))
+        return {"dsdem:view": view, "dsdem:water_time": wt}
+
     # -------------------------------------------------------------- figure
     def build_figure(self):
         lib.setup_style()
@@ -484,6 +587,8 @@ class Renderer:
         if self.spec.categorical:  # room for the category names next to the colour bar
             longest = max((len(str(v)) for v in self.category_names().values()), default=4)
             right = max(right, min(360, 60 + 8 * longest))
+        if self.has_water:  # room for the water's colour bar
+            right += WATER_BAR
         x0, x1, y0, y1 = self.bbox
         aspect = (y1 - y0) / (x1 - x0)
         axw = W - left - right
@@ -528,8 +633,7 @@ class Renderer:
         elif spec.categorical:
             cats = self.cats or [0]
             names = self.category_names()
-            base = matplotlib.colormaps["tab10" if len(cats) <= 10 else "tab20"]
-            colors = [base(i % base.N) for i in range(len(cats))]
+            colors = category_colors(len(cats), without_blue=self.has_water)
             self.cat_index = {c: i for i, c in enumerate(cats)}
             self.cmap = ListedColormap(colors)
             self.norm = BoundaryNorm(np.arange(len(cats) + 1) - 0.5, len(cats))
@@ -540,7 +644,7 @@ class Renderer:
         else:
             self.factor, unit = lib.autoscale(max(abs(self.lo), abs(self.hi)), spec.unit)
             cmap_name = "RdBu_r" if (spec.signed and self.lo < 0 < self.hi) else "turbo"
-            self.cmap = matplotlib.colormaps[cmap_name]
+            self.cmap = self.rock_colormap(cmap_name)
             self.norm = Normalize(self.lo * self.factor, self.hi * self.factor)
             self.poly = PolyCollection([], cmap=self.cmap, norm=self.norm, edgecolors="face", linewidths=0.5, antialiaseds=False, zorder=1)
             cb = self.fig.colorbar(self.poly, cax=self.cax, extend="neither")
@@ -588,6 +692,7 @@ class Renderer:
         ax.set_title(self.run_title if len(self.run_title) <= 70 else self.run_title[:67] + "...",
                      loc="right", fontsize=9.5, color="0.4", fontweight="normal")
         self.tfmt = time_format(self.all_times)
+        self.build_water(W, right, bottom, axh, H)
 
     def category_names(self) -> dict[int, str]:
         if self.spec.array == "material_id":
@@ -618,6 +723,13 @@ class Renderer:
             self.cracks_broken.set_segments([])
             self.cracks_damaged.set_segments([])
         self.draw_water(fd.time)
+        if self.water_sc is not None:
+            if fd.water is not None:
+                self.water_sc.set_offsets(fd.water[0])
+                self.water_sc.set_array(fd.water[1] * self.water_factor)
+            else:
+                self.water_sc.set_offsets(np.empty((0, 2)))
+                self.water_sc.set_array(np.empty(0))
         for g, (mk, tx) in zip(self.gauges, self.gauge_artists):
             x, y = gauge_position(g, fd.time)
             mk.set_data([x], [y])
@@ -627,7 +739,7 @@ class Renderer:
         self.render_dir.mkdir(parents=True, exist_ok=True)
         path = self.render_dir / f"{safe_name(spec.key)}_{fd.number:06d}.png"
         tmp = path.with_name(path.stem + ".tmp.png")
-        self.fig.savefig(tmp, dpi=self.savedpi, pil_kwargs={"compress_level": 3})
+        self.fig.savefig(tmp, dpi=self.savedpi, metadata=self.view_metadata(fd), pil_kwargs={"compress_level": 3})
         tmp.replace(path)
         return path
 
@@ -644,8 +756,11 @@ class Renderer:
         x0, x1, y0, _ = self.bbox
         pts = water_polyline(line, x0, x1)
         self.water_curve.set_data(pts[:, 0], pts[:, 1])
-        below = np.vstack([pts, [[x1, y0], [x0, y0]]])
-        self.water_fill.set_verts([below] if (pts[:, 1] > y0).any() else [])
+        if self.has_water:  # the moving water shows itself: no fill at rest under it
+            self.water_fill.set_verts([])
+        else:
+            below = np.vstack([pts, [[x1, y0], [x0, y0]]])
+            self.water_fill.set_verts([below] if (pts[:, 1] > y0).any() else [])
 
     def movie(self, pngs: list[Path]) -> Path:
         ffmpeg = shutil.which("ffmpeg")
@@ -730,6 +845,10 @@ def main(argv=None) -> int:
     ap.add_argument("--clim", help="colour limits lo,hi in SI units (default: all frames)")
     ap.add_argument("--width", type=int, default=1280, help="image width in pixels (default 1280)")
     ap.add_argument("--jobs", type=int, default=0, help="parallel render processes (default: all cores, at most 8)")
+    ap.add_argument("--water", choices=["speed", "pressure", "none"], default="speed",
+                    help="colour the moving water's particles by speed or pressure, or do not draw them (default speed)")
+    ap.add_argument("--water-clim", help="the water's colour limits lo,hi in SI units (default: 0 to the 99th "
+                                         "percentile of every particle in the model over all frames)")
     ap.add_argument("--no-cracks", action="store_true", help="do not draw joints")
     ap.add_argument("--no-gauges", action="store_true", help="do not mark the gauges")
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")

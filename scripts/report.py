@@ -3,7 +3,9 @@
 
     report.py OUT [--no-render] [--quiet]
 
-Contents: title and scenario, key results, model, gauge table, history plots (made with
+Contents: title and scenario, key results, the reservoir wave (a run with moving water: the
+computed wave beside the Heller & Hager estimate, run-up, overtopping, forces, their plots;
+a dry run with a reservoir: the Heller & Hager estimate), model, gauge table, history plots (made with
 plot_history first if OUT/plots is missing or older than history.csv), the last field
 snapshot (rendered with render_fields if none exists, unless --no-render), every scalar of
 summary.json with its unit, the scenario YAML, run information and the log. Images are
@@ -23,6 +25,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import dsdem_plotlib as lib  # noqa: E402
+import dsdem_water as wat  # noqa: E402
+import numpy as np  # noqa: E402
 
 PLOT_ORDER = [
     ("gauge_displacement.png", "Gauge displacement magnitude"),
@@ -35,6 +39,16 @@ PLOT_ORDER = [
     ("loads.png", "Loads and reactions"),
     ("load_displacement.png", "Load–displacement"),
     ("other.png", "Other histories"),
+]
+# The moving water's plots, shown in the reservoir wave section rather than with the histories.
+WATER_PLOTS = [
+    ("water_surface.png", "Free-surface elevation above the still level at the gauges"),
+    ("wave_amplitude.png", "Wave amplitude over the reservoir (the highest surface above the still level at each "
+                           "moment) and its envelope, the largest so far"),
+    ("wave_decay.png", "The wave at the gauges against their distance from the slide's entry, beside Heller & "
+                       "Hager's 2D decay of the wave height H(x) = (3/4) (P (x/h)^(-1/3))^(4/5) h"),
+    ("water_runup.png", "Run-up (the highest water on each bank) and the water past each crest"),
+    ("water_forces.png", "Force of the water on the named curves, and the peak pressure on them"),
 ]
 MODEL_KEYS = ["elements", "nodes", "joints", "steps", "dt_s", "dt_controlled_by", "dt_adaptive", "dt_last_s",
               "dt_last_controlled_by", "end_time_s"]
@@ -49,6 +63,7 @@ main { max-width: 1180px; margin: 0 auto; padding: 28px 32px 48px; background: v
   box-shadow: 0 0 0 1px var(--line); min-height: 100vh; }
 header { border-bottom: 3px solid var(--accent); padding-bottom: 14px; margin-bottom: 22px; }
 h1 { margin: 0 0 6px; font-size: 28px; }
+h3 { margin: 22px 0 8px; font-size: 16px; }
 h2 { margin: 34px 0 12px; font-size: 20px; color: var(--accent); border-bottom: 1px solid var(--line);
   padding-bottom: 4px; }
 .sub { color: var(--muted); font-size: 14px; }
@@ -118,8 +133,9 @@ def flatten_scalars(d: dict, prefix: str = "", unit_hint: str = "") -> list[tupl
             hint = lib.split_unit("x_" + v["unit"])[1] if isinstance(v.get("unit"), str) else ""
             if not hint and isinstance(v.get("unit"), str):
                 hint = v["unit"]
+            q, u = lib.split_unit(k)  # max_runup_m: {bank: value} -> "max runup: bank (m)"
             rows += flatten_scalars({kk: vv for kk, vv in v.items() if kk != "unit"},
-                                    f"{prefix}{lib.humanize(k)}: ", hint)
+                                    f"{prefix}{lib.humanize(q if u else k)}: ", hint or u)
         elif isinstance(v, list):
             if v and all(isinstance(x, (int, float)) for x in v) and len(v) <= 6:
                 label, unit = key_label(k)
@@ -177,6 +193,12 @@ def key_cards(summary: dict) -> str:
         v, n, t = max(vel, key=lambda x: x[0])
         when = f" at {t:.3g} s" if isinstance(t, (int, float)) else ""
         card(scaled(v, "m/s"), f"peak gauge velocity ({n}{when})")
+    if isinstance(summary.get("max_wave_amplitude_m"), (int, float)):
+        card(scaled(summary["max_wave_amplitude_m"], "m"), "max wave amplitude (moving water)")
+    runups = [(v, n) for n, v in (summary.get("max_runup_m") or {}).items() if isinstance(v, (int, float))]
+    if runups:
+        v, n = max(runups)
+        card(scaled(v, "m"), f"highest run-up above the still level ({n})")
     for k in ("broken_joints", "fragments"):
         if isinstance(summary.get(k), (int, float)):
             card(lib.fmt_num(summary[k]), lib.humanize(k))
@@ -233,6 +255,168 @@ def impulse_wave_section(summary: dict) -> str:
         body += f'<p class="note">Outside the range of Heller &amp; Hager\'s experiments: {items}. ' \
                 'The estimate is an extrapolation.</p>'
     return body
+
+
+def _num(v) -> str:
+    return f'<td class="num">{esc(lib.fmt_num(v))}</td>' if isinstance(v, (int, float)) else '<td class="num">–</td>'
+
+
+def _table(head: list[str], rows: list[list[str]]) -> str:
+    """A table from header labels and rows of ready <td> cells."""
+    num = ' class="num"'
+    th = "".join(f"<th{num if i else ''}>{esc(h)}</th>" for i, h in enumerate(head))
+    return f"<table><thead><tr>{th}</tr></thead><tbody>" + "".join(
+        "<tr>" + "".join(r) + "</tr>" for r in rows) + "</tbody></table>"
+
+
+def _by_prefix(d: dict, prefix: str):
+    """The value of the first key starting with prefix (energies carry their unit: _J_per_m or _J)."""
+    for k, v in d.items():
+        if k.startswith(prefix):
+            return v
+    return None
+
+
+def heller_hager_missing(h) -> str:
+    """Why there is no Heller & Hager estimate to compare with, or "" when there is one."""
+    if not isinstance(h, dict):
+        return "summary.json has no heller_hager block, so there is no Heller &amp; Hager estimate to compare with."
+    if not h.get("slide_entered_water"):
+        return ("The slide did not enter the reservoir during the run, so there is no Heller &amp; Hager estimate "
+                "(it needs the slide's speed, thickness and mass where it enters the water).")
+    if not isinstance(h.get("amplitude_m"), (int, float)):
+        return ("The slide reached the water with no mass moving faster than 0.5 m/s, so there is no "
+                "Heller &amp; Hager estimate.")
+    return ""
+
+
+def gauge_wave(out: Path, after: float | None) -> dict[str, tuple[float, float]]:
+    """Highest and lowest free surface at each gauge (from history.csv; after the slide's entry when known)."""
+    try:
+        h = lib.read_history(out / "history.csv")
+    except lib.InputError:
+        return {}
+    keep = h.time >= after if isinstance(after, (int, float)) else slice(None)
+    res = {}
+    for g, c in wat.water_columns(h.names).gauges:
+        y = h.col(c)[keep]
+        y = y[np.isfinite(y)]
+        if y.size:
+            res[g] = (float(y.max()), float(y.min()))
+    return res
+
+
+def wave_comparison(mw: dict, h, gauges: dict[str, tuple[float, float]]) -> str:
+    """The computed wave beside Heller & Hager's estimate, and the validity verdict."""
+    peak = mw.get("max_wave_amplitude") or {}
+    a = peak.get("amplitude_m")
+    height = max((hi - lo for hi, lo in gauges.values()), default=None)
+    missing = heller_hager_missing(h)
+    hh = {} if missing else h
+    entry = (hh.get("impact_point_m") or [None])[0]
+    dist = abs(peak["x_m"] - entry) if isinstance(entry, (int, float)) and isinstance(peak.get("x_m"), (int, float)) \
+        else None
+
+    def ratio(c, e):
+        return _num(c / e) if isinstance(c, (int, float)) and isinstance(e, (int, float)) and e else _num(None)
+
+    rows = [["<td>maximum wave amplitude a_M (m)</td>", _num(a), _num(hh.get("amplitude_m")),
+             ratio(a, hh.get("amplitude_m"))],
+            ["<td>maximum wave height H_M (m): computed, the largest crest-to-trough at a gauge after the entry</td>",
+             _num(height), _num(hh.get("height_m")), ratio(height, hh.get("height_m"))],
+            ["<td>distance from the slide's entry (m): computed, of a_M; Heller &amp; Hager, of H_M</td>",
+             _num(dist), _num(hh.get("distance_of_max_height_m")), _num(None)]]
+    body = _table(["", "computed (moving water)", "Heller & Hager (2010)", "computed / Heller & Hager"], rows)
+    if missing:
+        return body + f'<p class="note">{missing}</p>'
+    outside = h.get("outside_validity") or []
+    if h.get("inside_validity") and not outside:
+        body += ('<p><b>Inside the range of Heller &amp; Hager\'s experiments</b> (slide Froude number, relative '
+                 'thickness and mass, impulse product, slope): the estimate applies.</p>')
+    else:
+        items = ", ".join(f"{esc(o['parameter'])} = {o['value']:.3g} (range {o['min']:g}-{o['max']:g})"
+                          for o in outside)
+        body += f"<p><b>Outside the range of Heller &amp; Hager's experiments</b>: {items or 'see inputs'}. " \
+                "The estimate is an extrapolation.</p>"
+    return body
+
+
+def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], since: str) -> str:
+    """Where and when the wave peaked, run-up, overtopping, forces, gauges and energy."""
+    peak = mw.get("max_wave_amplitude") or {}
+    body = kv_table([("maximum wave amplitude", "m", peak.get("amplitude_m")), ("where: x", "m", peak.get("x_m")),
+                     ("when", "s", peak.get("time_s"))])
+    runup = mw.get("runup") or {}
+    if runup:
+        body += _table(["bank", "highest water (m)", "above the still level (m)", "at (s)"],
+                       [[f"<td><b>{esc(n)}</b></td>", _num(r.get("elevation_m")),
+                         _num(r["elevation_m"] - level if isinstance(r.get("elevation_m"), (int, float))
+                              and isinstance(level, (int, float)) else None), _num(r.get("time_s"))]
+                        for n, r in runup.items()])
+    crests = mw.get("overtopping") or {}
+    if crests:
+        body += _table(["crest", "water past it (m²/m)", "at (s)"],
+                       [[f"<td><b>{esc(n)}</b></td>", _num(c.get("volume_m2_per_m")), _num(c.get("time_s"))]
+                        for n, c in crests.items()])
+    forces = mw.get("force_on_curves") or {}
+    if forces:
+        body += _table(["curve", "largest force (N/m)", "at (s)", "peak pressure (Pa)"],
+                       [[f"<td><b>{esc(n)}</b></td>", _num(_by_prefix(f, "max_force")), _num(f.get("time_s")),
+                         _num(f.get("peak_pressure_Pa"))] for n, f in forces.items()])
+    periods = mw.get("wave_period_s") or {}
+    names = list(dict.fromkeys(list(gauges) + list(periods)))
+    if names:
+        rows = []
+        for n in names:
+            hi, lo = gauges.get(n, (None, None))
+            T = periods.get(n)
+            rows.append([f"<td><b>{esc(n)}</b></td>", _num(hi), _num(lo),
+                         _num(T) if isinstance(T, (int, float)) else '<td class="num">fewer than two up-crossings</td>'])
+        body += _table(["gauge", f"highest surface{since} (m)", f"lowest surface{since} (m)", "wave period (s)"], rows)
+    gain, ke = _by_prefix(mw, "energy_gain"), _by_prefix(mw, "slide_kinetic_energy_at_impact")
+    body += kv_table([("energy handed to the water (its largest gain)", "J/m", gain),
+                      ("slide's kinetic energy where it entered", "J/m", ke),
+                      ("fraction handed to the water", "", mw.get("energy_handed_to_water_ratio")),
+                      ("work of the water on the solid", "J/m", _by_prefix(mw, "moving_water_work"))])
+    return body
+
+
+def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
+    """A run with moving water (DESIGN.md §13): the wave it computed beside Heller & Hager's estimate."""
+    mw = summary.get("moving_water")
+    if not isinstance(mw, dict):
+        return ""
+    h = summary.get("heller_hager")
+    level = h.get("still_level_m") if isinstance(h, dict) else None
+    after = h.get("impact_time_s") if isinstance(h, dict) else None
+    gauges = gauge_wave(out, after)
+    parts = [f'<p class="sub">Moving water (SPH): {esc(lib.fmt_num(mw.get("particles", "?")))} particles '
+             f'{esc(lib.fmt_num(mw.get("spacing_m", "?")))} m apart, {esc(lib.fmt_num(mw.get("depth_m", "?")))} m deep'
+             + (f", still level {esc(lib.fmt_num(level))} m" if isinstance(level, (int, float)) else "") + ".</p>"]
+    if isinstance(mw.get("escaped_particles"), int) and mw["escaped_particles"] > 0:
+        parts.append(f'<p class="note">{mw["escaped_particles"]} particles left the model (a gap in the solid): '
+                     "the water's measurements miss them.</p>")
+    peak_t = (mw.get("max_wave_amplitude") or {}).get("time_s")
+    end = summary.get("end_time_s")
+    if isinstance(peak_t, (int, float)) and isinstance(end, (int, float)) and peak_t >= 0.98 * end:
+        parts.append(f'<p class="note">The largest amplitude came at the end of the run ({lib.fmt_num(peak_t)} s of '
+                     f"{lib.fmt_num(end)} s): the wave may still have been growing; a longer run would tell.</p>")
+    a = (mw.get("max_wave_amplitude") or {}).get("amplitude_m")
+    if isinstance(a, (int, float)) and a <= 0:
+        parts.append('<p class="note">The water\'s surface never rose above the still level in the reservoir '
+                     f"(largest amplitude {lib.fmt_num(a)} m): no wave was measured.</p>")
+    parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h, gauges))
+    since = " after the slide's entry" if isinstance(after, (int, float)) else ""
+    parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))
+    by_name = {p.name: p for p in plots}
+    for name, cap in WATER_PLOTS:
+        if name in by_name:
+            parts.append(f"<figure>{img_tag(by_name[name], cap)}<figcaption>{esc(cap)} "
+                         f"(<code>plots/{esc(name)}</code>)</figcaption></figure>")
+    if isinstance(h, dict):
+        parts.append("<details><summary>Heller &amp; Hager inputs (the slide where it entered)</summary>"
+                     + impulse_wave_section(summary) + "</details>")
+    return "\n".join(parts)
 
 
 def ensure_plots(out: Path, quiet: bool) -> list[Path]:
@@ -298,7 +482,10 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
 
     section("key", "Key results", key_cards(summary))
     section("stability", "Factor of safety", stability_section(out, summary))
-    section("wave", "Impulse wave (Heller & Hager estimate)", impulse_wave_section(summary))
+    if isinstance(summary.get("moving_water"), dict):
+        section("reservoir-wave", "Reservoir wave", reservoir_wave_section(out, summary, plots))
+    else:  # a dry reservoir: the estimate only
+        section("wave", "Impulse wave (Heller & Hager estimate)", impulse_wave_section(summary))
 
     model_rows = []
     for k in MODEL_KEYS:
@@ -315,7 +502,8 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
     if plots:
         figs = []
         captions = dict(PLOT_ORDER)
-        for p in plots:
+        water_pngs = {n for n, _ in WATER_PLOTS} if isinstance(summary.get("moving_water"), dict) else set()
+        for p in (p for p in plots if p.name not in water_pngs):
             cap = captions.get(p.name, lib.humanize(p.stem).capitalize())
             figs.append(f"<figure>{img_tag(p, cap)}<figcaption>{esc(cap)} (<code>plots/{esc(p.name)}</code>)"
                         f"</figcaption></figure>")

@@ -97,6 +97,8 @@ struct RenderOptions {
   std::string clim;
   int width = 0;
   int jobs = 0;
+  std::string water = "speed";
+  std::string water_clim;
   bool no_cracks = false;
   bool no_gauges = false;
   bool quiet = false;
@@ -130,6 +132,8 @@ int run_render_command(const RenderOptions& o) {
   if (!o.clim.empty()) args.insert(args.end(), {"--clim", o.clim});
   if (o.width > 0) args.insert(args.end(), {"--width", std::to_string(o.width)});
   if (o.jobs > 0) args.insert(args.end(), {"--jobs", std::to_string(o.jobs)});
+  args.insert(args.end(), {"--water", o.water});
+  if (!o.water_clim.empty()) args.insert(args.end(), {"--water-clim", o.water_clim});
   if (o.no_cracks) args.emplace_back("--no-cracks");
   if (o.no_gauges) args.emplace_back("--no-gauges");
   if (o.quiet) args.emplace_back("--quiet");
@@ -233,6 +237,14 @@ void add_post_commands(CLI::App& app) {
     cmd->add_option("--width", o->width, "Image width in pixels (default 1280)")->check(CLI::Range(320, 8000));
     cmd->add_option("--jobs", o->jobs, "Parallel render processes (default: all cores, at most 8)")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--water", o->water,
+                    "The moving water's particles (OUT/water.pvd), drawn with the rock at the same time: coloured "
+                    "by speed or pressure, or none")
+        ->check(CLI::IsMember({"speed", "pressure", "none"}))
+        ->capture_default_str();
+    cmd->add_option("--water-clim", o->water_clim,
+                    "The water's colour limits lo,hi in SI units (default: 0 to the 99th percentile of the particles "
+                    "in the model over all frames)");
     cmd->add_flag("--no-cracks", o->no_cracks, "Do not draw the joints (cracks)");
     cmd->add_flag("--no-gauges", o->no_gauges, "Do not mark the gauges");
     cmd->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");

@@ -3,7 +3,9 @@
 //
 //   dsdem plot OUT [--no-show-stages]      PNG history plots into OUT/plots/
 //   dsdem render OUT [--field F] [--frames all|last|N,M|A-B] [--movie] [--fps 10]
-//                [--bbox xmin,xmax,ymin,ymax]  PNG snapshots (and an mp4) into OUT/render/
+//                [--bbox xmin,xmax,ymin,ymax] [--water speed|pressure|none] [--water-clim lo,hi]
+//                                          PNG snapshots (and an mp4) into OUT/render/,
+//                                          the moving water's particles with the rock
 //   dsdem report OUT                        self-contained OUT/report.html
 //
 // The work is done by the Python scripts scripts/plot_history.py, render_fields.py and

@@ -226,7 +226,7 @@ struct SphSpec {
   double viscosity = 0.02;           // the artificial viscosity alpha
   double density_diffusion = 0.1;    // delta
   double settle = 0.0;               // s of damped settling with the solid held, before step 0
-  double freeboard = -1.0;           // m above the level where solid faces are coupled; < 0: the depth / 2
+  double freeboard = -1.0;           // m above the level where solid faces are coupled; < 0: the depth
   std::vector<WaterFillSpec> fill;   // empty: below the level over the reservoir's x range
   std::vector<WaterGaugeSpec> gauges;
   std::vector<WaterCurveSpec> runup, pressure;

@@ -299,9 +299,10 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(num(b + ".settle", "s", "0", 0, kInf,
                   "Settling of the freshly laid water before step 0, the solid held still and the water's velocity "
                   "damped; the particles then sit at rest on the slanted banks."));
-  s.push_back(num(b + ".freeboard", "m", "depth/2", 0, kInf,
-                  "Height above the level up to which the bedrock's faces over the filled x range are coupled (the "
-                  "discrete zone's faces always are)."));
+  s.push_back(num(b + ".freeboard", "m", "depth", 0, kInf,
+                  "Height above the level up to which the bedrock's surface faces are coupled, over the filled x range "
+                  "widened by its width on each side (the discrete zone's faces always are). Water that runs up higher "
+                  "passes through the rock: the run warns (summary.json moving_water.above_freeboard_particles)."));
   s.push_back(of(b + ".fill", KeyType::List, "below the level over x",
                  "Regions filled with water, outside the solid: rectangles, or polygons below a level."));
   s.push_back(of(b + ".fill[]", KeyType::Map, "", "One region: `rectangle` or `polygon`."));

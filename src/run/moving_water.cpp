@@ -1,8 +1,10 @@
 #include "run/moving_water.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -184,8 +186,9 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
 }
 
 // The faces the water may meet: every face of a discrete triangle (its fragments' walls when
-// joints open), and the other surface faces over the filled span below the freeboard.
-std::vector<sph::SolidEdge> coupled_faces(const Model& m, double x0, double x1, double top, double reach) {
+// joints open), and the other surface faces between `bottom` and `top` over [x0, x1] (the
+// banks the water may run up; not the model's base or far sides).
+std::vector<sph::SolidEdge> coupled_faces(const Model& m, double x0, double x1, double bottom, double top) {
   std::vector<sph::SolidEdge> edges;
   const auto faces = SolidLocator::surface_faces(m);
   std::unordered_map<std::uint64_t, Index> third;  // the face's triangle's third node
@@ -202,7 +205,7 @@ std::vector<sph::SolidEdge> coupled_faces(const Model& m, double x0, double x1, 
     const Vec2 a = m.nodes.x(f[0]), b = m.nodes.x(f[1]), mid = 0.5 * (a + b);
     if (discrete[key(f[0], f[1])]) {
       edges.push_back({f[0], f[1], third[key(f[0], f[1])]});
-    } else if (mid.x() >= x0 - reach && mid.x() <= x1 + reach && std::min(a.y(), b.y()) <= top) {
+    } else if (mid.x() >= x0 && mid.x() <= x1 && std::min(a.y(), b.y()) <= top && std::max(a.y(), b.y()) >= bottom) {
       edges.push_back({f[0], f[1], kNoIndex});
     }
   }
@@ -238,12 +241,38 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   out.parameters = fluid_parameters(sc, out.depth);
   out.fluid = sph::FluidParticles{};
   fill_particles(regions, solid, out);
-  const double freeboard = w.freeboard >= 0.0 ? w.freeboard : 0.5 * out.depth;
+  const double freeboard = w.freeboard >= 0.0 ? w.freeboard : out.depth;
   const int layers = sph::wall_layers(out.parameters);
-  out.edges = coupled_faces(model, out.x_min, out.x_max, level + freeboard, layers * w.spacing);
+  const double reach = layers * w.spacing, width = out.x_max - out.x_min;
+  out.coupled_top = level + freeboard;
+  out.edges = coupled_faces(model, out.x_min - width - reach, out.x_max + width + reach, lowest - reach, out.coupled_top);
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);
+  // A discrete triangle's wall particles ride any of its faces (a small one's single particle
+  // rides one): a face is bare when its triangle carries none.
+  std::vector<int> walls(out.edges.size(), 0);
+  for (const Index e : out.walls.edge)
+    if (e != kNoIndex) ++walls[static_cast<std::size_t>(e)];
+  std::map<std::array<Index, 3>, int> per_triangle;
+  auto triangle = [](const sph::SolidEdge& f) {
+    std::array<Index, 3> t{f.a, f.b, f.c};
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  for (std::size_t e = 0; e < out.edges.size(); ++e)
+    if (out.edges[e].c != kNoIndex) per_triangle[triangle(out.edges[e])] += walls[e];
+  out.thinnest_bare_triangle = std::numeric_limits<double>::infinity();
+  for (std::size_t e = 0; e < out.edges.size(); ++e) {
+    const sph::SolidEdge& f = out.edges[e];
+    if (f.c == kNoIndex || per_triangle[triangle(f)] > 0) continue;
+    ++out.faces_without_walls;
+    const Vec2 a = x[f.a], b = x[f.b], c = x[f.c];
+    const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
+    out.thinnest_bare_triangle = std::min(out.thinnest_bare_triangle, 2.0 * area / perimeter);
+  }
+  if (out.faces_without_walls == 0) out.thinnest_bare_triangle = 0.0;
   return out;
 }
 

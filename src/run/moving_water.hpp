@@ -22,12 +22,17 @@ struct MovingWaterLayout {
   std::vector<sph::SolidEdge> edges;
   double depth = 0.0;        // m: the deepest still water (level less the lowest particle's bottom)
   double x_min = 0.0, x_max = 0.0;  // m: the filled span
+  double coupled_top = 0.0;  // m: the level plus the freeboard, the top of the coupled bedrock faces
+  // Discrete faces whose triangle carries no wall particle: the water would not see them
+  // (sph::lay_edge_particles gives every triangle at least one; a guard).
+  long faces_without_walls = 0;
+  double thinnest_bare_triangle = 0.0;  // m: the smallest inradius among their triangles
 };
 
 // Fills the regions (default: below reservoir.level over reservoir.x) with particles dp
 // apart, each outside every triangle and at least dp/2 from the solid's surface; couples
-// every face of the discrete zone and the other surface faces over the filled span up to
-// the freeboard. Throws io::ScenarioError naming the section when no water fits.
+// every face of the discrete zone and the other surface faces up to the freeboard, over the
+// filled span widened by its own width on each side (the banks the water may run up). Throws io::ScenarioError naming the section when no water fits.
 MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& model);
 
 // The velocity damping rate of the settling (1/s): 2 sqrt(g / H), about critical for the

@@ -129,8 +129,16 @@ void lay_out_water(PreparedRun& run) {
   if (!errors.empty()) throw io::ScenarioError(errors);
   const auto& par = w.parameters;
   run.build_log.push_back({2, fmt::format("reservoir water: {} particles {} m apart, {} m deep, sound speed {:.4g} m/s, "
-                                          "{} coupled faces carrying {} wall particles",
-                                          w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.walls.size())});
+                                          "{} coupled faces up to {} m carrying {} wall particles",
+                                          w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.coupled_top,
+                                          w.walls.size())});
+  if (w.faces_without_walls > 0)
+    run.build_log.push_back(
+        {3, fmt::format("reservoir water: {} faces of the discrete zone carry no wall particles (their triangles are too "
+                        "thin for a particle {} m behind the face inside them; the thinnest has an inradius of {:.3g} m): "
+                        "the water passes through them. Use a reservoir.sph.spacing below twice their inradius or "
+                        "larger triangles there (summary.json moving_water.faces_without_walls)",
+                        w.faces_without_walls, 0.5 * par.dp, w.thinnest_bare_triangle)});
   // The lattice hangs from the level (its top row dp/2 below it): where the depth is no
   // whole number of spacings the bottom row is missing and the water settles below the level.
   if (run.shore && run.shore->depth - w.depth > 0.25 * par.dp)

@@ -443,6 +443,11 @@ RunResult Runner::finish() {
     log_->warn("{} water particles left the model's box: the reservoir leaks through a gap in the solid or over its "
                "edge (summary.json moving_water.escaped_particles)",
                facts.water->escaped_particles());
+  if (facts.water && facts.water->above_freeboard_particles() > 0)
+    log_->warn("{} water particles rose above {} m, the top of the coupled bedrock faces (the level plus "
+               "reservoir.sph.freeboard): there the rock carries no wall and the water may run through it; raise the "
+               "freeboard (summary.json moving_water.above_freeboard_particles)",
+               facts.water->above_freeboard_particles(), facts.water->coupled_top());
   facts.max_balance_error = max_balance_error;
   facts.completed = completed;
   facts.stopped_by = stopped_by_;

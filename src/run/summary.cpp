@@ -115,6 +115,9 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["sound_speed_mps"] = layout.parameters.c0;
   m["coupled_faces"] = static_cast<long>(layout.edges.size());
   m["escaped_particles"] = w.escaped_particles();
+  m["coupled_top_m"] = w.coupled_top();
+  m["faces_without_walls"] = layout.faces_without_walls;
+  m["above_freeboard_particles"] = w.above_freeboard_particles();
   m["still_level_m"] = w.still_level();
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
   Json runup = Json::object();

@@ -66,8 +66,12 @@ double mean_surface(std::span<const double> surface) {
 }
 
 WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model, int direction)
-    : spec_(sc.reservoir.sph), level_(sc.reservoir.level), dp_(layout.parameters.dp), h_(layout.parameters.h()),
-      direction_(direction) {
+    : spec_(sc.reservoir.sph),
+      level_(sc.reservoir.level),
+      dp_(layout.parameters.dp),
+      h_(layout.parameters.h()),
+      direction_(direction),
+      top_(layout.coupled_top) {
   box_min_ = Vec2::Constant(std::numeric_limits<double>::infinity());
   box_max_ = -box_min_;
   for (const Vec2& X : model.nodes.X) box_min_ = box_min_.cwiseMin(X), box_max_ = box_max_.cwiseMax(X);
@@ -115,22 +119,26 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
-  const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution);
+  // A gauge reads the water body's surface, not spray thrown above it.
+  const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution, 2.0 * dp_);
   for (std::size_t g = 0; g < eta.size(); ++g) {
     row[k++] = eta[g] - level_;
     gauge_t_[g].push_back(t);
     gauge_eta_[g].push_back(eta[g] - level_);
   }
-  const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution);
+  const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution, 2.0 * dp_);
   if (!slide_entered && !std::isnan(mean_surface(surface))) still_ = mean_surface(surface);
   const Crest crest = crest_beyond(wave_x_, surface, still_level(), slide_front, direction_);
   row[k++] = crest.amplitude;
   raise(amplitude_, crest.amplitude, crest.x, t);
   observe_curves(fluid, t, row, k);
-  long out = 0;
-  for (std::size_t i = 0; i < f.size(); ++i)
+  long out = 0, above = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
     out += f.x[i] < box_min_.x() || f.x[i] > box_max_.x() || f.y[i] < box_min_.y() || f.y[i] > box_max_.y();
+    above += f.y[i] > top_;
+  }
   escaped_ = std::max(escaped_, out);
+  above_top_ = std::max(above_top_, above);
   const auto e = fluid.energy();
   const double total = e.kinetic + e.potential + e.compression;
   if (!energy_start_) energy_start_ = total;
@@ -189,6 +197,7 @@ std::vector<double> WaterWatch::state() const {
   s.push_back(still_);
   s.push_back(energy_start_ ? *energy_start_ : kNaN);
   s.push_back(static_cast<double>(escaped_));
+  s.push_back(static_cast<double>(above_top_));
   for (const auto* list : {&runup_, &crests_, &forces_})
     for (const auto& n : *list) {
       peak(n.peak);
@@ -219,6 +228,7 @@ void WaterWatch::restore(std::span<const double> s) {
   const double e0 = take();
   energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);
   escaped_ = static_cast<long>(take());
+  above_top_ = static_cast<long>(take());
   for (auto* list : {&runup_, &crests_, &forces_})
     for (auto& n : *list) {
       peak(n.peak);

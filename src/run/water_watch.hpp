@@ -71,6 +71,10 @@ class WaterWatch {
   // The most fluid particles seen outside the model's box (grown by the kernel's support):
   // water that leaked out of the reservoir through a gap in the solid.
   long escaped_particles() const { return escaped_; }
+  // The most fluid particles seen above the top of the coupled bedrock faces (the level plus
+  // the freeboard): water that may have run through uncoupled rock.
+  long above_freeboard_particles() const { return above_top_; }
+  double coupled_top() const { return top_; }
   double level() const { return level_; }
   // The still level the wave's amplitude is measured from (m): the water's mean surface at
   // the last row before the slide met it; reservoir.level before the first row.
@@ -89,7 +93,8 @@ class WaterWatch {
   double still_ = std::numeric_limits<double>::quiet_NaN();
   int direction_ = 0;
   Vec2 box_min_ = Vec2::Zero(), box_max_ = Vec2::Zero();  // the model's, grown by 2h
-  long escaped_ = 0;
+  long escaped_ = 0, above_top_ = 0;
+  double top_ = 0.0;  // m: the top of the coupled bedrock faces
   std::vector<double> gauge_x_, wave_x_;  // the gauges; where the amplitude is sought
   std::vector<std::vector<double>> gauge_t_, gauge_eta_;
   std::vector<double> crest_start_;

@@ -233,14 +233,23 @@ void Solver::add_contact_forces() {
   energy_.contact_damping_dissipated += contact_stats_.damping_dissipation;
 }
 
+// The water steps at its own stable step (DESIGN.md §13): sub-cycled when that is shorter than
+// the solid's, and, when it is longer, advanced once over as many solid steps as fit in it,
+// its force on the nodes held in between (the solid sub-cycling inside the water's step).
 void Solver::add_moving_water_forces() {
   if (!moving_) return;
   const auto& n = model_.nodes;
   sph::SolidCoupling& c = moving_->coupling;
+  moving_->waiting += settings_.dt;
+  if (moving_->waiting + settings_.dt <= moving_->fluid.stable_dt()) {
+    apply_moving_water_forces(true);
+    return;
+  }
   const auto nodes = c.nodes();
   const auto next = c.next_positions();
   for (std::size_t k = 0; k < nodes.size(); ++k) next[k] = n.x(nodes[k]);
-  c.advance(moving_->fluid, settings_.dt);
+  c.advance(moving_->fluid, moving_->waiting);
+  moving_->waiting = 0.0;
   apply_moving_water_forces(true);
 }
 

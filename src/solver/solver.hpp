@@ -297,6 +297,7 @@ class Solver {
     sph::SolidCoupling coupling;
     std::vector<Vec2> force_prev, u_prev;
     sph::Fluid::Energy start;  // the fluid's energy when it was set
+    double waiting = 0.0;      // s: solid time since the water last advanced, its forces held
   };
   std::unique_ptr<MovingWater> moving_;
   void apply_moving_water_forces(bool book);

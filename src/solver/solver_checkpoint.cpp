@@ -285,6 +285,7 @@ void Solver::save_moving_water(io::CheckpointWriter& out) const {
   const sph::Fluid::Energy& e0 = moving_->start;
   out.put("water_sph/start_energy", std::vector<double>{e0.kinetic, e0.potential, e0.compression});
   out.put("water_sph/work", energy_.moving_water_work);
+  out.put("water_sph/waiting", moving_->waiting);
 }
 
 void Solver::restore(const io::CheckpointReader& in) {
@@ -544,6 +545,7 @@ void Solver::restore_moving_water(const io::CheckpointReader& in) {
   const auto e0 = read_doubles(in, "water_sph/start_energy", 3);
   moving_->start = {e0[0], e0[1], e0[2]};
   energy_.moving_water_work = in.scalar("water_sph/work");
+  moving_->waiting = in.scalar("water_sph/waiting");
   moving_->fluid.restore(f);
   moving_->coupling.restore(c);
   // The water's energy in the ledger, as the last step's update_energy() left it.

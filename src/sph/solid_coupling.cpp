@@ -49,8 +49,63 @@ struct EdgeGrid {
   }
 };
 
+// Edge o is a face of the same triangle as edge e (both name their third node).
+bool same_triangle(const SolidEdge& e, const SolidEdge& o) {
+  if (e.c == kNoIndex || o.c == kNoIndex) return false;
+  auto in_e = [&](Index n) { return n == e.a || n == e.b || n == e.c; };
+  return in_e(o.a) && in_e(o.b) && in_e(o.c);
+}
+
+// p inside the triangle (a, b, c) or on its sides (to a relative tolerance).
+bool inside_triangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
+  const double area = cross(b - a, c - a), tol = -1e-9 * std::abs(area);
+  const double sign = area < 0.0 ? -1.0 : 1.0;
+  return sign * cross(b - a, p - a) >= tol && sign * cross(c - b, p - b) >= tol && sign * cross(a - c, p - c) >= tol;
+}
+
 void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                          int layers, const FluidParameters& par, double surface);
+
+// Face e's stations dp apart and `layers` rows (k + 1/2) dp behind it, into `out`, each kept
+// unless another face is nearer behind which it also lies: a continuous face competes with the
+// continuous ones, a fragment's face with its own triangle's (and keeps its points inside it).
+struct RowPoint {
+  Vec2 p;
+  double d, s;
+};
+void station_rows(std::vector<RowPoint>& out, std::size_t e, std::span<const SolidEdge> edges, std::span<const Vec2> x,
+                  const EdgeGrid& grid, int layers, double dp) {
+  const double reach = layers * dp, tol = 1e-9 * dp;
+  out.clear();
+  const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
+  const double length = (b - a).norm();
+  if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
+  const Vec2 n = edge_normal(a, b);
+  const bool owned = edges[e].c != kNoIndex;
+  const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
+  for (int i = 0; i < stations; ++i)
+    for (int k = 0; k < layers; ++k) {
+      const double s = (i + 0.5) / stations, d = (k + 0.5) * dp;
+      const Vec2 p = (1.0 - s) * a + s * b - d * n;
+      if (owned && !inside_triangle(p, a, b, x[edges[e].c])) continue;
+      bool kept = true;
+      for (std::size_t o : grid.at(p)) {
+        if (o == e || (owned ? !same_triangle(edges[e], edges[o]) : edges[o].c != kNoIndex)) continue;
+        const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
+        const Vec2 ot = ob - oa;
+        const double os = (p - oa).dot(ot) / ot.squaredNorm();
+        if (os < 0.0 || os > 1.0) continue;
+        const double od = -(p - oa).dot(edge_normal(oa, ob));
+        if (od <= 0.0 || od > reach) continue;
+        if (od < d - tol || (od <= d + tol && o < e)) {
+          kept = false;
+          break;
+        }
+      }
+      if (kept) out.push_back({p, d, s});
+    }
+}
 
 void add_riding(BoundaryParticles& walls, const Vec2& p, const Vec2& n, double d, double s, std::size_t e,
                 const FluidParameters& par, double surface) {
@@ -95,52 +150,43 @@ int lay_fragment_face(BoundaryParticles& walls, std::size_t e, const Vec2& a, co
 
 void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                         int layers, const FluidParameters& par, double surface) {
-  const double dp = par.dp, reach = layers * dp, tol = 1e-9 * dp;
+  const double dp = par.dp, reach = layers * dp;
   const EdgeGrid grid(edges, x, reach, std::max(reach, dp));
-  // A fragment's triangle whose faces laid nothing (smaller than about dp^2) still carries
-  // one particle, at its incentre, riding its first face: no fragment is transparent.
+  std::vector<RowPoint> points;
+  // A fragment's triangle that these rows leave with under half its share of particles (its
+  // area / dp^2, at least one; an inradius under about dp: the grains of a granular slide)
+  // is filled by lay_fragment_face instead, so the water cannot flow through it.
   struct Fragment {
     std::size_t first = 0;  // its first face
-    int laid = 0;
+    int rows = 0, laid = 0;
     double owed = 0.0;
   };
   std::map<std::array<Index, 3>, Fragment> fragment;  // by its sorted nodes
+  auto key = [&](std::size_t e) {
+    std::array<Index, 3> k{edges[e].a, edges[e].b, edges[e].c};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (edges[e].c != kNoIndex) {
+      station_rows(points, e, edges, x, grid, layers, dp);
+      fragment.try_emplace(key(e), Fragment{e, 0, 0, 0.0}).first->second.rows += static_cast<int>(points.size());
+    }
   for (std::size_t e = 0; e < edges.size(); ++e) {
     const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
-    const double length = (b - a).norm();
-    if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
     const Vec2 n = edge_normal(a, b);
     if (edges[e].c != kNoIndex) {
-      std::array<Index, 3> key{edges[e].a, edges[e].b, edges[e].c};
-      std::sort(key.begin(), key.end());
-      Fragment& f = fragment.try_emplace(key, Fragment{e, 0, 0.0}).first->second;
-      f.laid += lay_fragment_face(walls, e, a, b, x[edges[e].c], layers, par, surface, f.owed);
-      continue;
-    }
-    const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
-    for (int i = 0; i < stations; ++i) {
-      const double s = (i + 0.5) / stations;
-      for (int k = 0; k < layers; ++k) {
-        const double d = (k + 0.5) * dp;
-        const Vec2 p = (1.0 - s) * a + s * b - d * n;
-        // Kept unless another continuous face is nearer behind which the particle also lies.
-        bool kept = true;
-        for (std::size_t o : grid.at(p)) {
-          if (o == e || edges[o].c != kNoIndex) continue;
-          const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
-          const Vec2 ot = ob - oa;
-          const double os = (p - oa).dot(ot) / ot.squaredNorm();
-          if (os < 0.0 || os > 1.0) continue;
-          const double od = -(p - oa).dot(edge_normal(oa, ob));
-          if (od <= 0.0 || od > reach) continue;
-          if (od < d - tol || (od <= d + tol && o < e)) {
-            kept = false;
-            break;
-          }
-        }
-        if (kept) add_riding(walls, p, n, d, s, e, par, surface);
+      Fragment& f = fragment.at(key(e));
+      const Vec2& c = x[edges[e].c];
+      const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+      if (f.rows < 0.5 * std::max(1.0, area / (dp * dp))) {
+        f.laid += lay_fragment_face(walls, e, a, b, c, layers, par, surface, f.owed);
+        continue;
       }
     }
+    station_rows(points, e, edges, x, grid, layers, dp);
+    for (const RowPoint& q : points) add_riding(walls, q.p, n, q.d, q.s, e, par, surface);
+    if (edges[e].c != kNoIndex) fragment.at(key(e)).laid += static_cast<int>(points.size());
   }
   for (const auto& [nodes, frag] : fragment) {
     if (frag.laid > 0) continue;

@@ -46,8 +46,11 @@ struct Columns {
   }
 };
 
-// The highest y where c(x, y) = 1/2 over the particles `near` (within 2h of the line x).
-double surface_at(const FluidParticles& f, std::span<const std::int32_t> near, double x, double h, double resolution) {
+// The highest y where c(x, y) = 1/2 over the particles `near` (within 2h of the line x), on
+// water at least `thickness` deep below it (or reaching the column's bottom): spray, a few
+// particles thrown above the surface, is stepped over.
+double surface_at(const FluidParticles& f, std::span<const std::int32_t> near, double x, double h, double resolution,
+                  double thickness) {
   if (near.empty()) return kNaN;
   double y_top = -std::numeric_limits<double>::infinity(), y_bottom = std::numeric_limits<double>::infinity();
   for (const std::int32_t j : near) {
@@ -55,19 +58,38 @@ double surface_at(const FluidParticles& f, std::span<const std::int32_t> near, d
     y_bottom = std::min(y_bottom, f.y[static_cast<std::size_t>(j)]);
   }
   // Down from where no particle reaches (c = 0) in steps of h/4, short enough not to step
-  // over a sheet of water as thin as a particle, until c >= 1/2; then bisection.
-  const double step = 0.25 * h;
+  // over a sheet of water as thin as a particle, until c >= 1/2 over `thickness`; then
+  // bisection between the last dry step and the first wet one.
+  const double step = 0.25 * h, floor = y_bottom - 2.0 * h;
   double above = y_top + 2.0 * h;
-  for (double y = above - step; y > y_bottom - 2.0 * h; y -= step) {
-    if (fluid_fraction(f, near, x, y, h) >= 0.5) {
-      double below = y;
-      while (above - below > resolution) {
-        const double mid = 0.5 * (above + below);
-        (fluid_fraction(f, near, x, mid, h) >= 0.5 ? below : above) = mid;
-      }
-      return 0.5 * (above + below);
+  for (double y = above - step; y > floor; y -= step) {
+    if (fluid_fraction(f, near, x, y, h) < 0.5) {
+      above = y;
+      continue;
     }
-    above = y;
+    const double enough = thickness - 1e-9 * h;
+    double wet = y;
+    bool bottom = false;
+    while (y - wet < enough) {
+      if (wet - step <= floor) {
+        bottom = true;
+        break;
+      }
+      if (fluid_fraction(f, near, x, wet - step, h) < 0.5) break;
+      wet -= step;
+    }
+    const bool deep = bottom || y - wet >= enough;
+    if (!deep) {  // spray: go on below it
+      above = wet - step;
+      y = above;
+      continue;
+    }
+    double below = y;
+    while (above - below > resolution) {
+      const double mid = 0.5 * (above + below);
+      (fluid_fraction(f, near, x, mid, h) >= 0.5 ? below : above) = mid;
+    }
+    return 0.5 * (above + below);
   }
   return kNaN;
 }
@@ -92,14 +114,14 @@ double fluid_fraction(const FluidParticles& f, std::span<const std::int32_t> nea
 }
 
 std::vector<double> free_surface_elevations(const FluidParticles& f, std::span<const double> xs, double h,
-                                            double resolution) {
+                                            double resolution, double thickness) {
   std::vector<double> out(xs.size(), kNaN);
   if (f.size() == 0) return out;
   const Columns columns(f, 2.0 * h);
   std::vector<std::int32_t> near;
   for (std::size_t k = 0; k < xs.size(); ++k) {
     columns.near_line(f, xs[k], 2.0 * h, near);
-    out[k] = surface_at(f, near, xs[k], h, resolution);
+    out[k] = surface_at(f, near, xs[k], h, resolution, thickness);
   }
   return out;
 }

@@ -24,10 +24,11 @@ namespace dsdem::sph {
 double fluid_fraction(const FluidParticles& f, std::span<const std::int32_t> near, double x, double y, double h);
 
 // The free-surface elevation at each x of `xs` (m): the highest y where c(x, y) = 1/2,
-// found to within `resolution` (m; dp/20 is plenty); NaN where the column is dry.
-// Particles are binned once into columns 2h wide.
+// found to within `resolution` (m; dp/20 is plenty), on water at least `thickness` m deep
+// below it or reaching the column's bottom (2 dp steps over spray; 0 takes any water);
+// NaN where the column is dry. Particles are binned once into columns 2h wide.
 std::vector<double> free_surface_elevations(const FluidParticles& f, std::span<const double> xs, double h,
-                                            double resolution);
+                                            double resolution, double thickness = 0.0);
 
 // The highest point of the surface over [x0, x1] sampled every `spacing` m: its x and y.
 // y is NaN when the whole span is dry.

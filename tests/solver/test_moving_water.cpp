@@ -401,6 +401,58 @@ TEST(MovingWater, CheckpointRestartContinuesBitIdentically) {
   std::printf("checkpoint restarts: %.1f s\n", seconds_since(t0));
 }
 
+// The water steps at its own stable step (DESIGN.md §13): a block a hundred times stiffer
+// takes solid steps ten times shorter than the water's, and the water advances once over as
+// many of them as fit in its step, landing on the solid's time, its force on the nodes held in
+// between. The drop's energy balance closes as in the drop above, and a checkpoint taken
+// while the water waits restarts with the same bits.
+TEST(MovingWater, WaterStepsAtItsOwnStepOverShorterSolidSteps) {
+  Pool p = drop_pool();
+  p.E = 5e7;
+  omp_set_num_threads(1);
+  Coupled a = coupled(p, 0.0, 0.0);
+  solver::Solver& s = *a.solver;
+  const sph::Fluid& f = *s.moving_water();
+  long advances = 0, held = 0;
+  double peak = 0.0;
+  std::filesystem::path saved;
+  long saved_at = -1;
+  while (s.time() < 0.15) {
+    const long before = f.steps();
+    const double t0 = f.time(), allowed = f.stable_dt();
+    const std::vector<Vec2> force(s.moving_water_coupling()->forces().begin(), s.moving_water_coupling()->forces().end());
+    s.step();
+    const auto now = s.moving_water_coupling()->forces();
+    peak = std::max(peak, s.moving_water_coupling()->particle_force_sum().norm());
+    if (f.steps() == before) {
+      ++held;
+      ASSERT_EQ(std::memcmp(force.data(), now.data(), force.size() * sizeof(Vec2)), 0) << "a held force changed";
+      if (saved_at < 0 && s.time() > 0.1) {  // in the middle of the water's step, after impact
+        saved = checkpoint_path("waiting");
+        save(s, saved);
+        saved_at = s.step_count();
+      }
+      continue;
+    }
+    ++advances;
+    ASSERT_EQ(f.steps(), before + 1) << "the water needs no sub-steps here";
+    EXPECT_LE(f.time() - t0, allowed * (1.0 + 1e-12));
+    EXPECT_NEAR(f.time(), s.time(), 1e-12);
+  }
+  std::printf("stiff drop: %ld solid steps of %.3g s, %ld water steps (%ld solid steps with the force held), peak "
+              "water force %.4g N/m, balance %.3g, moving water work %.4g J/m\n",
+              s.step_count(), s.settings().dt, advances, held, peak, s.energy().balance_error(),
+              s.energy().moving_water_work);
+  EXPECT_GT(peak, 100.0);  // the block hit the water
+  EXPECT_GT(held, 5 * advances);
+  EXPECT_LT(s.energy().balance_error(), 1e-3);
+  ASSERT_GT(saved_at, 0);
+  Coupled b = coupled(p, 0.0, 0.0);
+  b.solver->restore(io::CheckpointReader(saved));
+  while (b.solver->step_count() < s.step_count()) b.solver->step();
+  expect_same_run(a, b);
+}
+
 // A checkpoint of another set-up is refused with the entry named, before anything is
 // restored: moving water in the file but not in the solver, the reverse, another particle
 // count. A run without moving water writes no entry of it.

@@ -53,6 +53,22 @@ TEST(FreeSurface, FollowsASlopeAndIgnoresADroplet) {
   EXPECT_NEAR(peak.y, line(3.5), 0.6 * kDp);
 }
 
+// Spray, a blob of a few particles thrown above the water, reads as the surface when any
+// water counts, and is stepped over when the surface must stand on water 2 dp deep; a crest
+// of the water body itself is kept.
+TEST(FreeSurface, SprayIsSteppedOverWhenTheWaterMustBeDeep) {
+  FluidParticles f = water_under(0.0, 4.0, [](double x) { return x > 2.8 && x < 3.2 ? 1.3 : 1.0; });
+  for (double dx : {-0.5, 0.5})
+    for (double dy : {-0.5, 0.5}) f.add(1.5 + dx * kDp, 1.8 + dy * kDp, kRho);  // a 2 x 2 blob at 1.8 m
+  const std::vector<double> xs{1.5, 3.0};
+  const std::vector<double> any = free_surface_elevations(f, xs, kH, kDp / 50);
+  EXPECT_GT(any[0], 1.7) << "the blob counts as water";
+  const std::vector<double> deep = free_surface_elevations(f, xs, kH, kDp / 50, 2.0 * kDp);
+  EXPECT_NEAR(deep[0], 1.0, 0.1 * kDp) << "the water's own surface under the spray";
+  EXPECT_NEAR(deep[1], any[1], 1e-12) << "a crest of the water body stays";
+  EXPECT_GT(deep[1], 1.2);
+}
+
 TEST(FreeSurface, AHumpIsFoundWhereItIs) {
   // A crest 0.3 m high at x = 2.5 m on water 0.8 m deep.
   auto surface = [](double x) { return 0.8 + 0.3 * std::exp(-std::pow((x - 2.5) / 0.4, 2)); };

@@ -1,7 +1,8 @@
 // A closed flume: a 45-degree bank from (0, 6) down to (6, 0), a flat bed to x = 13 and a
 // wall 1 m thick up to z = 5 on the right; a 1 x 0.5 m block (discrete) on the bank with its
-// lower back corner at (1, 5). The water (level 2 m) fills x = 2-13 m between bank and wall.
-hb = 0.5; hs = 0.25; r = Sqrt(0.5);
+// lower back corner at (1, 5), meshed as two triangles (the scenario's element size 1 m) so
+// that particles 0.2 m apart fit behind each of its faces. The water (level 2 m) fills x = 2-13 m between bank and wall.
+hb = 0.5; hs = 1; r = Sqrt(0.5);
 Point(1) = {0, -1, 0, 2*hb}; Point(2) = {14, -1, 0, 2*hb}; Point(3) = {14, 5, 0, hb}; Point(4) = {13, 5, 0, hb};
 Point(5) = {13, 0, 0, hb}; Point(6) = {6, 0, 0, hb}; Point(7) = {0, 6, 0, hb};
 Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6}; Line(6) = {6, 7};
