@@ -1,8 +1,10 @@
 #include "run/moving_water.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -170,7 +172,9 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const Vec2 p(x0 + (i + 0.5) * dp, top - (j + 0.5) * dp);
-        if (!inside_polygon(poly, p) || solid.in_solid(p) || solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-9)) continue;
+        // dp/2 from the solid, less a thousandth: a spacing rounded to six digits that divides
+        // the depth keeps its bottom row.
+        if (!inside_polygon(poly, p) || solid.in_solid(p) || solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-3)) continue;
         bool earlier = false;
         for (std::size_t q = 0; q < r && !earlier; ++q)
           earlier = inside_polygon(regions[q].polygon, p) && p.y() < regions[q].level;
@@ -245,13 +249,23 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);
+  // A discrete triangle's wall particles ride any of its faces (a small one's single particle
+  // rides one): a face is bare when its triangle carries none.
   std::vector<int> walls(out.edges.size(), 0);
   for (const Index e : out.walls.edge)
     if (e != kNoIndex) ++walls[static_cast<std::size_t>(e)];
+  std::map<std::array<Index, 3>, int> per_triangle;
+  auto triangle = [](const sph::SolidEdge& f) {
+    std::array<Index, 3> t{f.a, f.b, f.c};
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  for (std::size_t e = 0; e < out.edges.size(); ++e)
+    if (out.edges[e].c != kNoIndex) per_triangle[triangle(out.edges[e])] += walls[e];
   out.thinnest_bare_triangle = std::numeric_limits<double>::infinity();
   for (std::size_t e = 0; e < out.edges.size(); ++e) {
     const sph::SolidEdge& f = out.edges[e];
-    if (f.c == kNoIndex || walls[e] > 0) continue;
+    if (f.c == kNoIndex || per_triangle[triangle(f)] > 0) continue;
     ++out.faces_without_walls;
     const Vec2 a = x[f.a], b = x[f.b], c = x[f.c];
     const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());

@@ -23,8 +23,8 @@ struct MovingWaterLayout {
   double depth = 0.0;        // m: the deepest still water (level less the lowest particle's bottom)
   double x_min = 0.0, x_max = 0.0;  // m: the filled span
   double coupled_top = 0.0;  // m: the level plus the freeboard, the top of the coupled bedrock faces
-  // Discrete faces on which no wall particle fits inside the own triangle (a triangle thinner
-  // than about the spacing): the water does not see them.
+  // Discrete faces whose triangle carries no wall particle: the water would not see them
+  // (sph::lay_edge_particles gives every triangle at least one; a guard).
   long faces_without_walls = 0;
   double thinnest_bare_triangle = 0.0;  // m: the smallest inradius among their triangles
 };

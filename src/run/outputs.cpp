@@ -3,6 +3,7 @@
 #include "run/water_watch.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -96,7 +97,8 @@ RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, cons
     if (resume_from) slide_watch_->restore(resume_from->slide_impact);
   }
   if (prepared.moving_water && solver.moving_water()) {
-    water_watch_.emplace(prepared.scenario, *prepared.moving_water, prepared.model);
+    water_watch_.emplace(prepared.scenario, *prepared.moving_water, prepared.model,
+                         prepared.shore ? wave_direction(*prepared.shore) : 0);
     water_columns_ = WaterWatch::columns(prepared.scenario.reservoir.sph, energy_unit_, force_unit_).size();
     water_frames_.emplace(open_series(out, "water.pvd", resume_from, resume_from ? resume_from->water_frames : 0));
     if (resume_from) water_watch_->restore(resume_from->water_watch);
@@ -131,7 +133,10 @@ void RunOutputs::write_history(int stage_index) {
   if (has_water_) row_[k++] = e.water_work;
   if (water_watch_) {
     row_[k++] = e.moving_water_work;
-    water_watch_->observe(*solver_.moving_water(), solver_.time(), std::span<double>(row_).subspan(k, water_columns_));
+    const double front = prepared_.shore ? slide_front(model_, *prepared_.shore) : std::numeric_limits<double>::quiet_NaN();
+    const bool entered = slide_watch_ && slide_watch_->impact().has_value();
+    water_watch_->observe(*solver_.moving_water(), solver_.time(), std::span<double>(row_).subspan(k, water_columns_), front,
+                          entered);
     k += water_columns_;
   }
   for (const auto& [name, nodes] : reactions_) {

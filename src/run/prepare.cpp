@@ -139,6 +139,16 @@ void lay_out_water(PreparedRun& run) {
                         "the water passes through them. Use a reservoir.sph.spacing below twice their inradius or "
                         "larger triangles there (summary.json moving_water.faces_without_walls)",
                         w.faces_without_walls, 0.5 * par.dp, w.thinnest_bare_triangle)});
+  // The lattice hangs from the level (its top row dp/2 below it): where the depth is no
+  // whole number of spacings the bottom row is missing and the water settles below the level.
+  if (run.shore && run.shore->depth - w.depth > 0.25 * par.dp)
+    run.build_log.push_back(
+        {3, fmt::format("{}:{}: key 'reservoir.sph.spacing': the particles fill {:.4g} m of the {:.4g} m from the level "
+                        "down to the deepest bed: the water will settle about {:.3g} m below reservoir.level (the "
+                        "wave's amplitude is measured from the settled level); a spacing that divides the depth, "
+                        "e.g. {:.6g} m, fills it",
+                        res.sph.where.file, res.sph.where.line, w.depth, run.shore->depth, run.shore->depth - w.depth,
+                        run.shore->depth / std::max(1.0, std::round(run.shore->depth / par.dp)))});
   run.moving_water = std::move(w);
 }
 

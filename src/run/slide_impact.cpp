@@ -113,6 +113,19 @@ water::SlideImpact measure_slide(const Model& model, const Shore& shore) {
   return out;
 }
 
+double slide_front(const Model& model, const Shore& shore) {
+  const int dir = wave_direction(shore);
+  double front = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    if (model.triangles.zone[t] != Zone::Discrete) continue;
+    for (Index i : model.triangles.conn[t]) {
+      const double x = model.nodes.x(i).x();
+      if (std::isnan(front) || (x - front) * dir > 0.0) front = x;
+    }
+  }
+  return front;
+}
+
 bool SlideImpactWatch::observe(const Model& model, double time) {
   if (impact_) return false;
   const auto& tri = model.triangles;

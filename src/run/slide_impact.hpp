@@ -43,6 +43,13 @@ inline constexpr double kSlideSpeed = 0.5;
 // direction (in bins along it 4 mean element sizes wide). Zero mass when none moves.
 water::SlideImpact measure_slide(const Model& model, const Shore& shore);
 
+// Where the wave runs from the slide's bank along x: +1 toward +x, -1 toward -x.
+inline int wave_direction(const Shore& shore) { return shore.downslope.x() < 0.0 ? -1 : 1; }
+
+// The slide's foremost point along x in the wave's direction: the x of the node of the
+// discrete zone furthest toward the open water (the deposit's toe once it has stopped).
+double slide_front(const Model& model, const Shore& shore);
+
 // Watches for the slide's first entry into the reservoir; observe() at each history row.
 class SlideImpactWatch {
  public:

@@ -118,6 +118,7 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["coupled_top_m"] = w.coupled_top();
   m["faces_without_walls"] = layout.faces_without_walls;
   m["above_freeboard_particles"] = w.above_freeboard_particles();
+  m["still_level_m"] = w.still_level();
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
   Json runup = Json::object();
   for (const auto& r : w.runup()) runup[r.name] = peak(r.peak, "elevation_m", false);

@@ -47,11 +47,30 @@ void particles_near(const sph::FluidParticles& f, std::span<const Vec2> poly, do
 
 }  // namespace
 
-WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model)
+Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, double level, double front,
+                   int direction) {
+  Crest c{kNaN, kNaN};
+  for (std::size_t i = 0; i < std::min(xs.size(), surface.size()); ++i) {
+    if (std::isnan(surface[i]) || (direction != 0 && !std::isnan(front) && (xs[i] - front) * direction <= 0.0)) continue;
+    if (std::isnan(c.amplitude) || surface[i] - level > c.amplitude) c = {surface[i] - level, xs[i]};
+  }
+  return c;
+}
+
+double mean_surface(std::span<const double> surface) {
+  double sum = 0.0;
+  int n = 0;
+  for (const double y : surface)
+    if (!std::isnan(y)) sum += y, ++n;
+  return n > 0 ? sum / n : kNaN;
+}
+
+WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model, int direction)
     : spec_(sc.reservoir.sph),
       level_(sc.reservoir.level),
       dp_(layout.parameters.dp),
       h_(layout.parameters.h()),
+      direction_(direction),
       top_(layout.coupled_top) {
   box_min_ = Vec2::Constant(std::numeric_limits<double>::infinity());
   box_max_ = -box_min_;
@@ -61,8 +80,8 @@ WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, 
   for (const auto& g : spec_.gauges) gauge_x_.push_back(g.x);
   gauge_t_.resize(gauge_x_.size());
   gauge_eta_.resize(gauge_x_.size());
-  // The wave is sought where the still water is at least a quarter of the deepest: the
-  // run-up on the banks is measured apart.
+  // The wave is sought where the still water is at least a quarter of the deepest (the
+  // run-up on the banks is measured apart), and beyond the slide (crest_beyond).
   const double dx = dp_;
   const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil((layout.x_max - layout.x_min) / dx)));
   std::vector<double> bottom(n, std::numeric_limits<double>::infinity());
@@ -95,7 +114,8 @@ std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, cons
   return c;
 }
 
-void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> row) {
+void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front,
+                         bool slide_entered) {
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
@@ -107,11 +127,10 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
     gauge_eta_[g].push_back(eta[g] - level_);
   }
   const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution, 2.0 * dp_);
-  double a = kNaN, ax = 0.0;
-  for (std::size_t i = 0; i < surface.size(); ++i)
-    if (!std::isnan(surface[i]) && (std::isnan(a) || surface[i] - level_ > a)) a = surface[i] - level_, ax = wave_x_[i];
-  row[k++] = a;
-  raise(amplitude_, a, ax, t);
+  if (!slide_entered && !std::isnan(mean_surface(surface))) still_ = mean_surface(surface);
+  const Crest crest = crest_beyond(wave_x_, surface, still_level(), slide_front, direction_);
+  row[k++] = crest.amplitude;
+  raise(amplitude_, crest.amplitude, crest.x, t);
   observe_curves(fluid, t, row, k);
   long out = 0, above = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
@@ -175,6 +194,7 @@ std::vector<double> WaterWatch::state() const {
   auto peak = [&](const Peak& p) { s.insert(s.end(), {p.value, p.x, p.t, p.seen ? 1.0 : 0.0}); };
   peak(amplitude_);
   peak(energy_gain_);
+  s.push_back(still_);
   s.push_back(energy_start_ ? *energy_start_ : kNaN);
   s.push_back(static_cast<double>(escaped_));
   s.push_back(static_cast<double>(above_top_));
@@ -204,6 +224,7 @@ void WaterWatch::restore(std::span<const double> s) {
   };
   peak(amplitude_);
   peak(energy_gain_);
+  still_ = take();
   const double e0 = take();
   energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);
   escaped_ = static_cast<long>(take());

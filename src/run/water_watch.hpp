@@ -3,6 +3,8 @@
 // free surface at gauges, the wave's amplitude above the still level (where and when), the
 // run-up on banks, the water past crests, the force and peak pressure on curves, the energy
 // the water gained; their peaks for summary.json.
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -15,17 +17,39 @@
 
 namespace dsdem::run {
 
+// The wave's crest at a moment: the highest free surface above `level` over the columns xs
+// (surface NaN: dry) that lie beyond the slide's front, x > front for direction +1 (the wave
+// runs toward +x), x < front for -1; every column for direction 0 or a NaN front. The water
+// above and behind the slide's front (its splash, the water it displaces as it sinks, its
+// deposit) is not the impulse wave of Heller & Hager (2010), measured by gauges clear of the
+// slide. x NaN and amplitude NaN when no wet column qualifies.
+struct Crest {
+  double amplitude = 0.0, x = 0.0;
+};
+Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, double level, double front,
+                   int direction);
+
+// The mean of the wet columns' free surface (NaN: dry; NaN when none is wet).
+double mean_surface(std::span<const double> surface);
+
 // The measurements at history rows, their peaks for summary.json.
 class WaterWatch {
  public:
-  WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model);
+  // direction: where the wave runs from the slide's bank (+1: toward +x, -1: toward -x, 0: no
+  // slide known; see crest_beyond).
+  WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model, int direction);
 
   // history.csv columns: <gauge>_eta, <bank>_runup, <crest>_overtopped, <curve>_force_x/_y,
   // <curve>_peak_pressure, water_energy_gain.
   static std::vector<io::HistoryColumn> columns(const io::SphSpec& spec, const std::string& energy_unit,
                                                 const std::string& force_unit);
-  // Measures the water now; writes columns(...).size() values from `row`.
-  void observe(const sph::Fluid& fluid, double t, std::span<double> row);
+  // Measures the water now; writes columns(...).size() values from `row`. slide_front: the x
+  // of the slide's foremost point now (NaN: none); the wave's amplitude is sought beyond it,
+  // above the still level. slide_entered: the slide has met the water; until then the still
+  // level is measured anew at each row (the mean surface over the wave's columns: the
+  // settled water's, a little below reservoir.level as the weakly compressible water is
+  // squeezed by its weight, about g H^2 / (2 c0^2)).
+  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, bool slide_entered);
 
   struct Peak {
     double value = 0.0, x = 0.0, t = 0.0;
@@ -52,6 +76,9 @@ class WaterWatch {
   long above_freeboard_particles() const { return above_top_; }
   double coupled_top() const { return top_; }
   double level() const { return level_; }
+  // The still level the wave's amplitude is measured from (m): the water's mean surface at
+  // the last row before the slide met it; reservoir.level before the first row.
+  double still_level() const { return std::isnan(still_) ? level_ : still_; }
 
   // Everything observe() has gathered, as numbers for a checkpoint, and back. restore()
   // throws std::runtime_error when the numbers do not fit this scenario's water.
@@ -63,6 +90,8 @@ class WaterWatch {
 
   const io::SphSpec& spec_;
   double level_ = 0.0, dp_ = 0.0, h_ = 0.0;
+  double still_ = std::numeric_limits<double>::quiet_NaN();
+  int direction_ = 0;
   Vec2 box_min_ = Vec2::Zero(), box_max_ = Vec2::Zero();  // the model's, grown by 2h
   long escaped_ = 0, above_top_ = 0;
   double top_ = 0.0;  // m: the top of the coupled bedrock faces

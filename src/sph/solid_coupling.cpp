@@ -1,7 +1,9 @@
 #include "sph/solid_coupling.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -65,47 +67,134 @@ bool inside_triangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c)
 void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                          int layers, const FluidParameters& par, double surface);
 
+// Face e's stations dp apart and `layers` rows (k + 1/2) dp behind it, into `out`, each kept
+// unless another face is nearer behind which it also lies: a continuous face competes with the
+// continuous ones, a fragment's face with its own triangle's (and keeps its points inside it).
+struct RowPoint {
+  Vec2 p;
+  double d, s;
+};
+void station_rows(std::vector<RowPoint>& out, std::size_t e, std::span<const SolidEdge> edges, std::span<const Vec2> x,
+                  const EdgeGrid& grid, int layers, double dp) {
+  const double reach = layers * dp, tol = 1e-9 * dp;
+  out.clear();
+  const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
+  const double length = (b - a).norm();
+  if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
+  const Vec2 n = edge_normal(a, b);
+  const bool owned = edges[e].c != kNoIndex;
+  const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
+  for (int i = 0; i < stations; ++i)
+    for (int k = 0; k < layers; ++k) {
+      const double s = (i + 0.5) / stations, d = (k + 0.5) * dp;
+      const Vec2 p = (1.0 - s) * a + s * b - d * n;
+      if (owned && !inside_triangle(p, a, b, x[edges[e].c])) continue;
+      bool kept = true;
+      for (std::size_t o : grid.at(p)) {
+        if (o == e || (owned ? !same_triangle(edges[e], edges[o]) : edges[o].c != kNoIndex)) continue;
+        const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
+        const Vec2 ot = ob - oa;
+        const double os = (p - oa).dot(ot) / ot.squaredNorm();
+        if (os < 0.0 || os > 1.0) continue;
+        const double od = -(p - oa).dot(edge_normal(oa, ob));
+        if (od <= 0.0 || od > reach) continue;
+        if (od < d - tol || (od <= d + tol && o < e)) {
+          kept = false;
+          break;
+        }
+      }
+      if (kept) out.push_back({p, d, s});
+    }
+}
+
+void add_riding(BoundaryParticles& walls, const Vec2& p, const Vec2& n, double d, double s, std::size_t e,
+                const FluidParameters& par, double surface) {
+  walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n, d);
+  walls.edge.back() = static_cast<Index>(e);
+  walls.s.back() = s;
+}
+
+// A fragment's triangle is cut by its angle bisectors into three parts, one per face (the
+// points nearer that face than the others). Face e's part (a, b, incentre I) gets rows
+// parallel to the face, `rows` of them delta = r / rows apart (r the inradius; delta = dp
+// once the triangle is deeper than the walls), each row's stations about dp^2 / delta apart:
+// about one particle per dp^2 of the triangle, however small, inside it, each behind its
+// nearest face. `owed` carries the rows' fractions of a particle from face to face of the
+// triangle (rounded once over the triangle, not per row). Returns how many it laid.
+int lay_fragment_face(BoundaryParticles& walls, std::size_t e, const Vec2& a, const Vec2& b, const Vec2& c,
+                      int layers, const FluidParameters& par, double surface, double& owed) {
+  const double dp = par.dp, la = (c - b).norm(), lb = (a - c).norm(), lc = (b - a).norm();
+  const double perimeter = la + lb + lc;
+  const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  const double r = 2.0 * area / perimeter;
+  const Vec2 incentre = (la * a + lb * b + lc * c) / perimeter, n = edge_normal(a, b);
+  const bool deep = r >= layers * dp;
+  const int rows = deep ? layers : std::max(1, static_cast<int>(std::lround(r / dp)));
+  const double delta = deep ? dp : r / rows;
+  int laid = 0;
+  for (int k = 0; k < rows; ++k) {
+    const double d = (k + 0.5) * delta, f = d / r;
+    const Vec2 p0 = a + f * (incentre - a), p1 = b + f * (incentre - b);  // the row between the bisectors
+    const double share = (p1 - p0).norm() * delta / (dp * dp);
+    const int stations = std::max(0, static_cast<int>(std::lround(owed + share)));
+    owed += share - stations;
+    for (int i = 0; i < stations; ++i, ++laid) {
+      const Vec2 p = p0 + (i + 0.5) / stations * (p1 - p0);
+      add_riding(walls, p, n, d, (p - a).dot(b - a) / (lc * lc), e, par, surface);
+    }
+  }
+  return laid;
+}
+
 }  // namespace
 
 void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                         int layers, const FluidParameters& par, double surface) {
-  const double dp = par.dp, reach = layers * dp, tol = 1e-9 * dp;
+  const double dp = par.dp, reach = layers * dp;
   const EdgeGrid grid(edges, x, reach, std::max(reach, dp));
+  std::vector<RowPoint> points;
+  // A fragment's triangle that these rows leave with under half its share of particles (its
+  // area / dp^2, at least one; an inradius under about dp: the grains of a granular slide)
+  // is filled by lay_fragment_face instead, so the water cannot flow through it.
+  struct Fragment {
+    std::size_t first = 0;  // its first face
+    int rows = 0, laid = 0;
+    double owed = 0.0;
+  };
+  std::map<std::array<Index, 3>, Fragment> fragment;  // by its sorted nodes
+  auto key = [&](std::size_t e) {
+    std::array<Index, 3> k{edges[e].a, edges[e].b, edges[e].c};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (edges[e].c != kNoIndex) {
+      station_rows(points, e, edges, x, grid, layers, dp);
+      fragment.try_emplace(key(e), Fragment{e, 0, 0, 0.0}).first->second.rows += static_cast<int>(points.size());
+    }
   for (std::size_t e = 0; e < edges.size(); ++e) {
     const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
-    const double length = (b - a).norm();
-    if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
     const Vec2 n = edge_normal(a, b);
-    const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
-    for (int i = 0; i < stations; ++i) {
-      const double s = (i + 0.5) / stations;
-      for (int k = 0; k < layers; ++k) {
-        const double d = (k + 0.5) * dp;
-        const Vec2 p = (1.0 - s) * a + s * b - d * n;
-        const bool owned = edges[e].c != kNoIndex;
-        if (owned && !inside_triangle(p, a, b, x[edges[e].c])) continue;
-        // Kept unless another face is nearer behind which the particle also lies.
-        bool kept = true;
-        for (std::size_t o : grid.at(p)) {
-          if (o == e) continue;
-          if (owned ? !same_triangle(edges[e], edges[o]) : edges[o].c != kNoIndex) continue;
-          const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
-          const Vec2 ot = ob - oa;
-          const double os = (p - oa).dot(ot) / ot.squaredNorm();
-          if (os < 0.0 || os > 1.0) continue;
-          const double od = -(p - oa).dot(edge_normal(oa, ob));
-          if (od <= 0.0 || od > reach) continue;
-          if (od < d - tol || (od <= d + tol && o < e)) {
-            kept = false;
-            break;
-          }
-        }
-        if (!kept) continue;
-        walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n, d);
-        walls.edge.back() = static_cast<Index>(e);
-        walls.s.back() = s;
+    if (edges[e].c != kNoIndex) {
+      Fragment& f = fragment.at(key(e));
+      const Vec2& c = x[edges[e].c];
+      const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+      if (f.rows < 0.5 * std::max(1.0, area / (dp * dp))) {
+        f.laid += lay_fragment_face(walls, e, a, b, c, layers, par, surface, f.owed);
+        continue;
       }
     }
+    station_rows(points, e, edges, x, grid, layers, dp);
+    for (const RowPoint& q : points) add_riding(walls, q.p, n, q.d, q.s, e, par, surface);
+    if (edges[e].c != kNoIndex) fragment.at(key(e)).laid += static_cast<int>(points.size());
+  }
+  for (const auto& [nodes, frag] : fragment) {
+    if (frag.laid > 0) continue;
+    const SolidEdge& f = edges[frag.first];
+    const Vec2 &a = x[f.a], &b = x[f.b], &c = x[f.c];
+    const double la = (c - b).norm(), lb = (a - c).norm(), lc = (b - a).norm();
+    const Vec2 incentre = (la * a + lb * b + lc * c) / (la + lb + lc), n = edge_normal(a, b);
+    add_riding(walls, incentre, n, -(incentre - a).dot(n), (incentre - a).dot(b - a) / (lc * lc), frag.first, par, surface);
   }
   fill_reflex_corners(walls, edges, x, layers, par, surface);
   walls.mass = par.mass();

@@ -38,6 +38,12 @@ inline Vec2 edge_normal(const Vec2& a, const Vec2& b) {
 // (k + 1/2) dp behind the face (the face halfway between the fluid's first row and the
 // walls' first, as sph::add_tank_walls). A particle behind two edges (a convex corner) is
 // kept by the nearer face only (the lower edge index on a tie), so a corner is covered once.
+// A fragment's faces (edges naming their triangle's third node) keep their particles inside
+// their triangle and compete only with its other faces. A triangle those rows leave with
+// under half its share (area / dp^2, at least one: an inradius under about dp) instead has
+// each face fill its part of it (nearer that face than the others) with rows parallel to
+// it, about one particle per dp^2 however small the triangle, one at its incentre when it is
+// under about dp^2: the grains of a granular slide, a few dp across, do not let water through.
 // Each particle's edge is its index in `edges`. Densities hydrostatic below `surface`.
 void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                         int layers, const FluidParameters& par, double surface);

@@ -148,6 +148,61 @@ TEST(SolidCoupling, AFragmentsParticlesStayInsideItsTriangle) {
   EXPECT_EQ(bed, 30u * 3u);  // the bed's whole strip: the fragment above it takes none
 }
 
+// The grains of a granular slide (fragments whose joints start broken) are triangles a few
+// dp across: a triangle whose inradius is under dp/2 has no room for a row dp/2 behind any
+// face nearer that face than the others, and each carries about one particle per dp^2 of
+// its area all the same (so the water cannot flow through the slide), every particle inside
+// its own triangle, riding one of its faces at its depth behind it. A triangle smaller than
+// dp^2 carries one, at its incentre.
+TEST(SolidCoupling, EveryGrainOfASlideCarriesItsShareOfParticles) {
+  const double dp = 0.01;
+  FluidParameters par = parameters(dp, 0.1);
+  for (const double side : {0.8 * dp, 1.2 * dp, 1.6 * dp, 2.2 * dp, 3.0 * dp, 5.0 * dp, 12.0 * dp}) {
+    // A strip of 2 x 8 equilateral-ish grains (each its own nodes), counter-clockwise.
+    std::vector<Vec2> x;
+    std::vector<SolidEdge> edges;
+    const double hgt = std::sqrt(0.75) * side;
+    double area = 0.0;
+    for (int row = 0; row < 2; ++row)
+      for (int i = 0; i < 8; ++i) {
+        const double x0 = 0.5 * side * i + 0.13 * side * row, y0 = row * hgt;
+        const bool up = i % 2 == 0;
+        const Vec2 a(x0, up ? y0 : y0 + hgt), b(x0 + side, up ? y0 : y0 + hgt), c(x0 + 0.5 * side, up ? y0 + hgt : y0);
+        const auto n = static_cast<Index>(x.size());
+        if (up) x.insert(x.end(), {a, b, c}); else x.insert(x.end(), {b, a, c});
+        edges.push_back({n, n + 1, n + 2});
+        edges.push_back({n + 1, n + 2, n});
+        edges.push_back({n + 2, n, n + 1});
+        area += 0.5 * side * hgt;
+      }
+    BoundaryParticles walls;
+    lay_edge_particles(walls, edges, x, 3, par, 0.1);
+    std::vector<int> per_grain(16, 0);
+    auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
+    for (std::size_t i = 0; i < walls.size(); ++i) {
+      const auto e = static_cast<std::size_t>(walls.edge[i]);
+      const std::size_t g = e / 3;
+      ++per_grain[g];
+      const Vec2 p(walls.x[i], walls.y[i]), &a = x[3 * g], &b = x[3 * g + 1], &c = x[3 * g + 2];
+      EXPECT_GT(cross(b - a, p - a), 0.0) << side / dp;
+      EXPECT_GT(cross(c - b, p - b), 0.0) << side / dp;
+      EXPECT_GT(cross(a - c, p - c), 0.0) << side / dp;
+      const auto& f = edges[e];
+      const Vec2 n = edge_normal(x[f.a], x[f.b]);
+      EXPECT_NEAR(-(p - x[f.a]).dot(n), walls.wall_distance[i], 1e-12);
+      const Vec2 placed = (1.0 - walls.s[i]) * x[f.a] + walls.s[i] * x[f.b] - walls.wall_distance[i] * n;
+      EXPECT_NEAR((placed - p).norm(), 0.0, 1e-12);
+    }
+    for (int g = 0; g < 16; ++g) EXPECT_GE(per_grain[static_cast<std::size_t>(g)], 1) << "grain " << g << " at side " << side / dp << " dp";
+    // About one per dp^2 while the grains are thinner than the walls' 3 rows (the big ones
+    // carry only their 3-row strip).
+    if (side <= 5.0 * dp && side >= 1.6 * dp) {
+      EXPECT_GT(static_cast<double>(walls.size()), 0.75 * area / (dp * dp)) << side / dp;
+      EXPECT_LT(static_cast<double>(walls.size()), 1.35 * area / (dp * dp)) << side / dp;
+    }
+  }
+}
+
 // The block pushed down into the water at 0.3 m/s: after every fluid sub-step the riding and
 // fixed walls' recorded forces are minus the walls' forces on the fluid (its momentum balance
 // less gravity) to round-off, the nodes' forces sum to the riding particles' to round-off,
