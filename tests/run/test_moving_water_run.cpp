@@ -62,7 +62,7 @@ std::string prepare_error(const std::vector<std::string>& overrides) {
 
 TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   const fs::path dir = dsdem::test::fresh_dir("moving_water_flume");
-  const ordered_json s = run_flume(dir, {}, 0, "", true);
+  const ordered_json s = run_flume(dir, {"time.end=2.2"}, 0, "", true);  // the wave past the gauge
   const ordered_json& m = s["moving_water"];
   // 11 m x 2 m of water less the bank's wedge, 0.2 m apart: 395 particles, none lost.
   EXPECT_EQ(m["particles"].get<long>(), 395);
@@ -72,15 +72,43 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_DOUBLE_EQ(m["coupled_top_m"].get<double>(), 4.0);  // the level plus the default freeboard, the depth
   EXPECT_EQ(m["above_freeboard_particles"].get<long>(), 0);
   EXPECT_EQ(m["faces_without_walls"].get<long>(), 0);  // the block's two triangles carry walls on every face
-  // The block enters at about 1 s; by 1.5 s the water stands above its still level.
+  // The block enters at about 1 s. The wave it raises passes the gauge 2.5 depths from the
+  // shoreline (x = 9 m) at about 2.1 s with the amplitude of Heller & Hager's equation for this
+  // slide, within their data's +/-30 % (a_M = 0.50 m; measured 0.53 m above the still level).
+  // The highest water beyond the block's front, the water heaped against it, stays below a
+  // solitary wave's breaking limit 0.78 h.
   ASSERT_TRUE(s["heller_hager"]["slide_entered_water"].get<bool>());
+  const double a_M = s["heller_hager"]["amplitude_m"].get<double>(), still = m["still_level_m"].get<double>();
+  EXPECT_NEAR(still, 2.0, 0.05);
+  const std::string history = file_text(dir / "out" / "history.csv");
+  std::istringstream lines(history);
+  std::string line;
+  std::vector<std::string> names;
+  double gauge = -1e9, gain_end = 0.0, work_end = 0.0;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    if (names.empty()) {
+      names = cells;
+      continue;
+    }
+    for (std::size_t k = 0; k < names.size() && k < cells.size(); ++k) {
+      if (names[k] == "mid_eta_m") gauge = std::max(gauge, 2.0 + std::stod(cells[k]) - still);
+      if (names[k] == "water_energy_gain_J_per_m") gain_end = std::stod(cells[k]);
+      if (names[k] == "moving_water_work_J_per_m") work_end = std::stod(cells[k]);
+    }
+  }
+  EXPECT_NEAR(gauge / a_M, 1.0, 0.3) << "the crest at the gauge " << gauge << " m against a_M " << a_M << " m";
   const double a = s["max_wave_amplitude_m"].get<double>();
-  EXPECT_GT(a, 0.05);
-  EXPECT_LT(a, 1.0);
+  EXPECT_GT(a, 0.5 * a_M);
+  EXPECT_LT(a, 0.78 * 2.0);
   EXPECT_GT(m["max_wave_amplitude"]["time_s"].get<double>(), s["heller_hager"]["impact_time_s"].get<double>());
-  // At rest the wall holds 2 m of water: its run-up starts at the level (within a particle
-  // spacing) and the force on it is rho g H^2 / 2 = 19.6 kN/m at least.
-  EXPECT_NEAR(m["runup"]["wall"]["elevation_m"].get<double>(), 2.0, 0.2);
+  // The wave reaches the end wall (x = 13 m) just before the end and has begun to run up it
+  // (2.51 m at 2.2 s); at rest the wall holds 2 m of water, a force rho g H^2 / 2 = 19.6 kN/m.
+  EXPECT_GT(m["runup"]["wall"]["elevation_m"].get<double>(), still + 0.5 * a_M);
+  EXPECT_LT(m["runup"]["wall"]["elevation_m"].get<double>(), m["coupled_top_m"].get<double>());
   EXPECT_TRUE(s["max_runup_m"].contains("wall"));
   EXPECT_GT(m["force_on_curves"]["wall_face"]["max_force_N_per_m"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
   EXPECT_GT(m["force_on_curves"]["wall_face"]["peak_pressure_Pa"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
@@ -93,8 +121,9 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_GT(ratio, 0.0);
   const double work = m["moving_water_work_J_per_m"].get<double>();
   EXPECT_LT(work, 0.0);  // the water took work from the solid
-  EXPECT_LT(m["energy_gain_J_per_m"].get<double>(), -1.01 * work);
-  EXPECT_GT(m["energy_gain_J_per_m"].get<double>(), -0.5 * work);
+  EXPECT_DOUBLE_EQ(work, work_end);
+  EXPECT_GT(gain_end, 0.0);
+  EXPECT_LT(gain_end, -1.01 * work);
   EXPECT_LT(s["energy_balance_error"].get<double>(), 0.01);
   // The files.
   EXPECT_TRUE(fs::exists(dir / "out" / "water.pvd"));
