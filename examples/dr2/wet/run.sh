@@ -2,7 +2,7 @@
 # Dr2 with the reservoir as moving water (docs/dr2.md §10): each mode at the 12 m mesh, dry and
 # with the pool (837 m) as SPH water 2 m apart, one thread each, then the table (table.py).
 # Usage: examples/dr2/wet/run.sh [OUT_ROOT] [MODE ...]   (default out/dr2_wet, all three modes)
-# Environment: DSDEM (default build/dsdem), ELEMENT_SIZE (12), SPACING (2).
+# Environment: DSDEM (default build/dsdem), ELEMENT_SIZE (12), SPACING (2), KINDS ("dry wet").
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../../.." && pwd)
@@ -24,7 +24,7 @@ WET=(--set reservoir.sph.spacing="$DP" --set reservoir.sph.expected_speed=15 --s
      --set "reservoir.sph.pressure=[{name: intake, polyline: [[708, 759], [720, 745]]}]")
 mkdir -p "$OUT"
 for mode in "${MODES[@]}"; do
-  for kind in dry wet; do
+  for kind in ${KINDS:-dry wet}; do
     dir="$OUT/${mode}_$kind"
     extra=()
     [ "$kind" = wet ] && extra=("${WET[@]}")
