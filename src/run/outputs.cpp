@@ -136,7 +136,7 @@ void RunOutputs::write_history(int stage_index) {
     const double front = prepared_.shore ? slide_front(model_, *prepared_.shore) : std::numeric_limits<double>::quiet_NaN();
     const bool entered = slide_watch_ && slide_watch_->impact().has_value();
     water_watch_->observe(*solver_.moving_water(), solver_.time(), std::span<double>(row_).subspan(k, water_columns_), front,
-                          entered);
+                          entered, model_);
     k += water_columns_;
   }
   for (const auto& [name, nodes] : reactions_) {

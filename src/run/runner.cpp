@@ -443,6 +443,11 @@ RunResult Runner::finish() {
     log_->warn("{} water particles left the model's box: the reservoir leaks through a gap in the solid or over its "
                "edge (summary.json moving_water.escaped_particles)",
                facts.water->escaped_particles());
+  if (facts.water && facts.water->particles_inside_solid() > 0)
+    log_->warn("up to {} water particles were inside the solid's triangles at a history row: water that got through "
+               "a wall, at corners of the wall layout or squeezed into closing gaps (summary.json "
+               "moving_water.particles_inside_solid)",
+               facts.water->particles_inside_solid());
   if (facts.water && facts.water->above_freeboard_particles() > 0)
     log_->warn("{} water particles rose above {} m, the top of the coupled bedrock faces (the level plus "
                "reservoir.sph.freeboard): there the rock carries no wall and the water may run through it; raise the "

@@ -117,6 +117,7 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["escaped_particles"] = w.escaped_particles();
   m["coupled_top_m"] = w.coupled_top();
   m["faces_without_walls"] = layout.faces_without_walls;
+  m["particles_inside_solid"] = w.particles_inside_solid();
   m["above_freeboard_particles"] = w.above_freeboard_particles();
   m["still_level_m"] = w.still_level();
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);

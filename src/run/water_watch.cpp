@@ -57,6 +57,46 @@ Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, 
   return c;
 }
 
+// The particles binned in cells, each triangle testing those under its bounding box: O(N + T).
+long particles_in_solid(const sph::FluidParticles& f, const Model& m, double cell) {
+  const std::size_t n = f.size();
+  if (n == 0) return 0;
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (std::size_t i = 0; i < n; ++i)
+    x0 = std::min(x0, f.x[i]), y0 = std::min(y0, f.y[i]), x1 = std::max(x1, f.x[i]), y1 = std::max(y1, f.y[i]);
+  // No more cells than about four per particle, however far stray particles fly.
+  cell = std::max(cell, std::sqrt((x1 - x0) * (y1 - y0) / (4.0 * static_cast<double>(n))));
+  cell = std::max({cell, (x1 - x0) / 65536.0, (y1 - y0) / 65536.0});
+  const int nx = static_cast<int>((x1 - x0) / cell) + 1, ny = static_cast<int>((y1 - y0) / cell) + 1;
+  auto column = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - x0) / cell)), 0, nx - 1); };
+  auto row = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - y0) / cell)), 0, ny - 1); };
+  auto bin = [&](std::size_t i) { return static_cast<std::size_t>(row(f.y[i])) * nx + column(f.x[i]); };
+  std::vector<std::int32_t> start(static_cast<std::size_t>(nx) * ny + 1, 0), order(n);
+  for (std::size_t i = 0; i < n; ++i) ++start[bin(i) + 1];
+  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order[static_cast<std::size_t>(fill[bin(i)]++)] = static_cast<std::int32_t>(i);
+  std::vector<char> inside(n, 0);
+  auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
+  for (const auto& t : m.triangles.conn) {
+    const Vec2 a = m.nodes.x(t[0]), b = m.nodes.x(t[1]), c = m.nodes.x(t[2]);
+    const double lo_x = std::min({a.x(), b.x(), c.x()}), hi_x = std::max({a.x(), b.x(), c.x()});
+    const double lo_y = std::min({a.y(), b.y(), c.y()}), hi_y = std::max({a.y(), b.y(), c.y()});
+    if (hi_x < x0 || lo_x > x1 || hi_y < y0 || lo_y > y1) continue;
+    for (int r = row(lo_y); r <= row(hi_y); ++r)
+      for (int q = column(lo_x); q <= column(hi_x); ++q) {
+        const auto cell_index = static_cast<std::size_t>(r) * nx + q;
+        for (std::int32_t k = start[cell_index]; k < start[cell_index + 1]; ++k) {
+          const auto j = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
+          const Vec2 p(f.x[j], f.y[j]);
+          const double s1 = cross(b - a, p - a), s2 = cross(c - b, p - b), s3 = cross(a - c, p - c);
+          if ((s1 > 0.0 && s2 > 0.0 && s3 > 0.0) || (s1 < 0.0 && s2 < 0.0 && s3 < 0.0)) inside[j] = 1;
+        }
+      }
+  }
+  return static_cast<long>(std::count(inside.begin(), inside.end(), 1));
+}
+
 double mean_surface(std::span<const double> surface) {
   double sum = 0.0;
   int n = 0;
@@ -115,7 +155,7 @@ std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, cons
 }
 
 void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front,
-                         bool slide_entered) {
+                         bool slide_entered, const Model& model) {
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
@@ -139,6 +179,7 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   }
   escaped_ = std::max(escaped_, out);
   above_top_ = std::max(above_top_, above);
+  inside_ = std::max(inside_, particles_in_solid(f, model, 2.0 * dp_));
   const auto e = fluid.energy();
   const double total = e.kinetic + e.potential + e.compression;
   if (!energy_start_) energy_start_ = total;
@@ -198,6 +239,7 @@ std::vector<double> WaterWatch::state() const {
   s.push_back(energy_start_ ? *energy_start_ : kNaN);
   s.push_back(static_cast<double>(escaped_));
   s.push_back(static_cast<double>(above_top_));
+  s.push_back(static_cast<double>(inside_));
   for (const auto* list : {&runup_, &crests_, &forces_})
     for (const auto& n : *list) {
       peak(n.peak);
@@ -229,6 +271,7 @@ void WaterWatch::restore(std::span<const double> s) {
   energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);
   escaped_ = static_cast<long>(take());
   above_top_ = static_cast<long>(take());
+  inside_ = static_cast<long>(take());
   for (auto* list : {&runup_, &crests_, &forces_})
     for (auto& n : *list) {
       peak(n.peak);

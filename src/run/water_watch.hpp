@@ -32,6 +32,10 @@ Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, 
 // The mean of the wet columns' free surface (NaN: dry; NaN when none is wet).
 double mean_surface(std::span<const double> surface);
 
+// Fluid particles strictly inside a triangle of the model at its current position (cells of
+// `cell` m bin the particles).
+long particles_in_solid(const sph::FluidParticles& f, const Model& m, double cell);
+
 // The measurements at history rows, their peaks for summary.json.
 class WaterWatch {
  public:
@@ -49,7 +53,8 @@ class WaterWatch {
   // level is measured anew at each row (the mean surface over the wave's columns: the
   // settled water's, a little below reservoir.level as the weakly compressible water is
   // squeezed by its weight, about g H^2 / (2 c0^2)).
-  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, bool slide_entered);
+  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, bool slide_entered,
+               const Model& model);
 
   struct Peak {
     double value = 0.0, x = 0.0, t = 0.0;
@@ -74,6 +79,9 @@ class WaterWatch {
   // The most fluid particles seen above the top of the coupled bedrock faces (the level plus
   // the freeboard): water that may have run through uncoupled rock.
   long above_freeboard_particles() const { return above_top_; }
+  // The most fluid particles seen inside a triangle of the solid at a history row: water
+  // that got through a wall (at corners of the wall layout, or squeezed into closing gaps).
+  long particles_inside_solid() const { return inside_; }
   double coupled_top() const { return top_; }
   double level() const { return level_; }
   // The still level the wave's amplitude is measured from (m): the water's mean surface at
@@ -93,7 +101,7 @@ class WaterWatch {
   double still_ = std::numeric_limits<double>::quiet_NaN();
   int direction_ = 0;
   Vec2 box_min_ = Vec2::Zero(), box_max_ = Vec2::Zero();  // the model's, grown by 2h
-  long escaped_ = 0, above_top_ = 0;
+  long escaped_ = 0, above_top_ = 0, inside_ = 0;
   double top_ = 0.0;  // m: the top of the coupled bedrock faces
   std::vector<double> gauge_x_, wave_x_;  // the gauges; where the amplitude is sought
   std::vector<std::vector<double>> gauge_t_, gauge_eta_;

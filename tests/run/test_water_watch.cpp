@@ -72,3 +72,23 @@ TEST(WaterWatch, TheStillLevelIsTheMeanOfTheWetColumns) {
   const std::vector<double> xs{1.0, 2.0}, surface{1.09, 0.99};
   EXPECT_NEAR(crest_beyond(xs, surface, mean_surface(std::vector<double>{0.99, 0.99}), kNaN, 0).amplitude, 0.1, 1e-12);
 }
+
+// Water inside the rock is counted: a particle at each triangle's centroid, one on a face and
+// one beyond the model: exactly the centroids count, whatever the cell size.
+TEST(WaterWatch, ParticlesInsideTheSolidAreCounted) {
+  auto sc = dsdem::io::load_scenario(std::string(DSDEM_TEST_DATA_DIR) + "/reservoir/bank.yaml", {});
+  const auto prepared = dsdem::run::prepare_run(sc, dsdem::test::fresh_dir("water_watch_inside").string());
+  const auto& m = prepared.model;
+  dsdem::sph::FluidParticles f;
+  f.mass = 1.0;
+  for (const auto& t : m.triangles.conn) {
+    const dsdem::Vec2 c = (m.nodes.x(t[0]) + m.nodes.x(t[1]) + m.nodes.x(t[2])) / 3.0;
+    f.add(c.x(), c.y(), 1000.0);
+  }
+  const auto& t0 = m.triangles.conn[0];
+  const dsdem::Vec2 on_face = 0.5 * (m.nodes.x(t0[0]) + m.nodes.x(t0[1]));
+  f.add(on_face.x(), on_face.y(), 1000.0);
+  f.add(1e4, 1e4, 1000.0);
+  for (double cell : {0.05, 0.5, 5.0})
+    EXPECT_EQ(dsdem::run::particles_in_solid(f, m, cell), static_cast<long>(m.triangles.size())) << "cell " << cell;
+}
