@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "sph/fluid.hpp"
-#include "sph/setup.hpp"
+#include "sph_tank.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -22,15 +22,7 @@ void BM_SphTank(benchmark::State& state) {
 #ifdef _OPENMP
   omp_set_num_threads(threads);
 #endif
-  sph::FluidParameters par;
-  par.dp = 0.01;
-  const double side = n * par.dp;
-  par.c0 = sph::sound_speed_for(side, 0.0, 9.81);
-  sph::FluidParticles water;
-  sph::BoundaryParticles walls;
-  sph::fill_rectangle(water, 0.0, 0.0, side, side, par, side);
-  sph::add_tank_walls(walls, 0.0, 0.0, side, 1.2 * side, sph::wall_layers(par), par, side);
-  sph::Fluid fluid(par, std::move(water), std::move(walls), threads > 1);
+  sph::Fluid fluid = bench::sph_tank(n, threads > 1);
   const double dt = fluid.stable_dt();
   for (int k = 0; k < 5; ++k) fluid.step(dt);
   for (auto _ : state) fluid.step(dt);

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "sph/fluid.hpp"
-#include "sph/setup.hpp"
+#include "sph_tank.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -36,19 +36,11 @@ int main(int argc, char** argv) {
   }
   const int steps = argc > 2 ? std::atoi(argv[2]) : 20;
   const int warmup = argc > 3 ? std::atoi(argv[3]) : 5;
-  sph::FluidParameters par;
-  par.dp = 0.01;
-  const double side = n * par.dp;
-  par.c0 = sph::sound_speed_for(side, 0.0, 9.81);
-  sph::FluidParticles water;
-  sph::BoundaryParticles walls;
-  sph::fill_rectangle(water, 0.0, 0.0, side, side, par, side);
-  sph::add_tank_walls(walls, 0.0, 0.0, side, 1.2 * side, sph::wall_layers(par), par, side);
   bool parallel = false;
 #ifdef _OPENMP
   parallel = omp_get_max_threads() > 1;
 #endif
-  sph::Fluid fluid(par, std::move(water), std::move(walls), parallel);
+  sph::Fluid fluid = bench::sph_tank(n, parallel);
   const double dt = fluid.stable_dt();
   for (int k = 0; k < warmup; ++k) fluid.step(dt);
   for (int k = 0; k < steps; ++k) fluid.step(dt);
