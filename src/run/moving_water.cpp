@@ -262,17 +262,8 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   };
   for (std::size_t e = 0; e < out.edges.size(); ++e)
     if (out.edges[e].c != kNoIndex) per_triangle[triangle(out.edges[e])] += walls[e];
-  out.thinnest_bare_triangle = std::numeric_limits<double>::infinity();
-  for (std::size_t e = 0; e < out.edges.size(); ++e) {
-    const sph::SolidEdge& f = out.edges[e];
-    if (f.c == kNoIndex || per_triangle[triangle(f)] > 0) continue;
-    ++out.faces_without_walls;
-    const Vec2 a = x[f.a], b = x[f.b], c = x[f.c];
-    const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
-    const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
-    out.thinnest_bare_triangle = std::min(out.thinnest_bare_triangle, 2.0 * area / perimeter);
-  }
-  if (out.faces_without_walls == 0) out.thinnest_bare_triangle = 0.0;
+  for (const sph::SolidEdge& f : out.edges)
+    if (f.c != kNoIndex && per_triangle[triangle(f)] == 0) ++out.faces_without_walls;
   return out;
 }
 

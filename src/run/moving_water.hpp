@@ -26,7 +26,6 @@ struct MovingWaterLayout {
   // Discrete faces whose triangle carries no wall particle: the water would not see them
   // (sph::lay_edge_particles gives every triangle at least one; a guard).
   long faces_without_walls = 0;
-  double thinnest_bare_triangle = 0.0;  // m: the smallest inradius among their triangles
 };
 
 // Fills the regions (default: below reservoir.level over reservoir.x) with particles dp

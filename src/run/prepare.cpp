@@ -134,11 +134,9 @@ void lay_out_water(PreparedRun& run) {
                                           w.walls.size())});
   if (w.faces_without_walls > 0)
     run.build_log.push_back(
-        {3, fmt::format("reservoir water: {} faces of the discrete zone carry no wall particles (their triangles are too "
-                        "thin for a particle {} m behind the face inside them; the thinnest has an inradius of {:.3g} m): "
-                        "the water passes through them. Use a reservoir.sph.spacing below twice their inradius or "
-                        "larger triangles there (summary.json moving_water.faces_without_walls)",
-                        w.faces_without_walls, 0.5 * par.dp, w.thinnest_bare_triangle)});
+        {3, fmt::format("reservoir water: {} faces of the discrete zone carry no wall particles (their triangle has "
+                        "none): the water passes through them (summary.json moving_water.faces_without_walls)",
+                        w.faces_without_walls)});
   // The lattice hangs from the level (its top row dp/2 below it): where the depth is no
   // whole number of spacings the bottom row is missing and the water settles below the level.
   if (run.shore && run.shore->depth - w.depth > 0.25 * par.dp)
