@@ -291,7 +291,8 @@ void WaterWatch::restore(std::span<const double> s) {
 std::vector<std::pair<std::string, double>> WaterWatch::gauge_periods() const {
   std::vector<std::pair<std::string, double>> out;
   for (std::size_t g = 0; g < gauge_x_.size(); ++g)
-    out.emplace_back(spec_.gauges[g].name, sph::mean_upcrossing_period(gauge_t_[g], gauge_eta_[g], 0.0));
+    out.emplace_back(spec_.gauges[g].name,
+                     sph::mean_crest_period(gauge_t_[g], gauge_eta_[g], dp_));
   return out;
 }
 

@@ -71,6 +71,9 @@ void Solver::set_settings(const StepSettings& s) {
   time_step_.set_fixed(s.dt);
   settings_.dt = time_step_.dt();
   if (s.alpha > 0.0 || s.beta > 0.0) allocate_damping_buffers();
+  // A damped (static) stage brings the moving water to rest with the solid: its particles
+  // carry the same mass-proportional damping, so the water follows the banks as they settle.
+  if (moving_) moving_->fluid.set_settling_damping(settings_.alpha);
   // The element buffer only feeds this step's scatter: it can go as soon as beta is 0.
   if (!(s.beta > 0.0)) scatter_.keep_shared_damping(false);
 }

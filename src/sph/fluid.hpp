@@ -80,10 +80,11 @@ class Fluid {
   int substeps(double dt_outer) const;
   // One step of length dt.
   void step(double dt);
-  // Settling a filled reservoir: a damping of every fluid velocity at `rate` (1/s), v
-  // multiplied by exp(-rate dt) each step, until set back to 0. Not a physical force; for
-  // bringing a freshly laid-out body of water to rest before the run.
+  // A damping of every fluid velocity at `rate` (1/s), v multiplied by exp(-rate dt) each
+  // step, until set back to 0. Not a physical force: for bringing a freshly laid-out body of
+  // water to rest before the run, and for a damped stage's mass-proportional damping.
   void set_settling_damping(double rate) { damping_rate_ = rate; }
+  double settling_damping() const { return damping_rate_; }
 
   // The water's force on each boundary particle (N/m), the reaction of the pressure and
   // viscous terms it puts on its fluid neighbours at the last force evaluation (Newton's

@@ -94,13 +94,6 @@ double surface_at(const FluidParticles& f, std::span<const std::int32_t> near, d
   return kNaN;
 }
 
-double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  const double s = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (p - (a + s * ab)).norm();
-}
-
 }  // namespace
 
 double fluid_fraction(const FluidParticles& f, std::span<const std::int32_t> near, double x, double y, double h) {
@@ -138,7 +131,7 @@ SurfacePeak highest_surface(const FluidParticles& f, double x0, double x1, doubl
 }
 
 double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline, double reach, double dp) {
-  if (polyline.empty()) return kNaN;
+  if (polyline.size() < 2) return kNaN;
   Vec2 lo = polyline[0], hi = polyline[0];
   for (const Vec2& p : polyline) {
     lo = lo.cwiseMin(p);
@@ -146,17 +139,52 @@ double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline
   }
   lo.array() -= reach;
   hi.array() += reach;
-  double top = kNaN;
+  auto in_box = [&](const Vec2& p) { return p.x() >= lo.x() && p.y() >= lo.y() && p.x() <= hi.x() && p.y() <= hi.y(); };
+  // The curve in bins dp/2 long by arc length; each particle near it wets the bins within dp
+  // of its foot (one missing particle does not break the film) and sets its own bin's top.
+  std::vector<double> arc(polyline.size(), 0.0);
+  for (std::size_t s = 1; s < polyline.size(); ++s) arc[s] = arc[s - 1] + (polyline[s] - polyline[s - 1]).norm();
+  const double bin = 0.5 * dp;
+  const auto nb = static_cast<std::size_t>(arc.back() / bin) + 1;
+  std::vector<char> wet(nb, 0);
+  std::vector<double> top(nb, kNaN);
+  auto bin_of = [&](double s) { return std::min(nb - 1, static_cast<std::size_t>(std::max(0.0, s) / bin)); };
   for (std::size_t j = 0; j < f.size(); ++j) {
     const Vec2 p(f.x[j], f.y[j]);
-    if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
-    if (!std::isnan(top) && p.y() <= top) continue;
-    bool close = polyline.size() == 1 && (p - polyline[0]).norm() <= reach;
-    for (std::size_t s = 0; s + 1 < polyline.size() && !close; ++s)
-      close = distance_to_segment(p, polyline[s], polyline[s + 1]) <= reach;
-    if (close) top = p.y();
+    if (!in_box(p)) continue;
+    double best = reach, foot = -1.0;
+    for (std::size_t s = 0; s + 1 < polyline.size(); ++s) {
+      const Vec2 a = polyline[s], ab = polyline[s + 1] - a;
+      const double l2 = ab.squaredNorm();
+      const double u = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+      const double d = (p - (a + u * ab)).norm();
+      if (d <= best) best = d, foot = arc[s] + u * std::sqrt(l2);
+    }
+    if (foot < 0.0) continue;
+    for (std::size_t b = bin_of(foot - dp); b <= bin_of(foot + dp); ++b) wet[b] = 1;
+    double& t = top[bin_of(foot)];
+    if (!(p.y() <= t)) t = p.y();
   }
-  return std::isnan(top) ? top : top + 0.5 * dp;
+  // The water's edge joined to the body of water: the unbroken wet stretch through the wet bin
+  // lowest on the curve. Spray landing higher up, apart from the tongue, is left out.
+  auto elevation = [&](std::size_t b) {
+    const double s = std::min((static_cast<double>(b) + 0.5) * bin, arc.back());
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), s) - arc.begin());
+    const std::size_t i = std::clamp<std::size_t>(k, 1, polyline.size() - 1) - 1;
+    const double len = arc[i + 1] - arc[i];
+    return polyline[i].y() + (len > 0.0 ? (s - arc[i]) / len : 0.0) * (polyline[i + 1].y() - polyline[i].y());
+  };
+  std::size_t low = nb;
+  for (std::size_t b = 0; b < nb; ++b)
+    if (wet[b] && (low == nb || elevation(b) < elevation(low))) low = b;
+  if (low == nb) return kNaN;
+  std::size_t first = low, last = low;
+  while (first > 0 && wet[first - 1]) --first;
+  while (last + 1 < nb && wet[last + 1]) ++last;
+  double z = kNaN;
+  for (std::size_t b = first; b <= last; ++b)
+    if (!std::isnan(top[b]) && !(top[b] <= z)) z = top[b];
+  return std::isnan(z) ? z : z + 0.5 * dp;
 }
 
 double volume_beyond(const FluidParticles& f, double x_line, int direction, double y_min) {
@@ -166,18 +194,44 @@ double volume_beyond(const FluidParticles& f, double x_line, int direction, doub
   return area;
 }
 
-std::vector<double> upcrossing_times(std::span<const double> t, std::span<const double> eta, double level) {
+std::vector<double> crest_times(std::span<const double> t, std::span<const double> eta, double band) {
   std::vector<double> out;
-  for (std::size_t k = 1; k < std::min(t.size(), eta.size()); ++k)
-    if (eta[k - 1] < level && eta[k] >= level)
-      out.push_back(t[k - 1] + (level - eta[k - 1]) / (eta[k] - eta[k - 1]) * (t[k] - t[k - 1]));
+  // Turning points with hysteresis: a crest is confirmed once the series falls `band` below
+  // it, a trough once it rises `band` above it. Until the series first moves `band` away
+  // from its start, its direction is unknown (a first maximum with no trough before it is
+  // not a crest).
+  enum class Trend { unknown, rising, falling } trend = Trend::unknown;
+  double lo = INFINITY, hi = -INFINITY, extreme = 0.0, at = 0.0;
+  for (std::size_t k = 0; k < std::min(t.size(), eta.size()); ++k) {
+    const double e = eta[k];
+    if (std::isnan(e)) continue;
+    switch (trend) {
+      case Trend::unknown:
+        lo = std::min(lo, e), hi = std::max(hi, e);
+        if (e > lo + band) trend = Trend::rising, extreme = e, at = t[k];
+        else if (e < hi - band) trend = Trend::falling, extreme = e;
+        break;
+      case Trend::rising:
+        if (e > extreme) {
+          extreme = e, at = t[k];
+        } else if (e < extreme - band) {
+          out.push_back(at);
+          trend = Trend::falling, extreme = e;
+        }
+        break;
+      case Trend::falling:
+        if (e < extreme) extreme = e;
+        else if (e > extreme + band) trend = Trend::rising, extreme = e, at = t[k];
+        break;
+    }
+  }
   return out;
 }
 
-double mean_upcrossing_period(std::span<const double> t, std::span<const double> eta, double level) {
-  const std::vector<double> up = upcrossing_times(t, eta, level);
-  if (up.size() < 2) return kNaN;
-  return (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+double mean_crest_period(std::span<const double> t, std::span<const double> eta, double band) {
+  const std::vector<double> crests = crest_times(t, eta, band);
+  if (crests.size() < 2) return kNaN;
+  return (crests.back() - crests.front()) / static_cast<double>(crests.size() - 1);
 }
 
 }  // namespace dsdem::sph

@@ -38,9 +38,13 @@ struct SurfacePeak {
 SurfacePeak highest_surface(const FluidParticles& f, double x0, double x1, double spacing, double h, double resolution);
 
 // The run-up on a bank given as a polyline (m): the highest elevation of the water's edge
-// on it, i.e. of the fluid particles within `reach` of the polyline (dp is the usual
-// reach: the first row of water on the bank) plus half a particle spacing `dp / 2` (the
-// water the particle stands for reaches that far). NaN when no particle is that close.
+// on it joined to the body of water. The particles within `reach` of the polyline (dp is
+// the usual reach: the first row of water on the bank) wet it; the run-up is the highest
+// of those on the unbroken wet stretch through the curve's lowest wet point (gaps under
+// about dp bridged), plus half a particle spacing `dp / 2` (the water the particle stands
+// for reaches that far). Spray that lands on the bank above the tongue is not counted. A
+// single point gives the highest particle within reach of it. NaN when no particle is that
+// close.
 double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline, double reach, double dp);
 
 // The water beyond a vertical line x = x_line on the side `direction` (+1: x > x_line, -1:
@@ -49,11 +53,13 @@ double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline
 // start.
 double volume_beyond(const FluidParticles& f, double x_line, int direction, double y_min);
 
-// The times (s) at which the series eta(t) crosses `level` upwards, linearly interpolated
-// between samples (zero up-crossings about the still level).
-std::vector<double> upcrossing_times(std::span<const double> t, std::span<const double> eta, double level);
+// The times (s) of the crests of the series eta(t) (a gauge's surface): its maxima between
+// which it falls at least `band` (m, > 0: the surface's resolution) and rises again at
+// least `band`, so ripples under the band are not waves, and a level that shifts (a slide
+// deposit raising the pool) does not hide them. NaN samples (a dry gauge) are passed over.
+std::vector<double> crest_times(std::span<const double> t, std::span<const double> eta, double band);
 
-// The mean period between successive up-crossings (s): NaN with fewer than two.
-double mean_upcrossing_period(std::span<const double> t, std::span<const double> eta, double level);
+// The mean period between successive crests (s): NaN with fewer than two.
+double mean_crest_period(std::span<const double> t, std::span<const double> eta, double band);
 
 }  // namespace dsdem::sph

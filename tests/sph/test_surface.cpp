@@ -92,6 +92,27 @@ TEST(Runup, TheHighestWaterOnTheBank) {
   EXPECT_TRUE(std::isnan(runup_on_polyline(wet, std::vector<Vec2>{{10.0, 0.0}, {12.0, 2.0}}, kDp, kDp)));
 }
 
+TEST(Runup, ATongueJoinedToTheWaterCountsAndSprayAboveItDoesNot) {
+  // Water 0.7 m deep against a bank rising at 1:1 from (3, 0), drawn from under the water.
+  const std::vector<Vec2> bank{{2.0, -1.0}, {3.0, 0.0}, {6.0, 3.0}};
+  const FluidParticles f = water_under(0.0, 6.0, [](double) { return 0.7; });
+  FluidParticles wet;
+  wet.mass = f.mass;
+  for (std::size_t j = 0; j < f.size(); ++j)
+    if (f.y[j] > f.x[j] - 3.0 + 0.5 * kDp) wet.add(f.x[j], f.y[j], kRho);
+  const double still = runup_on_polyline(wet, bank, kDp, kDp);
+  EXPECT_NEAR(still, 0.7, kDp);
+  // A one-particle film up the bank to z = 1.5, a particle missing half way: the run-up.
+  const double n = std::sqrt(0.5) * 0.5 * kDp;  // half a spacing off the bank, normal to it
+  for (double z = 0.7; z <= 1.5 + 1e-9; z += kDp / std::sqrt(2.0))
+    if (std::abs(z - 1.1) > 0.4 * kDp) wet.add(3.0 + z - n, z + n, kRho);
+  EXPECT_NEAR(runup_on_polyline(wet, bank, kDp, kDp), 1.5 + 0.5 * kDp, 0.5 * kDp);
+  // Spray: two drops on the bank at z = 2.5, 1 m above the film's end, are not the run-up.
+  wet.add(3.0 + 2.5 - n, 2.5 + n, kRho);
+  wet.add(3.0 + 2.6 - n, 2.6 + n, kRho);
+  EXPECT_NEAR(runup_on_polyline(wet, bank, kDp, kDp), 1.5 + 0.5 * kDp, 0.5 * kDp);
+}
+
 TEST(Overtopping, TheWaterPastACrest) {
   const FluidParticles f = water_under(0.0, 3.0, [](double) { return 1.0; });
   // Past x = 2 (1 m of the 3 m wide pool), above y = 0.5: 1 m x 0.5 m.
@@ -100,16 +121,35 @@ TEST(Overtopping, TheWaterPastACrest) {
   EXPECT_EQ(volume_beyond(f, 3.5, +1, 0.0), 0.0);
 }
 
-TEST(WavePeriod, ASinesPeriodFromItsUpcrossings) {
+TEST(WavePeriod, ASinesPeriodFromItsCrests) {
   std::vector<double> t, eta;
   const double period = 3.7;
   for (int k = 0; k <= 4000; ++k) {
     t.push_back(0.005 * k);
     eta.push_back(837.0 + 2.0 * std::sin(2 * kPi * t.back() / period + 0.3));
   }
-  EXPECT_NEAR(mean_upcrossing_period(t, eta, 837.0), period, 1e-4 * period);
-  const std::vector<double> up = upcrossing_times(t, eta, 837.0);
-  ASSERT_FALSE(up.empty());
-  EXPECT_NEAR(up.front(), period * (1.0 - 0.3 / (2 * kPi)), 1e-4);
-  EXPECT_TRUE(std::isnan(mean_upcrossing_period(t, std::vector<double>(t.size(), 837.0), 837.0)));
+  EXPECT_NEAR(mean_crest_period(t, eta, 0.5), period, 0.005 / 4);
+  const std::vector<double> crests = crest_times(t, eta, 0.5);
+  ASSERT_EQ(crests.size(), 6u);  // 20 s of a 3.7 s wave, its first crest at 0.75 s
+  EXPECT_NEAR(crests.front(), period * (0.25 - 0.3 / (2 * kPi)), 0.005);
+  EXPECT_TRUE(std::isnan(mean_crest_period(t, std::vector<double>(t.size(), 837.0), 0.5)));
+}
+
+TEST(WavePeriod, RipplesUnderTheBandAndARisingLevelDoNotHideTheWaves) {
+  // A wave of period 3.7 s and amplitude 2 m, with a ripple of 0.3 m and period 0.23 s on it,
+  // on a level that rises by 3 m over the record (a deposit filling the pool): with a band of
+  // 0.8 m (above the ripple's height) only the waves' crests count.
+  std::vector<double> t, eta;
+  const double period = 3.7;
+  for (int k = 0; k <= 8000; ++k) {
+    t.push_back(0.0025 * k);
+    eta.push_back(837.0 + 3.0 * k / 8000.0 + 2.0 * std::sin(2 * kPi * t.back() / period) +
+                  0.3 * std::sin(2 * kPi * t.back() / 0.23));
+  }
+  EXPECT_LT(mean_crest_period(t, eta, 0.1), 0.5);  // a band under the ripple counts the ripple
+  EXPECT_NEAR(mean_crest_period(t, eta, 0.8), period, 0.05 * period);
+  // Still water with the ripple alone: no wave, no period.
+  std::vector<double> ripple(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) ripple[k] = 837.0 + 0.3 * std::sin(2 * kPi * t[k] / 0.23);
+  EXPECT_TRUE(std::isnan(mean_crest_period(t, ripple, 0.8)));
 }
