@@ -371,7 +371,7 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
             hi, lo = gauges.get(n, (None, None))
             T = periods.get(n)
             rows.append([f"<td><b>{esc(n)}</b></td>", _num(hi), _num(lo),
-                         _num(T) if isinstance(T, (int, float)) else '<td class="num">fewer than two up-crossings</td>'])
+                         _num(T) if isinstance(T, (int, float)) else '<td class="num">fewer than two crests</td>'])
         body += _table(["gauge", f"highest surface{since} (m)", f"lowest surface{since} (m)", "wave period (s)"], rows)
     gain, ke = _by_prefix(mw, "energy_gain"), _by_prefix(mw, "slide_kinetic_energy_at_impact")
     body += kv_table([("energy handed to the water (its largest gain)", "J/m", gain),
