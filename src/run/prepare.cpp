@@ -132,6 +132,15 @@ void lay_out_water(PreparedRun& run) {
                                           "{} coupled faces up to {} m carrying {} wall particles",
                                           w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.coupled_top,
                                           w.walls.size())});
+  // The artificial sound speed (DESIGN.md §13: c0 >= 10 sqrt(g H), not water's 1480 m/s) puts
+  // the pool's first compression mode c0 / 4H inside an earthquake's band: the shaking's own
+  // hydrodynamic pressures are not real water's, though the wave (a gravity wave) is.
+  if (run.scenario.earthquake.present && w.depth > 0.0)
+    run.build_log.push_back({2, fmt::format("reservoir water: its first compression mode c0 / 4H = {:.3g} Hz (real "
+                                            "water: {:.3g} Hz): the pressures of the shaking itself above about {:.2g} "
+                                            "Hz are not real water's; the wave is",
+                                            par.c0 / (4.0 * w.depth), 1480.0 / (4.0 * w.depth),
+                                            par.c0 / (4.0 * w.depth))});
   if (w.faces_without_walls > 0)
     run.build_log.push_back(
         {3, fmt::format("reservoir water: {} faces of the discrete zone carry no wall particles (their triangle has "
