@@ -5,6 +5,8 @@
 // the water); a restart gives the same record; bad sections are errors at their keys.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -143,6 +145,41 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
                         "wall_top_overtopped_m2_per_m", "wall_face_force_x_N_per_m", "wall_face_peak_pressure_Pa",
                         "water_energy_gain_J_per_m"})
     EXPECT_NE(header.find(c), std::string::npos) << c;
+}
+
+// The water's energy plus the solid's work on it can only fall (viscosity and density
+// diffusion take energy out): at every history row the water's energy gain stays at or
+// below the work the solid did on it, to 1 % of the largest work of the run. Disabled: it fails while the
+// block presses water against the toe (t = 1.5-1.9 s; the gain exceeds the work by up to
+// 0.21 of it), where the modified dynamic boundary's extrapolated wall pressure does work
+// that no state stores (test_solid_coupling's disabled squeeze shows the same).
+TEST(ReservoirWater, DISABLED_TheWatersEnergyGainNeverExceedsTheSolidsWorkOnIt) {
+  const fs::path dir = dsdem::test::fresh_dir("moving_water_energy_rows");
+  run_flume(dir, {"time.end=2.2"});
+  std::istringstream lines(file_text(dir / "out" / "history.csv"));
+  std::string line;
+  std::vector<std::string> names;
+  std::size_t gain_col = 0, work_col = 0;
+  std::vector<std::array<double, 3>> rows;  // t, gain, work
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    if (names.empty()) {
+      names = cells;
+      gain_col = static_cast<std::size_t>(std::find(names.begin(), names.end(), "water_energy_gain_J_per_m") - names.begin());
+      work_col = static_cast<std::size_t>(std::find(names.begin(), names.end(), "moving_water_work_J_per_m") - names.begin());
+      ASSERT_LT(gain_col, names.size());
+      ASSERT_LT(work_col, names.size());
+      continue;
+    }
+    rows.push_back({std::stod(cells[0]), std::stod(cells[gain_col]), -std::stod(cells[work_col])});
+  }
+  ASSERT_GT(rows.size(), 200u);
+  double largest = 0.0;
+  for (const auto& r : rows) largest = std::max(largest, std::abs(r[2]));
+  for (const auto& [t, gain, work] : rows) EXPECT_LE(gain, work + 0.01 * largest) << "t = " << t << " s";
 }
 
 TEST(ReservoirWater, ARestartGivesTheSameRecord) {

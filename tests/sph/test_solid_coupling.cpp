@@ -1,6 +1,7 @@
 // The coupling of SPH water with a solid's edges (DESIGN.md §13): the boundary particles'
 // layout behind the edges, their placement from the nodes, the momentum balance between
-// the water and the nodes at every force evaluation, and the same bits for 1 and 2 threads.
+// the water and the nodes at every force evaluation, the same bits for 1 and 2 threads, and
+// the energy of water squeezed between a block and a corner against the block's work on it.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -283,4 +284,86 @@ TEST(SolidCoupling, OneAndTwoThreadsGiveTheSameBits) {
   ASSERT_EQ(one.first.size(), two.first.size());
   for (std::size_t k = 0; k < one.first.size(); ++k) EXPECT_EQ(one.first[k], two.first[k]) << k;
   EXPECT_EQ(one.second, two.second);
+}
+
+namespace {
+
+// The compression energy Tait's equation stores in particles of mass m at densities rho
+// (as Fluid::energy()): m B (rho^6 / (6 rho0^7) + 1 / rho - 7 / (6 rho0)).
+double compression_energy(const std::vector<double>& rho, double m, const FluidParameters& par) {
+  const double b = tait_b(par.rho0, par.c0), r7 = std::pow(par.rho0, 7.0);
+  double e = 0.0;
+  for (double r : rho) e += m * b * (std::pow(r, 6.0) / (6.0 * r7) + 1.0 / r - 7.0 / (6.0 * par.rho0));
+  return e;
+}
+
+struct SqueezeLedger {
+  double worst_excess = -1e300;  // the largest over the steps of the water's energy gain less the block's work on it
+  double work = 0.0;             // the block's work on the water at the end
+};
+
+// The block, 0.12 m from the tank's bed and its left wall, pressed along the diagonal at
+// `speed` (each direction) into that corner until it is dp/2 from both: the water between
+// them is squeezed out. At every solid step the water's energy gain (kinetic, potential,
+// compression; with the dynamic boundary also the walls' compression, the energy their
+// continuity stores) against the block's work on it, booked as the solver books it (the
+// trapezoid of the node forces over each step).
+SqueezeLedger squeeze(double dp, BoundaryCondition bc, double speed) {
+  const double depth = 0.24, side = 0.12, v = -speed, dt = 2e-4;
+  Block b = square_block(0.12, 0.12, side);
+  FluidParameters par = parameters(dp, depth);
+  par.boundary = bc;
+  Fluid fluid = tank_with_block(b, par, depth, false);
+  SolidCoupling c(b.edges, fluid, b.x);
+  auto energy = [&] {
+    const auto e = fluid.energy();
+    const auto& w = fluid.boundary();
+    const double walls = bc == BoundaryCondition::Dynamic ? compression_energy(w.rho, w.mass, par) : 0.0;
+    return e.kinetic + e.potential + e.compression + walls;
+  };
+  const double e0 = energy();
+  std::vector<Vec2> f_prev(c.forces().begin(), c.forces().end());
+  SqueezeLedger out;
+  const int steps = static_cast<int>(std::lround((0.12 - 0.5 * dp) / (-v * dt)));
+  for (int step = 1; step <= steps; ++step) {
+    const auto next = c.next_positions();
+    for (std::size_t k = 0; k < next.size(); ++k) next[k] = b.x[c.nodes()[k]] + Vec2(v * dt * step, v * dt * step);
+    c.advance(fluid, dt);
+    const auto f = c.forces();
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      out.work -= 0.5 * (f_prev[k] + f[k]).dot(Vec2(v * dt, v * dt));
+      f_prev[k] = f[k];
+    }
+    out.worst_excess = std::max(out.worst_excess, energy() - e0 - out.work);
+  }
+  return out;
+}
+
+}  // namespace
+
+// With the dynamic boundary (Crespo et al. 2007) the walls' densities follow the continuity
+// equation, so their pressure does work that their compression stores: the water's energy
+// and its walls' can only fall below the block's work on them (viscosity, diffusion and the
+// walls' floor at rho0 take energy out), here to the velocity-Verlet energy error, 1e-3 of
+// the work, at every step of squeezes in which water is trapped between the block and the
+// tank's corner.
+TEST(SolidCoupling, ASqueezeWithDynamicWallsCreatesNoEnergy) {
+  for (const auto& [dp, speed] : {std::pair{0.01, 0.5}, std::pair{0.02, 2.0}}) {
+    const SqueezeLedger s = squeeze(dp, BoundaryCondition::Dynamic, speed);
+    EXPECT_GT(s.work, 0.0);
+    EXPECT_LT(s.worst_excess, 1e-3 * s.work) << "dp " << dp << " m, " << speed << " m/s";
+  }
+}
+
+// The same squeeze with the modified dynamic boundary (English et al. 2022), the runner's:
+// the walls' densities are extrapolated from the water, no continuity stores the work of
+// their pressure, and where water is trapped between two walls within the kernel's support
+// that pressure puts energy into the water that no wall gave. Disabled: it fails (the
+// water's gain exceeds the block's work by 0.16 of it at dp = 0.01 m, 0.5 m/s).
+TEST(SolidCoupling, DISABLED_ASqueezeWithModifiedDynamicWallsCreatesNoEnergy) {
+  for (const auto& [dp, speed] : {std::pair{0.01, 0.5}, std::pair{0.02, 2.0}}) {
+    const SqueezeLedger s = squeeze(dp, BoundaryCondition::ModifiedDynamic, speed);
+    EXPECT_GT(s.work, 0.0);
+    EXPECT_LT(s.worst_excess, 1e-3 * s.work) << "dp " << dp << " m, " << speed << " m/s";
+  }
 }
