@@ -150,9 +150,9 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
 // The water's energy plus the solid's work on it can only fall (viscosity and density
 // diffusion take energy out): at every history row the water's energy gain stays at or
 // below the work the solid did on it, to 1 % of the largest work of the run. Disabled: it fails while the
-// block presses water against the toe (t = 1.5-1.9 s; the gain exceeds the work by up to
-// 0.21 of it), where the modified dynamic boundary's extrapolated wall pressure does work
-// that no state stores (test_solid_coupling's disabled squeeze shows the same).
+// block presses water against the toe, where the modified dynamic boundary's extrapolated
+// wall pressure does work that no state stores (test_solid_coupling's disabled squeeze
+// shows the same).
 TEST(ReservoirWater, DISABLED_TheWatersEnergyGainNeverExceedsTheSolidsWorkOnIt) {
   const fs::path dir = dsdem::test::fresh_dir("moving_water_energy_rows");
   run_flume(dir, {"time.end=2.2"});
