@@ -1,7 +1,6 @@
 #include "contact/contact_forces.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <stdexcept>
 #include <string>
 
@@ -38,13 +37,9 @@ void ContactParamTable::set(Index g1, Index g2, const ContactProperties& p) {
 
 namespace {
 
-bool settled(const ContactRecord& r) { return r.settled; }
-bool settled(const DashpotRecord&) { return false; }
-
 // The second halves of the dashpot work of records (see settle_previous), summed per
 // block of key.i / block_size in record order into blocks (one entry per block with a
-// record to settle). A record without a dashpot force adds nothing (+0) and is passed
-// over, as is one the pair loop settled.
+// dashpot force). A record without one adds nothing (+0) and is passed over.
 template <class Record>
 void settle_records(std::span<const Record> records, const ContactInput& in, double dt, Index block_size,
                     std::vector<double>& blocks) {
@@ -52,7 +47,7 @@ void settle_records(std::span<const Record> records, const ContactInput& in, dou
   Index block = -1;
   double sum = 0.0;
   for (const Record& r : records) {
-    if (r.dashpot_force == 0.0 || settled(r)) continue;
+    if (r.dashpot_force == 0.0) continue;
     if (r.key.i / block_size != block) {
       if (block >= 0) blocks.push_back(sum);
       sum = 0.0;
@@ -60,7 +55,7 @@ void settle_records(std::span<const Record> records, const ContactInput& in, dou
     }
     const Vec2 v_rel =
         point_velocity(r.Ni, in.conn[r.key.i], in.v) - point_velocity(r.Nj, in.conn[r.key.j], in.v);
-    sum += dashpot_late_half(dt, r.dashpot_force, r.normal, v_rel);
+    sum += -0.5 * dt * r.dashpot_force * r.normal.dot(v_rel);
   }
   if (block >= 0) blocks.push_back(sum);
 }
@@ -154,7 +149,6 @@ void ContactForces::build(const ContactInput& in) {
 void ContactForces::restore(const std::vector<ContactHistory::Entry>& entries, double last_elastic_energy,
                             double skin, std::vector<DashpotRecord> dashpots) {
   pending_ = std::move(dashpots);
-  restored_ = true;
   if (late_blocks_.empty()) late_blocks_.resize(1);
   reserve_with_headroom(late_blocks_[0], pending_.size() + 4);
   history_.clear();
@@ -305,17 +299,11 @@ void ContactForces::settle_previous(const ContactInput& in, double dt, int t, in
     return;
   }
   for (int u = t; u < late_sources_; u += T)
-    settle_records(std::span<const ContactRecord>(last_buffers_[u]), in, dt, kSumBlock, late_blocks_[u]);
-}
-
-void ContactForces::unsettle_previous() {
-  if (late_pending_) return;
-  for (int u = 0; u < late_sources_; ++u)
-    for (ContactRecord& r : last_buffers_[u]) r.settled = false;
+    settle_records(std::span<const ContactRecord>(buffers_[u]), in, dt, kSumBlock, late_blocks_[u]);
 }
 
 std::vector<DashpotRecord> ContactForces::dashpot_records() const {
-  if (restored_) return pending_;
+  if (!pending_.empty()) return pending_;
   std::vector<DashpotRecord> out;
   for_each_contact([&out](const ContactRecord& c) {
     if (c.dashpot_force != 0.0) out.push_back({c.key, c.Ni, c.Nj, c.normal, c.dashpot_force});
@@ -326,7 +314,6 @@ std::vector<DashpotRecord> ContactForces::dashpot_records() const {
 void ContactForces::ensure_thread_lists(int nt) {
   const auto n = static_cast<std::size_t>(nt);
   if (buffers_.size() < n) buffers_.resize(n);
-  if (last_buffers_.size() < n) last_buffers_.resize(n);
   if (late_blocks_.size() < n) late_blocks_.resize(n);
   if (todo_.size() < n) todo_.resize(n);
   if (todo_weight_.size() < n) todo_weight_.resize(n);
@@ -352,7 +339,7 @@ void ContactForces::collect_scale_triangles(int T) {
 double ContactForces::process_pair(Index i, Index j, const CoreEdgeScales& scales_i, const CoreEdgeScales& scales_j,
                                    const ContactInput& in, const ContactParamTable& params, double dt,
                                    bool check_apart, ContactHistory::Cursor& cursor,
-                                   std::vector<ContactRecord>& out, std::span<Vec2> f_now, double& late) {
+                                   std::vector<ContactRecord>& out, std::span<Vec2> f_now) const {
   std::array<ContactGeometry, kMaxContactsPerPair> geo;
   double clearance = 0.0;
   const int n = narrow_phase(sp_[i], scales_i, sp_[j], scales_j, geo, &clearance, check_apart);
@@ -365,9 +352,6 @@ double ContactForces::process_pair(Index i, Index j, const CoreEdgeScales& scale
   const BarycentricFrame frame_i = barycentric_frame(x[ci[0]], x[ci[1]], x[ci[2]]);
   const BarycentricFrame frame_j = barycentric_frame(x[cj[0]], x[cj[1]], x[cj[2]]);
   const PairDashpotMass dashpot = pair_dashpot_mass(ci, cj, in.mass, dt, p.damping_ratio, p.kn);
-  // The six nodes' velocities, for this call's records and the last call's of this pair.
-  const std::array<Vec2, 3> vi = {in.v[ci[0]], in.v[ci[1]], in.v[ci[2]]};
-  const std::array<Vec2, 3> vj = {in.v[cj[0]], in.v[cj[1]], in.v[cj[2]]};
   for (int k = 0; k < n; ++k) {
     const ContactGeometry& g = geo[k];
     ContactRecord& r = out.emplace_back();  // filled in place: no copy of the record
@@ -379,31 +363,19 @@ double ContactForces::process_pair(Index i, Index j, const CoreEdgeScales& scale
     r.point = g.point;
     r.Ni = barycentric(g.point, frame_i);
     r.Nj = barycentric(g.point, frame_j);
-    const Vec2 v_rel = point_velocity(r.Ni, vi) - point_velocity(r.Nj, vj);
+    const Vec2 v_rel = point_velocity(r.Ni, ci, in.v) - point_velocity(r.Nj, cj, in.v);
     // Dashpot mass: the two triangles' reduced mass, capped for the point's own mass.
     const double m_eff = contact_dashpot_mass(dashpot, r.Ni, ci, r.Nj, cj, in.mass);
-    const ContactHistory::Entry* last = history_.find(r.key, cursor);
-    if (last && !late_pending_) {  // the same contact last call: settle its dashpot's work
-      const std::span<const ContactHistory::Entry> seg = history_.previous_segment(cursor.segment);
-      assert(static_cast<std::size_t>(last - seg.data()) < last_buffers_[cursor.segment].size());
-      ContactRecord& before = last_buffers_[cursor.segment][static_cast<std::size_t>(last - seg.data())];
-      if (before.dashpot_force != 0.0) {
-        const Vec2 v_late = point_velocity(before.Ni, vi) - point_velocity(before.Nj, vj);
-        late += dashpot_late_half(dt, before.dashpot_force, before.normal, v_late);
-        before.settled = true;
-      }
-    }
     const ContactLawResult law =
-        contact_law(g.overlap, g.normal, v_rel, dt, last ? last->ft : Vec2(Vec2::Zero()), m_eff, p);
+        contact_law(g.overlap, g.normal, v_rel, dt, history_.previous(r.key, cursor), m_eff, p);
     r.sliding = law.sliding;
-    r.settled = false;
     r.fn = law.fn;
     r.ft = law.ft;
     r.force = law.force;
     r.elastic_energy = law.elastic_energy;
     r.friction_dissipation = law.friction_dissipation;
     r.dashpot_force = law.dashpot_force;
-    r.damping_dissipation = 0.5 * law.damping_dissipation;  // the first half (dashpot_late_half)
+    r.damping_dissipation = 0.5 * law.damping_dissipation;  // the first half (settle_previous)
     if (f_now.size() == in.x.size()) {
       add_point_force(r.Ni, ci, r.force, f_now);
       add_point_force(r.Nj, cj, -r.force, f_now);
@@ -430,14 +402,13 @@ void ContactForces::examine_pairs(const std::vector<Index>& list, std::size_t k_
     const ContactPair pr = pairs[p];
     const double moved = motion_[pr.i] + motion_[pr.j];
     const std::size_t before = out.size();
-    double res, late = 0.0;
+    double res;
     if (run.own_scales) {  // the same values as edge_scales_ would hold (same shapes)
       const CoreEdgeScales si = core_edge_scales(sp_[pr.i].core), sj = core_edge_scales(sp_[pr.j].core);
-      res = process_pair(pr.i, pr.j, si, sj, in, params, dt, skip_below_[p] >= 0.0f, run.cursor, out, run.f_now,
-                         late);
+      res = process_pair(pr.i, pr.j, si, sj, in, params, dt, skip_below_[p] >= 0.0f, run.cursor, out, run.f_now);
     } else {
       res = process_pair(pr.i, pr.j, edge_scales_[pr.i], edge_scales_[pr.j], in, params, dt, skip_below_[p] >= 0.0f,
-                         run.cursor, out, run.f_now, late);
+                         run.cursor, out, run.f_now);
     }
     // Sums of the records of each block (pairs whose triangle i / kSumBlock is the same),
     // in record order; finish() adds the blocks in order. Only blocks with records count,
@@ -456,7 +427,6 @@ void ContactForces::examine_pairs(const std::vector<Index>& list, std::size_t k_
       run.sums.damping_dissipation += rec.damping_dissipation;
       run.sliding += rec.sliding ? 1 : 0;
     }
-    if (out.size() > before) run.sums.damping_dissipation += late;  // the last call's, of this pair's contacts
     run.active += static_cast<Index>(out.size() - before);
     if (run.note && out.size() > before) note_touching(in, pr, run.t, run.T, before, out.size());
     // Half the clearance: margin for the float and for the sums' rounding.
@@ -527,7 +497,6 @@ ContactStepStats ContactForces::finish() {
     for (const double b : late_blocks_[u]) late += b;
   st.damping_dissipation += late;
   if (late_pending_) std::vector<DashpotRecord>().swap(pending_);  // settled: not needed again
-  restored_ = false;
   for (int t = 0; t < used_threads_; ++t) {
     st.active_contacts += thread_counts_[t].active;
     st.sliding_contacts += thread_counts_[t].sliding;
@@ -548,7 +517,6 @@ ContactStepStats ContactForces::finish() {
   history_.end_step();
   for (int t = 0; t < used_threads_; ++t) {
     reserve_with_headroom(buffers_[t], room(records));
-    reserve_with_headroom(last_buffers_[t], room(records));  // buffers_ of the next call
     reserve_with_headroom(block_sums_[t], room(blocks) + 4);
     reserve_with_headroom(late_blocks_[t], room(blocks) + 4);  // settle_previous() of buffer t next call
     if (used_threads_ > 1) {

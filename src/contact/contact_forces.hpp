@@ -163,12 +163,10 @@ class ContactForces {
   // f_now: the pair's forces go at once to the nodes below f_now.size(), while its records
   // are in cache (in record order, as scatter_forces() would add them): f itself on one
   // thread, the first node range on the first of several, empty on the others.
-  // late: += the second halves (dashpot_late_half) of the last call's records of the same
-  // contacts, which it marks settled (each is one thread's: its key is this pair's).
   double process_pair(Index i, Index j, const CoreEdgeScales& scales_i, const CoreEdgeScales& scales_j,
                       const ContactInput& in, const ContactParamTable& params, double dt, bool check_apart,
                       ContactHistory::Cursor& cursor, std::vector<ContactRecord>& out,
-                      std::span<Vec2> f_now, double& late);
+                      std::span<Vec2> f_now) const;
   struct BlockSums {
     double elastic_energy = 0.0, friction_dissipation = 0.0, damping_dissipation = 0.0;
   };
@@ -189,18 +187,15 @@ class ContactForces {
                      const ContactInput& in, const ContactParamTable& params, double dt, PairRun& run);
   // The run's last block sums and its counts.
   void end_pair_run(const PairRun& run);
-  // The second half of the work of the last call's dashpot forces (dashpot_late_half, with
-  // in.v = v(n+1/2)); the first half is booked with the force (ContactRecord::
-  // damping_dissipation). The pair loop books those of the contacts it meets again (the
-  // previous record is found with the tangential history, the node velocities are at
-  // hand); this books the others (contacts that have ended), after every thread's pair
-  // loop. Thread t of T takes the last call's buffers t, t + T, ..., or thread 0 the
-  // restored records; the sums per block of records (as block_sums_) keep them independent
-  // of the thread counts.
+  // The second half of the work of the last call's dashpot forces (DESIGN.md §1 steps 1
+  // and 8, §6): velocity Verlet applies a force of step n half into v(n) and half into
+  // v(n+1/2), so its exact (trapezoidal) work is 0.5 dt f . (v_rel(n-1/2) + v_rel(n+1/2)),
+  // each at the contact's own shape functions. The first half is booked with the force
+  // (ContactRecord::damping_dissipation); this books the second with in.v = v(n+1/2),
+  // also for contacts that have ended. Thread t of T takes the last call's buffers t,
+  // t + T, ... (before it clears its own), or thread 0 the restored records; the sums per
+  // block of records (as block_sums_) keep them independent of the thread counts.
   void settle_previous(const ContactInput& in, double dt, int t, int T);
-  // After a pair loop whose results are dropped (a node left its box): no record of the
-  // last call is settled.
-  void unsettle_previous();
   // Makes sure nt threads have their buffers and lists.
   void ensure_thread_lists(int nt);
   // Serial: scale_tris_ = the triangles of the pairs in todo_[0..T), once each (flags in in_pair_).
@@ -274,9 +269,6 @@ class ContactForces {
   std::vector<float> skip_below_;
   long skip_epoch_ = -1;
   std::vector<ThreadVector<ContactRecord>> buffers_;  // one per thread
-  // The last call's buffers_ (swapped at each call): ContactHistory segment s, entry p of
-  // the last call is last_buffers_[s][p] (the pair loop appends both in step).
-  std::vector<ThreadVector<ContactRecord>> last_buffers_;
   // touching_[u T + c]: indices into buffers_[u] of the records with a node in range c,
   // ascending (more than one thread). Each thread reads only those in the scatter, not
   // every record.
@@ -300,16 +292,15 @@ class ContactForces {
   // any order).
   static constexpr Index kSumBlock = 32;
   std::vector<ThreadVector<BlockSums>> block_sums_;
-  // The last call's records whose dashpot work this call completes: last_buffers_[0,
-  // late_sources_), or, when late_pending_ (restored_ at the call's start), pending_: the
-  // records restored from a checkpoint (restore() till the next call's end), which the pair
-  // loop does not look for. late_blocks_[u]: settle_previous()'s sums per block of source u,
-  // in record order.
+  // The last call's records whose dashpot work settle_previous() completes this call:
+  // buffers_[0, late_sources_), or pending_ (restored from a checkpoint) when late_pending_;
+  // late_blocks_[u]: the sums per block of source u, in record order. late_due_: this
+  // call has not settled them yet.
   std::vector<ThreadVector<double>> late_blocks_;
   std::vector<DashpotRecord> pending_;
   int late_sources_ = 0;
   bool late_pending_ = false;
-  bool restored_ = false;
+  bool late_due_ = false;
   struct alignas(64) ThreadCounts {
     Index active = 0, sliding = 0;
   };

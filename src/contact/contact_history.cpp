@@ -61,7 +61,7 @@ Vec2 ContactHistory::previous(const ContactKey& key) const {
   return Vec2::Zero();
 }
 
-const ContactHistory::Entry* ContactHistory::find(const ContactKey& key, Cursor& cursor) const {
+Vec2 ContactHistory::previous(const ContactKey& key, Cursor& cursor) const {
   // The segment that may hold key: the first whose last key is not below it.
   while (cursor.segment < static_cast<std::size_t>(n_previous_)) {
     const auto& s = previous_[cursor.segment];
@@ -69,7 +69,7 @@ const ContactHistory::Entry* ContactHistory::find(const ContactKey& key, Cursor&
     ++cursor.segment;
     cursor.pos = 0;
   }
-  if (cursor.segment >= static_cast<std::size_t>(n_previous_)) return nullptr;
+  if (cursor.segment >= static_cast<std::size_t>(n_previous_)) return Vec2::Zero();
   const std::vector<Entry>& seg = previous_[cursor.segment];
   const std::size_t n = seg.size();
   std::size_t lo = cursor.pos;
@@ -78,10 +78,10 @@ const ContactHistory::Entry* ContactHistory::find(const ContactKey& key, Cursor&
   if (!(seg[lo].key < key)) {
     if (seg[lo].key == key) {
       cursor.pos = lo + 1;
-      return &seg[lo];
+      return seg[lo].ft;
     }
     cursor.pos = lo;
-    return nullptr;
+    return Vec2::Zero();
   }
   // Gallop: find a bound hi with seg[hi - 1].key >= key (it exists: seg.back() >= key).
   std::size_t step = 1, hi = lo;
@@ -94,8 +94,8 @@ const ContactHistory::Entry* ContactHistory::find(const ContactKey& key, Cursor&
   const auto it = std::lower_bound(seg.begin() + static_cast<std::ptrdiff_t>(lo),
                                    seg.begin() + static_cast<std::ptrdiff_t>(hi), key, entry_below);
   cursor.pos = static_cast<std::size_t>(it - seg.begin());
-  if (it != seg.end() && it->key == key) return &*it;
-  return nullptr;
+  if (it != seg.end() && it->key == key) return it->ft;
+  return Vec2::Zero();
 }
 
 }  // namespace dsdem::contact

@@ -12,7 +12,6 @@
 #include <cassert>
 #include <compare>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include "contact/buffer.hpp"
@@ -46,18 +45,7 @@ class ContactHistory {
     std::size_t segment = 0;
     std::size_t pos = 0;
   };
-  Vec2 previous(const ContactKey& key, Cursor& cursor) const {
-    const Entry* e = find(key, cursor);
-    return e ? e->ft : Vec2(Vec2::Zero());
-  }
-  // The previous step's entry of `key` (nullptr: a new contact), searched as previous();
-  // when found, it is previous_segment(cursor.segment)[p] for some p.
-  const Entry* find(const ContactKey& key, Cursor& cursor) const;
-  // Segment s of the previous step, in key order (a step's contacts in the order they were
-  // appended to its segments).
-  std::span<const Entry> previous_segment(std::size_t s) const {
-    return s < static_cast<std::size_t>(n_previous_) ? std::span<const Entry>(previous_[s]) : std::span<const Entry>();
-  }
+  Vec2 previous(const ContactKey& key, Cursor& cursor) const;
 
   // Starts writing a new step's contacts in n_segments segments (keeps capacity).
   void begin_step(int n_segments = 1);

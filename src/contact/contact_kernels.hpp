@@ -40,15 +40,14 @@ ContactStepStats ContactForces::compute(const ContactInput& in, const ContactPar
     skip_epoch_ = skip_epoch;
   }
   cache_skip_ = skip_epoch >= 0;
-  late_pending_ = restored_;
+  late_pending_ = !pending_.empty();
   late_sources_ = late_pending_ ? 1 : used_threads_;
-  buffers_.swap(last_buffers_);  // the last call's records: their dashpots' second halves
+  late_due_ = true;
   Index skipped = 0;
   if (partition < 2 || !compute_partitioned(in, params, dt, skip, f, partition, skipped)) {
     if (partition >= 2) {  // a node left its box: the shapes are up to date, build on them
       build(in);
       rebuilt = true;
-      unsettle_previous();
     }
     compute_split(in, params, dt, skip, f, skipped);
   }
@@ -171,9 +170,9 @@ struct ContactForces::PartitionKernels {
     return skipped;
   }
   // 3. The pairs examined, unless a node left its box (the first thread, which adds
-  // forces to nodes at once that a rebuild could not take back, is told); alone, the last
-  // call's dashpots not met again.
+  // forces to nodes at once that a rebuild could not take back, is told).
   void third(int t, int T, bool left) {
+    cf.settle_previous(in, dt, t, T);
     cf.buffers_[t].clear();
     cf.block_sums_[t].clear();
     for (int c = 0; c < T; ++c) cf.touching_[t * T + c].clear();
@@ -187,14 +186,9 @@ struct ContactForces::PartitionKernels {
                          : std::span<Vec2>();
     if (!left) cf.examine_pairs(cf.todo_[t], 0, cf.todo_[t].size(), in, params, dt, run);
     cf.end_pair_run(run);
-    if (T == 1 && !left) cf.settle_previous(in, dt, 0, 1);
   }
-  // 4. The last call's dashpots not met again, then the forces to each thread's node range,
-  // in record order (see compute_split).
-  void gather(int t, int T) {
-    cf.settle_previous(in, dt, t, T);
-    cf.scatter_forces(in, f, t, T);
-  }
+  // 4. The forces to each thread's node range, in record order (see compute_split).
+  void gather(int t, int T) { cf.scatter_forces(in, f, t, T); }
 };
 
 template <class Skip>
@@ -209,6 +203,7 @@ bool ContactForces::compute_partitioned(const ContactInput& in, const ContactPar
   const exec::PartitionedRegion::Result r = partition_.run(nt, k);
   skipped += static_cast<Index>(r.count);
   used_threads_ = r.threads;
+  late_due_ = false;
   if (used_threads_ == 1) equal_node_ranges(nn, 1);
   return !r.stopped;
 }
@@ -223,7 +218,7 @@ struct ContactForces::SplitKernels {
   Skip& skip;
   std::vector<Vec2>& f;
   const std::span<const ContactPair> candidates;
-  const bool cache_skip;
+  const bool cache_skip, settle;
 
   std::size_t examined(int T) const {
     std::size_t n = 0;
@@ -254,6 +249,7 @@ struct ContactForces::SplitKernels {
     cf.in_pair_[tri] &= ~kScales;
   }
   void prepare(int t, int T, bool) {
+    if (settle) cf.settle_previous(in, dt, t, T);
     cf.buffers_[t].clear();
     cf.block_sums_[t].clear();
     if (T > 1)
@@ -312,18 +308,13 @@ struct ContactForces::SplitKernels {
       first = 0;
     }
     cf.end_pair_run(run);
-    if (!split && t == 0) cf.settle_previous(in, dt, 0, 1);  // the last call's dashpots not met again
   }
   // 4. The forces to the nodes (one thread, or few pairs: done in step 3): thread t adds
   // the forces of the records that touch its node range to those nodes (thread 0's own
   // ones: done in step 3), in record order, so each node gets the same sum, in the same
   // order, for any thread count. The last thread's gather is the longest by construction
-  // (it adds every record on its nodes, the first thread only the others' records). First,
-  // the last call's dashpots not met again (every pair loop has marked its own).
-  void gather(int t, int T) {
-    cf.settle_previous(in, dt, t, T);
-    cf.scatter_forces(in, f, t, T);
-  }
+  // (it adds every record on its nodes, the first thread only the others' records).
+  void gather(int t, int T) { cf.scatter_forces(in, f, t, T); }
 };
 
 template <class Skip>
@@ -334,10 +325,11 @@ void ContactForces::compute_split(const ContactInput& in, const ContactParamTabl
   // Each thread writes its contacts' history to a segment of its own, and its blocks' sums.
   history_.begin_step(nt);
   equal_node_ranges(f.size(), nt);
-  SplitKernels<Skip> k{*this, in, params, dt, skip, f, broad_.pairs(), cache_skip_};
+  SplitKernels<Skip> k{*this, in, params, dt, skip, f, broad_.pairs(), cache_skip_, late_due_};
   const exec::SplitRegion::Result r = split_region_.run(nt, np, k);
   skipped += static_cast<Index>(r.count);
   used_threads_ = r.threads;
+  late_due_ = false;
 }
 
 }  // namespace dsdem::contact

@@ -88,9 +88,6 @@ struct ContactRecord {
   ContactKind kind;
   std::uint8_t other;
   bool sliding;
-  // The next call booked the second half of this record's dashpot work in its pair loop
-  // (the same contact again); settle_previous() passes it over.
-  bool settled;
   Vec2 force;                    // total force on i (on j: -force)
   Vec3 Ni;                       // shape functions of i and j at the point
   Vec3 Nj;
@@ -102,7 +99,7 @@ struct ContactRecord {
   double elastic_energy;         // J/m
   double friction_dissipation;   // J/m this step
   // The dashpot's part of fn (ContactLawResult::dashpot_force), N/m, and the half of its
-  // work booked at this step; the other half is booked at the next call (dashpot_late_half).
+  // work booked at this step; the other half is booked at the next call (settle_previous).
   double damping_dissipation;    // J/m
   double dashpot_force;
 };
@@ -116,14 +113,6 @@ struct DashpotRecord {
   Vec2 normal;
   double dashpot_force = 0.0;
 };
-
-// The second half of the work of a dashpot force f_d along normal (DESIGN.md §1 steps 1 and
-// 8, §6): velocity Verlet applies a force of step n half into v(n) and half into v(n+1/2),
-// so its exact (trapezoidal) work is 0.5 dt f . (v_rel(n-1/2) + v_rel(n+1/2)) at the contact's
-// own shape functions; this is the v_rel(n+1/2) half, booked at the next call.
-inline double dashpot_late_half(double dt, double dashpot_force, const Vec2& normal, const Vec2& v_rel) {
-  return -0.5 * dt * dashpot_force * normal.dot(v_rel);
-}
 
 
 struct ContactStepStats {

@@ -62,10 +62,6 @@ inline Vec2 point_velocity(const Vec3& N, const std::array<Index, 3>& nodes,
                            std::span<const Vec2> v) {
   return N[0] * v[nodes[0]] + N[1] * v[nodes[1]] + N[2] * v[nodes[2]];
 }
-// The same from the triangle's three node velocities, gathered once (the same sums).
-inline Vec2 point_velocity(const Vec3& N, const std::array<Vec2, 3>& v_nodes) {
-  return N[0] * v_nodes[0] + N[1] * v_nodes[1] + N[2] * v_nodes[2];
-}
 
 // Inverse of the mass a point force at N drives: the point's acceleration under F is
 // F * sum N_k^2 / m_k. Nodes with m <= 0 count as immovable (zero inverse mass).
