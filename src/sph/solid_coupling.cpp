@@ -287,7 +287,8 @@ void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> ed
       for (int k = 0; k < layers; ++k) {
         const double sigma = -(i - 0.5) * dp, d = (k + 0.5) * dp;
         const Vec2 p = n + sigma * t2 - d * n2;
-        if (-(p - a1).dot(n1) <= 0.0 || (p - a1).dot(t1) <= l1) continue;
+        // Past e1's end, or just at it (under the corner node, on neither face's strip).
+        if (-(p - a1).dot(n1) <= 0.0 || (p - a1).dot(t1) < l1 - 1e-9 * dp) continue;
         walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n2, d);
         walls.edge.back() = static_cast<Index>(e2);
         walls.s.back() = sigma / l2;
