@@ -67,7 +67,21 @@ bool inside_triangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c)
 void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> edges, std::span<const Vec2> x,
                          int layers, const FluidParameters& par, double surface);
 
-// Face e's stations dp apart and `layers` rows (k + 1/2) dp behind it, into `out`, each kept
+// Where face e's stations fall: at arc lengths (i + 1/2) spacing from its run's start, the
+// face beginning `offset` along the run. A run is a chain of continuous faces each starting
+// where the last ended and turning by under 30 degrees (a straight bank the mesh cut into
+// faces of any length), spaced length / round(length / dp) over the whole run: the
+// stations keep the fluid's spacing dp, as the wall rows do across it, where rounding each
+// face's own count (a 0.5 m face at dp = 0.2 m: 2 stations 0.25 m apart) would leave the
+// wall a fifth lighter than the water it holds and let the water creep into it. A fragment's
+// face is a run of its own.
+struct StationRun {
+  double offset = 0.0, spacing = 0.0;
+  int alone = 0;  // a run of this face only: its station count (s = (i + 1/2) / alone)
+};
+std::vector<StationRun> station_runs(std::span<const SolidEdge> edges, std::span<const Vec2> x, double dp);
+
+// Face e's stations and `layers` rows (k + 1/2) dp behind it, into `out`, each kept
 // unless another face is nearer behind which it also lies: a continuous face competes with the
 // continuous ones, a fragment's face with its own triangle's (and keeps its points inside it).
 struct RowPoint {
@@ -75,7 +89,7 @@ struct RowPoint {
   double d, s;
 };
 void station_rows(std::vector<RowPoint>& out, std::size_t e, std::span<const SolidEdge> edges, std::span<const Vec2> x,
-                  const EdgeGrid& grid, int layers, double dp) {
+                  const EdgeGrid& grid, int layers, double dp, const StationRun& run) {
   const double reach = layers * dp, tol = 1e-9 * dp;
   out.clear();
   const Vec2 &a = x[edges[e].a], &b = x[edges[e].b];
@@ -83,10 +97,12 @@ void station_rows(std::vector<RowPoint>& out, std::size_t e, std::span<const Sol
   if (!(length > 0.0)) throw std::invalid_argument("sph::lay_edge_particles: an edge of zero length");
   const Vec2 n = edge_normal(a, b);
   const bool owned = edges[e].c != kNoIndex;
-  const int stations = std::max(1, static_cast<int>(std::lround(length / dp)));
-  for (int i = 0; i < stations; ++i)
+  // The run's stations on [offset, offset + length), to a relative tolerance.
+  const double first = std::ceil((run.offset - 1e-9 * run.spacing) / run.spacing - 0.5);
+  for (double i = first; (i + 0.5) * run.spacing < run.offset + length - 1e-9 * run.spacing; i += 1.0)
     for (int k = 0; k < layers; ++k) {
-      const double s = (i + 0.5) / stations, d = (k + 0.5) * dp;
+      const double s = run.alone > 0 ? (i + 0.5) / run.alone : ((i + 0.5) * run.spacing - run.offset) / length;
+      const double d = (k + 0.5) * dp;
       const Vec2 p = (1.0 - s) * a + s * b - d * n;
       if (owned && !inside_triangle(p, a, b, x[edges[e].c])) continue;
       bool kept = true;
@@ -95,7 +111,9 @@ void station_rows(std::vector<RowPoint>& out, std::size_t e, std::span<const Sol
         const Vec2 &oa = x[edges[o].a], &ob = x[edges[o].b];
         const Vec2 ot = ob - oa;
         const double os = (p - oa).dot(ot) / ot.squaredNorm();
-        if (os < 0.0 || os > 1.0) continue;
+        // Not behind o at its very ends: a run's station at the node two faces share belongs
+        // to the later face, which competes with the earlier one only there.
+        if (os < 1e-9 || os > 1.0 - 1e-9) continue;
         const double od = -(p - oa).dot(edge_normal(oa, ob));
         if (od <= 0.0 || od > reach) continue;
         if (od < d - tol || (od <= d + tol && o < e)) {
@@ -153,6 +171,7 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
   const double dp = par.dp, reach = layers * dp;
   const EdgeGrid grid(edges, x, reach, std::max(reach, dp));
   std::vector<RowPoint> points;
+  const std::vector<StationRun> runs = station_runs(edges, x, dp);
   // A fragment's triangle that these rows leave with under half its share of particles (its
   // area / dp^2, at least one; an inradius under about dp: the grains of a granular slide)
   // is filled by lay_fragment_face instead, so the water cannot flow through it.
@@ -169,7 +188,7 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
   };
   for (std::size_t e = 0; e < edges.size(); ++e)
     if (edges[e].c != kNoIndex) {
-      station_rows(points, e, edges, x, grid, layers, dp);
+      station_rows(points, e, edges, x, grid, layers, dp, runs[e]);
       fragment.try_emplace(key(e), Fragment{e, 0, 0, 0.0}).first->second.rows += static_cast<int>(points.size());
     }
   for (std::size_t e = 0; e < edges.size(); ++e) {
@@ -184,7 +203,7 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
         continue;
       }
     }
-    station_rows(points, e, edges, x, grid, layers, dp);
+    station_rows(points, e, edges, x, grid, layers, dp, runs[e]);
     for (const RowPoint& q : points) add_riding(walls, q.p, n, q.d, q.s, e, par, surface);
     if (edges[e].c != kNoIndex) fragment.at(key(e)).laid += static_cast<int>(points.size());
   }
@@ -201,6 +220,48 @@ void lay_edge_particles(BoundaryParticles& walls, std::span<const SolidEdge> edg
 }
 
 namespace {
+
+std::vector<StationRun> station_runs(std::span<const SolidEdge> edges, std::span<const Vec2> x, double dp) {
+  const std::size_t none = edges.size();
+  std::vector<std::size_t> next(edges.size(), none), prev(edges.size(), none);
+  std::unordered_map<Index, std::size_t> starting;  // continuous faces by their start node (the first)
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (edges[e].c == kNoIndex) starting.emplace(edges[e].a, e);
+  const double cos_turn = std::cos(kPi / 6.0);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    if (edges[e].c != kNoIndex) continue;
+    const auto it = starting.find(edges[e].b);
+    if (it == starting.end() || it->second == e || prev[it->second] != none) continue;
+    const SolidEdge& f = edges[it->second];
+    const Vec2 t1 = (x[edges[e].b] - x[edges[e].a]).normalized(), t2 = (x[f.b] - x[f.a]).normalized();
+    if (t1.dot(t2) < cos_turn) continue;
+    next[e] = it->second;
+    prev[it->second] = e;
+  }
+  std::vector<StationRun> runs(edges.size());
+  std::vector<bool> done(edges.size(), false);
+  auto lay = [&](std::size_t start) {  // the run from `start` along next (a closed one once round)
+    double total = 0.0;
+    for (std::size_t e = start; e != none && !done[e]; e = next[e]) {
+      done[e] = true;
+      runs[e].offset = total;
+      total += (x[edges[e].b] - x[edges[e].a]).norm();
+      if (next[e] == start) break;
+    }
+    const int count = std::max(1, static_cast<int>(std::lround(total / dp)));
+    const double spacing = total / count;
+    for (std::size_t e = start; e != none; e = next[e]) {
+      runs[e].spacing = spacing;
+      if (next[e] == start) break;
+    }
+    if (next[start] == none) runs[start].alone = count;
+  };
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (prev[e] == none) lay(e);
+  for (std::size_t e = 0; e < edges.size(); ++e)  // closed runs (a smooth loop): from their first face
+    if (!done[e]) lay(e);
+  return runs;
+}
 
 // Where a continuous face e1 ends at node N and the next face e2 turns to the right (the
 // solid's angle at N over 180 degrees: a bed meeting a wall), neither face's strip of
@@ -226,7 +287,8 @@ void fill_reflex_corners(BoundaryParticles& walls, std::span<const SolidEdge> ed
       for (int k = 0; k < layers; ++k) {
         const double sigma = -(i - 0.5) * dp, d = (k + 0.5) * dp;
         const Vec2 p = n + sigma * t2 - d * n2;
-        if (-(p - a1).dot(n1) <= 0.0 || (p - a1).dot(t1) <= l1) continue;
+        // Past e1's end, or just at it (under the corner node, on neither face's strip).
+        if (-(p - a1).dot(n1) <= 0.0 || (p - a1).dot(t1) < l1 - 1e-9 * dp) continue;
         walls.add_fixed(p.x(), p.y(), hydrostatic_density(surface - p.y(), par), n2, d);
         walls.edge.back() = static_cast<Index>(e2);
         walls.s.back() = sigma / l2;

@@ -33,9 +33,11 @@ inline Vec2 edge_normal(const Vec2& a, const Vec2& b) {
   return Vec2(t.y(), -t.x());
 }
 
-// Lays boundary particles behind the edges, whose nodes are at x (indexed by node): per edge
-// n = max(1, round(L / dp)) stations at s = (i + 1/2) / n and `layers` rows at depths
-// (k + 1/2) dp behind the face (the face halfway between the fluid's first row and the
+// Lays boundary particles behind the edges, whose nodes are at x (indexed by node): stations
+// spaced about dp along each run of continuous edges (a chain turning by under 30 degrees;
+// an edge alone: n = max(1, round(L / dp)) stations at s = (i + 1/2) / n, its run's spacing
+// L_run / round(L_run / dp) otherwise, whatever the edges' own lengths) and `layers` rows at
+// depths (k + 1/2) dp behind the face (the face halfway between the fluid's first row and the
 // walls' first, as sph::add_tank_walls). A particle behind two edges (a convex corner) is
 // kept by the nearer face only (the lower edge index on a tie), so a corner is covered once.
 // A fragment's faces (edges naming their triangle's third node) keep their particles inside
