@@ -110,7 +110,7 @@ def write_table(rows, out):
                      f"{fmt(r['wet_intake'], '{:.0f}')} | {fmt(r['dry_channel'], '{:.0f}')} / "
                      f"{fmt(r['wet_channel'], '{:.0f}')} | {fmt(r['dry_wall'], '{:.0f}')} / {fmt(r['wet_wall'], '{:.0f}')} | "
                      f"{fmt(r['dry_balance'], '{:.1e}')} / {fmt(r['wet_balance'], '{:.1e}')} |")
-    lines += ["", "| mode | gauge | x (m) | highest surface above 837 m (m) | when (s) | at the end (m) | mean up-crossing period (s) |",
+    lines += ["", "| mode | gauge | x (m) | highest surface above 837 m (m) | when (s) | at the end (m) | mean crest period (s) |",
               "|---|---|---|---|---|---|---|"]
     for r in rows:
         for g, v in r["gauges"].items():
