@@ -232,7 +232,9 @@ void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<dou
 
 std::vector<double> WaterWatch::state() const {
   std::vector<double> s;
-  auto peak = [&](const Peak& p) { s.insert(s.end(), {p.value, p.x, p.t, p.seen ? 1.0 : 0.0}); };
+  auto peak = [&](const Peak& p) {
+    for (const double v : {p.value, p.x, p.t, p.seen ? 1.0 : 0.0}) s.push_back(v);
+  };
   peak(amplitude_);
   peak(energy_gain_);
   s.push_back(still_);
