@@ -46,6 +46,16 @@ struct Pool {
   Vec2 corner = Vec2(0.4, 0.5);
 };
 
+// A block 0.2 m square held 5 cm above water 0.4 m deep, to be dropped into it.
+Pool drop_pool() {
+  Pool p;
+  p.width = 0.8;
+  p.depth = 0.4;
+  p.side = 0.2;
+  p.corner = Vec2(0.3, 0.35);
+  return p;
+}
+
 Model pool_model(const Pool& p) {
   io::Scenario sc = test::impact_scenario();
   Material m;
@@ -227,11 +237,7 @@ TEST(MovingWater, HeavyBlockSinksToRestOnTheBed) {
 // the sub-steps'), and at every sub-step all walls' recorded forces are minus the walls'
 // forces on the fluid: momentum passes between water and solid to round-off.
 TEST(MovingWater, MomentumPassesBetweenWaterAndNodesToRoundOff) {
-  Pool p;
-  p.width = 0.8;
-  p.depth = 0.4;
-  p.side = 0.2;
-  p.corner = Vec2(0.3, 0.35);  // dropped from 5 cm above the water
+  const Pool p = drop_pool();
   Coupled c = coupled(p, 0.0, 0.0);
   solver::Solver& s = *c.solver;
   const sph::Fluid& f = *s.moving_water();
@@ -273,11 +279,7 @@ TEST(MovingWater, MomentumPassesBetweenWaterAndNodesToRoundOff) {
 // solid: its particles' velocities decay at the same rate, so water and banks settle together;
 // the next, undamped stage lets the water move freely again.
 TEST(MovingWater, ADampedStageDampsTheWaterAtItsRate) {
-  Pool p;
-  p.width = 0.8;
-  p.depth = 0.4;
-  p.side = 0.2;
-  p.corner = Vec2(0.3, 0.35);  // dropped from 5 cm above the water
+  const Pool p = drop_pool();
   double kinetic[2] = {0.0, 0.0};
   for (const double alpha : {0.0, 20.0}) {
     Coupled c = coupled(p, 0.0, 0.0);
@@ -337,15 +339,6 @@ namespace {
 
 // The drop above with damping on both sides (the solid's Rayleigh mass damping, the
 // water's settling), so that their state crosses the checkpoint too.
-Pool drop_pool() {
-  Pool p;
-  p.width = 0.8;
-  p.depth = 0.4;
-  p.side = 0.2;
-  p.corner = Vec2(0.3, 0.35);
-  return p;
-}
-
 std::filesystem::path checkpoint_path(const std::string& tag) {
   auto path = std::filesystem::temp_directory_path() / ("dsdem_water_ckpt_" + tag + "_" + std::to_string(::getpid()) + ".h5");
   test::remove_at_exit(path);
