@@ -60,7 +60,12 @@ void BM_TriangleInternalForce(benchmark::State& state) {
   const bool damping = state.range(0) != 0;
   const bool cauchy = state.range(1) != 0;
   const int nx = 64, ny = 32;
-  Model model = mesh::build_model(mesh::rectangle_mesh(nx, ny, 1.0, 0.5), Material{"rock", "linear_elastic", 21e9, 0.2, 2500});
+  Material rock;
+  rock.name = "rock";
+  rock.E = 21e9;
+  rock.nu = 0.2;
+  rock.rho = 2500;
+  Model model = mesh::build_model(mesh::rectangle_mesh(nx, ny, 1.0, 0.5), rock);
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> d(-1e-4, 1e-4);
   for (std::size_t i = 0; i < model.nodes.size(); ++i) {

@@ -10,10 +10,13 @@
 
 namespace dsdem::sph {
 
-// The grid: origin, cell size and counts. cell_of clamps to the grid.
+// The grid: origin, cell size and counts. cell_of clamps to the grid. A window of a larger
+// grid (window_of) keeps that grid's origin and numbers its columns and rows from (ox, oy):
+// every point inside it falls in the same cell as in the larger grid, bit for bit.
 struct Grid {
   double x0 = 0.0, y0 = 0.0, inv_cell = 1.0;
   int nx = 1, ny = 1;
+  int ox = 0, oy = 0;
 
   int column(double x) const;
   int row(double y) const;
@@ -24,6 +27,8 @@ struct Grid {
 // A grid with cells of size `cell` over the box [xmin, xmax] x [ymin, ymax] (a small
 // margin added), so that every point of the box has its own cell.
 Grid grid_over(double xmin, double ymin, double xmax, double ymax, double cell);
+// The window of `whole`'s cells that holds the box [xmin, xmax] x [ymin, ymax].
+Grid window_of(const Grid& whole, double xmin, double ymin, double xmax, double ymax);
 
 class CellList {
  public:
@@ -34,6 +39,10 @@ class CellList {
   // reach hold every neighbour within the support in the (2 reach + 1)^2 block; smaller
   // cells, fewer candidates (reach 2: 25 cells of (s/2)^2 against 9 of s^2, 0.69 times).
   void build(const Grid& grid, std::span<const double> x, std::span<const double> y, int reach = 1);
+  // The same for the points listed in `members` (ascending) only; cell(i) of any other
+  // point is -1.
+  void build(const Grid& grid, std::span<const double> x, std::span<const double> y,
+             std::span<const std::int32_t> members, int reach);
 
   const Grid& grid() const { return grid_; }
   // The point indices sorted by cell.
@@ -61,6 +70,10 @@ class CellList {
   }
 
  private:
+  // The exclusive prefix sums of the counts in start_ and the points with a cell (>= 0) in
+  // index order.
+  void fill_order(std::size_t n);
+
   Grid grid_;
   int reach_ = 1;
   std::vector<std::int32_t> start_;  // cells + 1: the first sorted index of each cell

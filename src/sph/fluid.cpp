@@ -33,6 +33,11 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   if (b_.mass == 0.0) b_.mass = par_.mass();
   scratch_.resize(f_.size());
   scratch_id_.resize(f_.size());
+  double deepest = 0.0;
+  for (std::size_t i = 0; i < b_.size(); ++i) deepest = std::max(deepest, b_.wall_distance[i]);
+  wall_reach_ = 2.0 * h_ + 2.0 * deepest;  // the support, from the wall or its ghost node
+  wall_active_.assign(b_.size(), 0);
+  active_walls_.reserve(b_.size());
   for (std::size_t i = 0; i < f_.size(); ++i) {
     f_.p[i] = tait_pressure(f_.rho[i], par_.rho0, b_tait_);
     f_.vol[i] = f_.mass / f_.rho[i];
@@ -111,27 +116,51 @@ void Fluid::step(double dt) {
 }
 
 void Fluid::update_cells() {
-  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
-  auto extend = [&](const std::vector<double>& x, const std::vector<double>& y) {
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      xmin = std::min(xmin, x[i]);
-      xmax = std::max(xmax, x[i]);
-      ymin = std::min(ymin, y[i]);
-      ymax = std::max(ymax, y[i]);
+  struct Box {
+    double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+    void add(double x, double y) {
+      xmin = std::min(xmin, x);
+      xmax = std::max(xmax, x);
+      ymin = std::min(ymin, y);
+      ymax = std::max(ymax, y);
     }
+    bool empty() const { return !(xmin <= xmax); }
   };
-  extend(f_.x, f_.y);
-  extend(b_.x, b_.y);
-  if (!(xmin <= xmax)) xmin = ymin = xmax = ymax = 0.0;
+  Box water, all;
+  for (std::size_t i = 0; i < f_.size(); ++i) water.add(f_.x[i], f_.y[i]);
+  all = water;
+  for (std::size_t i = 0; i < b_.size(); ++i) all.add(b_.x[i], b_.y[i]);
+  if (all.empty()) all = Box{0.0, 0.0, 0.0, 0.0};
   // Cells of h: 25 cells of h^2 searched instead of 9 of 4 h^2.
-  const Grid grid = grid_over(xmin, ymin, xmax, ymax, h_);
+  const Grid whole = grid_over(all.xmin, all.ymin, all.xmax, all.ymax, h_);
+  // The walls that can meet the water now: within the support of a fluid particle, or
+  // with their ghost node (mDBC) within it. The others are binned nowhere and skipped;
+  // the cells are a window of the grid over every particle, so each sum meets its
+  // partners in the same order as over that grid.
+  active_walls_.clear();
+  Box used = water;
+  if (!water.empty()) {
+    const double m = wall_reach_;
+    for (std::size_t i = 0; i < b_.size(); ++i) {
+      const double x = b_.x[i], y = b_.y[i];
+      const bool near = x >= water.xmin - m && x <= water.xmax + m && y >= water.ymin - m && y <= water.ymax + m;
+      wall_active_[i] = near ? 1 : 0;
+      if (!near) continue;
+      active_walls_.push_back(static_cast<std::int32_t>(i));
+      used.add(x, y);
+    }
+  } else {
+    std::fill(wall_active_.begin(), wall_active_.end(), 0);
+    used = Box{all.xmin, all.ymin, all.xmin, all.ymin};
+  }
+  const Grid grid = window_of(whole, used.xmin, used.ymin, used.xmax, used.ymax);
   fluid_cells_.build(grid, f_.x, f_.y, 2);
-  boundary_cells_.build(grid, b_.x, b_.y, 2);
+  boundary_cells_.build(grid, b_.x, b_.y, active_walls_, 2);
   // The cells whose 5 x 5 block holds a boundary particle: the fluid elsewhere skips the
   // walls' loops (most of it).
   near_wall_.assign(grid.cells(), 0);
-  for (std::size_t b = 0; b < b_.size(); ++b) {
-    const int c = boundary_cells_.cell(b), cx = c % grid.nx, cy = c / grid.nx;
+  for (const std::int32_t b : active_walls_) {
+    const int c = boundary_cells_.cell(static_cast<std::size_t>(b)), cx = c % grid.nx, cy = c / grid.nx;
     for (int y = std::max(0, cy - 2); y <= std::min(grid.ny - 1, cy + 2); ++y)
       for (int x = std::max(0, cx - 2); x <= std::min(grid.nx - 1, cx + 2); ++x)
         near_wall_[static_cast<std::size_t>(y * grid.nx + x)] = 1;
@@ -189,6 +218,11 @@ void Fluid::extrapolate_boundary_densities() {
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvol = f_.vol.data();
   const Grid& grid = fluid_cells_.grid();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
+    if (!wall_active_[i]) {  // no fluid near its ghost node: as with no neighbours below
+      b_.rho[i] = rho0;
+      b_.p[i] = tait_pressure(rho0, rho0, b);
+      return;
+    }
     const double two_d = 2.0 * b_.wall_distance[i];
     const double gx = b_.x[i] + two_d * b_.nx[i], gy = b_.y[i] + two_d * b_.ny[i];
     // Row 0: W weights; rows 1-2: gradient weights. Columns: 1, x_j - x_g, y_j - y_g.
@@ -274,8 +308,13 @@ void Fluid::gather_boundary_forces(std::span<double> out_x, std::span<double> ou
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
   const double *frho = f_.rho.data(), *fp = f_.p.data();
   exec::parallel_for(team_, b_.size(), [&](std::size_t b) {
-    const double xb = b_.x[b], yb = b_.y[b], vxb = b_.vx[b], vyb = b_.vy[b], rhob = b_.rho[b], pb = b_.p[b];
     double sx = 0.0, sy = 0.0;
+    if (!wall_active_[b]) {  // no fluid within its support
+      out_x[b] = sx;
+      out_y[b] = sy;
+      return;
+    }
+    const double xb = b_.x[b], yb = b_.y[b], vxb = b_.vx[b], vyb = b_.vy[b], rhob = b_.rho[b], pb = b_.p[b];
     fluid_cells_.for_each_range(boundary_cells_.cell(b), [&](std::int32_t k0, std::int32_t k1) {
       for (std::int32_t k = k0; k < k1; ++k) {
         const auto i = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);

@@ -89,8 +89,12 @@ void Fluid::density_rates() {
   const auto forder = fluid_cells_.order();
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
-    const double xi = b_.x[i], yi = b_.y[i], vxi = b_.vx[i], vyi = b_.vy[i];
     double cont = 0.0;
+    if (!wall_active_[i]) {  // no fluid within its support
+      b_.drho[i] = cont;
+      return;
+    }
+    const double xi = b_.x[i], yi = b_.y[i], vxi = b_.vx[i], vyi = b_.vy[i];
     fluid_cells_.for_each_range(boundary_cells_.cell(i), [&](std::int32_t k0, std::int32_t k1) {
       for (std::int32_t k = k0; k < k1; ++k) {
         const auto j = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);

@@ -172,6 +172,60 @@ TEST(SphTank, NeighbourListSkinDoesNotChangeTheBits) {
   }
 }
 
+TEST(SphTank, WallsBeyondTheWatersReachAreSkippedAndChangeNoBit) {
+  // A column collapsing in the tank, with and without a second wall far above and to the
+  // right of everything (the grid's origin stays where it was). The far wall is skipped by
+  // the step (no fluid within the support of it or of its ghost node); every wall that has
+  // fluid within that reach is used; and the water's bits are the same as without it.
+  for (const BoundaryCondition bc : {BoundaryCondition::ModifiedDynamic, BoundaryCondition::Dynamic}) {
+    Tank t = small_tank(0.01);
+    t.par.boundary = bc;
+    auto make = [&](bool far_wall) {
+      FluidParticles water;
+      BoundaryParticles walls;
+      fill_rectangle(water, 0.0, 0.0, 0.1, t.depth, t.par, t.depth);
+      add_tank_walls(walls, 0.0, 0.0, t.width, 1.5 * t.depth, wall_layers(t.par), t.par, t.depth);
+      if (far_wall)
+        for (int k = 0; k < 40; ++k) walls.add_fixed(0.5 + 0.01 * k, 0.6, t.par.rho0, Vec2(0.0, 1.0), 0.005);
+      return Fluid(t.par, std::move(water), std::move(walls), false);
+    };
+    Fluid plain = make(false), with = make(true);
+    const std::size_t nb = plain.boundary().size();
+    const double h = t.par.h(), s2 = 4.0 * h * h;
+    for (int k = 0; k < 4; ++k) {
+      plain.advance(2e-3);
+      with.advance(2e-3);
+      const auto& f = with.fluid();
+      const auto& b = with.boundary();
+      std::size_t used = 0;
+      for (std::size_t w = 0; w < b.size(); ++w) {
+        const double two_d = 2.0 * b.wall_distance[w];
+        const double gx = b.x[w] + two_d * b.nx[w], gy = b.y[w] + two_d * b.ny[w];
+        bool reached = false;
+        for (std::size_t i = 0; i < f.size() && !reached; ++i) {
+          const double d1 = (f.x[i] - b.x[w]) * (f.x[i] - b.x[w]) + (f.y[i] - b.y[w]) * (f.y[i] - b.y[w]);
+          const double d2 = (f.x[i] - gx) * (f.x[i] - gx) + (f.y[i] - gy) * (f.y[i] - gy);
+          reached = d1 < s2 || d2 < s2;
+        }
+        if (reached) {
+          ASSERT_TRUE(with.wall_active(w)) << "wall particle " << w << " has water within reach";
+          ++used;
+        }
+        if (w >= nb) EXPECT_FALSE(with.wall_active(w)) << "far wall particle " << w;
+      }
+      EXPECT_GT(used, 50u);
+    }
+    EXPECT_GT(with.max_speed(), 0.05);
+    ASSERT_EQ(plain.steps(), with.steps());
+    EXPECT_EQ(plain.fluid().x, with.fluid().x);
+    EXPECT_EQ(plain.fluid().vx, with.fluid().vx);
+    EXPECT_EQ(plain.fluid().rho, with.fluid().rho);
+    const auto& rho = with.boundary().rho;
+    EXPECT_EQ(plain.boundary().rho, std::vector<double>(rho.begin(), rho.begin() + static_cast<long>(nb)));
+    for (std::size_t w = nb; w < rho.size(); ++w) EXPECT_EQ(rho[w], t.par.rho0);
+  }
+}
+
 TEST(SphTank, AdvanceSubCyclesALargerSolidStep) {
   // advance(dt_solid) takes n equal steps no longer than the stable one and lands on
   // dt_solid: the water inside one step of a coupled solid.
