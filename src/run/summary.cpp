@@ -114,6 +114,8 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["depth_m"] = layout.depth;
   m["sound_speed_mps"] = layout.parameters.c0;
   m["coupled_faces"] = static_cast<long>(layout.edges.size());
+  // The water's own steps (the settle's included): the part of the run's cost it takes.
+  if (const sph::Fluid* fluid = solver.moving_water()) m["steps"] = fluid->steps();
   m["escaped_particles"] = w.escaped_particles();
   m["coupled_top_m"] = w.coupled_top();
   m["faces_without_walls"] = layout.faces_without_walls;

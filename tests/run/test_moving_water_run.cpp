@@ -106,6 +106,8 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_EQ(m["faces_without_walls"].get<long>(), 0);  // the block's two triangles carry walls on every face
   // Water that got inside the rock at some history row: at most 6 of the 395 particles.
   EXPECT_LE(m["particles_inside_solid"].get<long>(), 6);
+  // The water's steps, never longer than cfl h / c0 = 0.2 x 0.3 m / 70 m/s, cover the 2.2 s.
+  EXPECT_GE(static_cast<double>(m["steps"].get<long>()) * 0.2 * 0.3 / 70.0, 2.2);
   // The block enters at about 1 s. The wave it raises passes the gauge 2.5 depths from the
   // shoreline (x = 9 m) at about 2.1 s with the amplitude of Heller & Hager's equation for this
   // slide, within their data's +/-30 % (a_M = 0.50 m).
