@@ -97,10 +97,14 @@ double surface_at(const FluidParticles& f, std::span<const std::int32_t> near, d
 }  // namespace
 
 double fluid_fraction(const FluidParticles& f, std::span<const std::int32_t> near, double x, double y, double h) {
+  // `near` spans the whole depth; the particles clearly beyond the support in height add
+  // exactly zero, and are passed over without the kernel's square root.
+  const double beyond2 = 4.0001 * h * h;
   double c = 0.0;
   for (const std::int32_t j : near) {
     const auto k = static_cast<std::size_t>(j);
     const double dx = x - f.x[k], dy = y - f.y[k];
+    if (dy * dy > beyond2) continue;
     c += f.mass / f.rho[k] * wendland(dx * dx + dy * dy, h);
   }
   return c;
