@@ -28,14 +28,27 @@ inline void kick_and_drift(Nodes& n, const KickDrift& k, std::span<const Prescri
                            std::size_t begin, std::size_t end) {
   const double dt = k.dt;
   const Vec2 g = k.gravity;
-  for (std::size_t i = begin; i < end; ++i) {
-    n.v[i] += 0.5 * dt * n.a[i];
-    if (k.u_prev) {
-      k.u_prev[i] = n.u[i];
-      k.damping_force[i].setZero();
+  // Raw pointers and the damping test out of the loop: the stores through them cannot
+  // move the arrays, so nothing is reloaded per node.
+  Vec2* const v = n.v.data();
+  Vec2* const u = n.u.data();
+  Vec2* const a = n.a.data();
+  const double* const m = n.m.data();
+  if (Vec2* const u_prev = k.u_prev) {
+    Vec2* const damping = k.damping_force;
+    for (std::size_t i = begin; i < end; ++i) {
+      v[i] += 0.5 * dt * a[i];
+      u_prev[i] = u[i];
+      damping[i].setZero();
+      u[i] += dt * v[i];
+      a[i] = m[i] * g;
     }
-    n.u[i] += dt * n.v[i];
-    n.a[i] = n.m[i] * g;
+  } else {
+    for (std::size_t i = begin; i < end; ++i) {
+      v[i] += 0.5 * dt * a[i];
+      u[i] += dt * v[i];
+      a[i] = m[i] * g;
+    }
   }
   auto mine = [begin, end](const PrescribedDof& d) {
     return static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end;
@@ -54,9 +67,12 @@ inline void kick_and_drift(Nodes& n, const KickDrift& k, std::span<const Prescri
 // then the prescribed velocities at t_end, of the nodes in [begin, end).
 inline void finish_kick(Nodes& n, double dt, double t_end, std::span<const PrescribedDof> constraints,
                         std::size_t begin, std::size_t end) {
+  Vec2* const v = n.v.data();
+  Vec2* const a = n.a.data();
+  const double* const m = n.m.data();
   for (std::size_t i = begin; i < end; ++i) {
-    n.a[i] = n.m[i] > 0.0 ? Vec2(n.a[i] / n.m[i]) : Vec2(Vec2::Zero());
-    n.v[i] += 0.5 * dt * n.a[i];
+    a[i] = m[i] > 0.0 ? Vec2(a[i] / m[i]) : Vec2(Vec2::Zero());
+    v[i] += 0.5 * dt * a[i];
   }
   for (const auto& d : constraints)
     if (static_cast<std::size_t>(d.node) >= begin && static_cast<std::size_t>(d.node) < end)
