@@ -200,6 +200,7 @@ class Solver {
   KickPass kick_pass_{this};
   FinishPass finish_pass_{this};
   // The per-item kernels of the element region (exec::ElementRegion), in solver_elements.cpp.
+  template <bool Damping, bool Plastic, bool Water, bool StoreStress>
   friend struct ElementKernels;
 
   // Damping buffers held: set_settings allocates them for a damped stage; update_energy

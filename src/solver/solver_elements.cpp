@@ -5,59 +5,77 @@
 
 namespace dsdem::solver {
 
+namespace {
+constexpr int kInverted = 1;  // the element region's status bit: some element had det F <= 0
+}  // namespace
+
 // The kernels of one step's element region: each item's physics, and where its forces go
-// (exec::NodeScatter). Status bit kInverted: some element had det F <= 0.
+// (exec::NodeScatter). What a triangle needs is fixed for the whole pass: stiffness damping
+// (beta > 0), some Mohr-Coulomb material, the water at rest, the stress stored each step.
+// As template arguments, each pass's kernel tests and writes only what it uses.
+template <bool Damping, bool Plastic, bool Water, bool StoreStress>
 struct ElementKernels {
-  static constexpr int kInverted = 1;
   Solver& s;
   Nodes& n;
   Triangles& tri;
   Joints& J;
-  const bool element_damping;  // the stiffness-damping forces (Rayleigh beta)
-  const bool any_plastic;      // some material is Mohr-Coulomb
-  Vec2* const damping_sum;     // the nodes' damping forces, when booked
+  Vec2* const damping_sum;  // the nodes' damping forces, when booked
   const std::array<Vec2, 2>* const joint_force;
   Index broken_now = 0;
 
-  // One triangle (DESIGN.md §2): stress (unless on demand), strain energy, nodal forces
-  // and the stiffness-damping forces into damping (zeros when beta = 0).
+  // One triangle (DESIGN.md §2): stress (when stored), strain energy, nodal forces and,
+  // with Damping, the stiffness-damping forces into damping (else zeros, read by nobody).
   [[gnu::always_inline]] fem::TriangleResponse element(std::size_t t, std::array<Vec2, 3>& damping) const {
     fem::TriangleInput in = s.triangle_input(t);
-    if (element_damping)  // the kernel reads v only when beta > 0
+    if constexpr (Damping) {  // without, in.beta stays 0: the kernel reads no v
       for (int k = 0; k < 3; ++k) in.v[k] = n.v[tri.conn[t][k]];
-    in.beta = s.settings_.beta;
-    in.cauchy = !s.stress_on_demand_;
+      in.beta = s.settings_.beta;
+    }
+    in.cauchy = StoreStress;
     fem::TriangleResponse r;
     const Index mat = tri.material[t];
-    if (any_plastic && s.plastic_[mat].on) {
-      // Mohr-Coulomb (DESIGN.md §12): from the state at the step's start to its end.
-      const Solver::PlasticMaterial& pm = s.plastic_[mat];
-      fem::MohrCoulombState end;
-      fem::triangle_internal_force_mohr_coulomb(in, pm.model, fem::plane_strain_sigma_zz(in.S0, pm.model.elastic),
-                                                s.plastic_start_[t], end, r, damping);
-      auto& v = tri.state.values;
-      v[pm.columns[0]][t] = end.ep_xx;
-      v[pm.columns[1]][t] = end.ep_yy;
-      v[pm.columns[2]][t] = end.ep_xy;
-      v[pm.columns[3]][t] = end.ep_zz;
-      v[pm.columns[4]][t] = end.plastic_work;
-    } else {
-      fem::triangle_internal_force(in, s.elastic_[mat], r, damping);
-    }
+    respond(t, in, mat, r, damping);
     // The water at rest (DESIGN.md §11): the pore pressure's part of the total stress and
     // the tractions on this triangle's exposed edges and joint faces.
-    if (s.water_.active()) s.water_.add(t, in.x, tri.conn[t], mat, n, J, s.settings_.dt, s.water_booking_, r.force);
-    if (!s.stress_on_demand_) {
+    if constexpr (Water) s.water_.add(t, in.x, tri.conn[t], mat, n, J, s.settings_.dt, s.water_booking_, r.force);
+    if constexpr (StoreStress) {
       tri.stress[t] = r.cauchy;
       tri.strain[t] = r.green;
     }
     s.element_strain_energy_[t] = r.strain_energy;
     return r;
   }
-  int shared(std::size_t slot) {
-    std::array<Vec2, 3> no_damping;  // beta = 0: the kernel writes zeros, nobody reads them
+  // The material's response: Mohr-Coulomb (DESIGN.md §12) from the state at the step's
+  // start to its end, or elastic.
+  [[gnu::always_inline]] void respond(std::size_t t, const fem::TriangleInput& in, Index mat, fem::TriangleResponse& r,
+                                      std::array<Vec2, 3>& damping) const {
+    if constexpr (Plastic) {
+      if (s.plastic_[mat].on) {
+        mohr_coulomb(t, in, s.plastic_[mat], r, damping);
+        return;
+      }
+    }
+    fem::triangle_internal_force(in, s.elastic_[mat], r, damping);
+  }
+  void mohr_coulomb(std::size_t t, const fem::TriangleInput& in, const Solver::PlasticMaterial& pm,
+                    fem::TriangleResponse& r, std::array<Vec2, 3>& damping) const {
+    fem::MohrCoulombState end;
+    fem::triangle_internal_force_mohr_coulomb(in, pm.model, fem::plane_strain_sigma_zz(in.S0, pm.model.elastic),
+                                              s.plastic_start_[t], end, r, damping);
+    auto& v = tri.state.values;
+    v[pm.columns[0]][t] = end.ep_xx;
+    v[pm.columns[1]][t] = end.ep_yy;
+    v[pm.columns[2]][t] = end.ep_xy;
+    v[pm.columns[3]][t] = end.ep_zz;
+    v[pm.columns[4]][t] = end.plastic_work;
+  }
+  // shared() and own() inline every piece of the kernel (flatten): with a kernel per pass the
+  // unit outgrows GCC's inlining budget, which would leave calls that pass the triangle
+  // through memory.
+  [[gnu::flatten]] int shared(std::size_t slot) {
+    std::array<Vec2, 3> no_damping;  // without Damping: the kernel's zeros, read by nobody
     const fem::TriangleResponse r =
-        element(s.scatter_.shared_triangle(slot), element_damping ? s.scatter_.shared_damping_force(slot) : no_damping);
+        element(s.scatter_.shared_triangle(slot), Damping ? s.scatter_.shared_damping_force(slot) : no_damping);
     s.scatter_.shared_force(slot) = r.force;
     return r.detF > 0.0 ? 0 : kInverted;
   }
@@ -65,33 +83,54 @@ struct ElementKernels {
   void joint_blocks(std::size_t b0, std::size_t b1) {
     evaluate_joints(n, J, s.settings_.failure, s.model_.thickness, s.joint_buf_, broken_now, b0, b1);
   }
-  int own(std::size_t t0, std::size_t t1) const {
+  [[gnu::flatten]] int own(std::size_t t0, std::size_t t1) const {
     int bits = 0;
     for (std::size_t t = t0; t < t1; ++t) {
       if (!s.scatter_.is_own(t)) continue;
       std::array<Vec2, 3> df;
       const fem::TriangleResponse r = element(t, df);
       if (!(r.detF > 0.0)) bits |= kInverted;
-      s.scatter_.add_own(t, tri.conn[t], r.force, df, element_damping, joint_force, s.forces_.scatter().data(), damping_sum);
+      s.scatter_.add_own(t, tri.conn[t], r.force, df, Damping, joint_force, s.forces_.scatter().data(), damping_sum);
     }
     return bits;
   }
   void gathered(std::size_t g) const { s.scatter_.gather(g, joint_force, s.forces_.scatter().data(), damping_sum); }
 };
 
+namespace {
+// f.template operator()<b...>() with the run-time bools `flags` as template arguments.
+template <bool... Fixed, class F>
+void with_flags(F&& f) {
+  f.template operator()<Fixed...>();
+}
+template <bool... Fixed, class F, class... Bools>
+void with_flags(F&& f, bool first, Bools... flags) {
+  if (first) with_flags<Fixed..., true>(f, flags...);
+  else with_flags<Fixed..., false>(f, flags...);
+}
+}  // namespace
+
 void Solver::add_element_and_joint_forces() {
   auto& J = model_.joints;
   const bool joints = J.size() > 0;
-  ElementKernels k{*this, model_.nodes, model_.triangles, J, settings_.beta > 0.0, any_plastic_,
-                   damped() ? damping_force_.data() : nullptr, joint_buf_.force.empty() ? nullptr : joint_buf_.force.data()};
-  const int bits =
-      element_region_.run(team_, model_.nodes.size(), scatter_, joints ? joint_blocks(J.size()) : 0, k);
-  inverted_ = (bits & ElementKernels::kInverted) != 0;
+  Vec2* const damping_sum = damped() ? damping_force_.data() : nullptr;
+  const std::array<Vec2, 2>* const joint_force = joint_buf_.force.empty() ? nullptr : joint_buf_.force.data();
+  int bits = 0;
+  Index broken_now = 0;
+  with_flags(
+      [&]<bool Damping, bool Plastic, bool Water, bool StoreStress>() {
+        ElementKernels<Damping, Plastic, Water, StoreStress> k{*this, model_.nodes, model_.triangles, J, damping_sum,
+                                                               joint_force};
+        bits = element_region_.run(team_, model_.nodes.size(), scatter_, joints ? joint_blocks(J.size()) : 0, k);
+        broken_now = k.broken_now;
+      },
+      settings_.beta > 0.0, any_plastic_, water_.active(), !stress_on_demand_);
+  inverted_ = (bits & kInverted) != 0;
   if (joints) {
     energy_.joint_elastic = joint_buf_.energy();
     energy_.fracture_dissipated += joint_buf_.dissipation();
-    broken_joints_ += k.broken_now;
-    if (k.broken_now) record_new_breaks(model_.nodes, J, time_);
+    broken_joints_ += broken_now;
+    if (broken_now) record_new_breaks(model_.nodes, J, time_);
   }
 }
 
