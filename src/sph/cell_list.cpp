@@ -56,6 +56,7 @@ void CellList::build(const Grid& grid, std::span<const double> x, std::span<cons
   grid_ = grid;
   reach_ = reach;
   start_.assign(grid.cells() + 1, 0);
+  order_.reserve(x.size());  // room for every point: a growing membership never reallocates
   order_.resize(members.size());
   cell_.assign(x.size(), -1);
   for (const std::int32_t m : members) {
