@@ -36,7 +36,6 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   double deepest = 0.0;
   for (std::size_t i = 0; i < b_.size(); ++i) deepest = std::max(deepest, b_.wall_distance[i]);
   wall_reach_ = 2.0 * h_ + 2.0 * deepest;  // the support, from the wall or its ghost node
-  wall_active_.assign(b_.size(), 0);
   active_walls_.reserve(b_.size());
   for (std::size_t i = 0; i < f_.size(); ++i) {
     f_.p[i] = tait_pressure(f_.rho[i], par_.rho0, b_tait_);
@@ -143,14 +142,11 @@ void Fluid::update_cells() {
     const double m = wall_reach_;
     for (std::size_t i = 0; i < b_.size(); ++i) {
       const double x = b_.x[i], y = b_.y[i];
-      const bool near = x >= water.xmin - m && x <= water.xmax + m && y >= water.ymin - m && y <= water.ymax + m;
-      wall_active_[i] = near ? 1 : 0;
-      if (!near) continue;
+      if (x < water.xmin - m || x > water.xmax + m || y < water.ymin - m || y > water.ymax + m) continue;
       active_walls_.push_back(static_cast<std::int32_t>(i));
       used.add(x, y);
     }
   } else {
-    std::fill(wall_active_.begin(), wall_active_.end(), 0);
     used = Box{all.xmin, all.ymin, all.xmin, all.ymin};
   }
   const Grid grid = window_of(whole, used.xmin, used.ymin, used.xmax, used.ymax);
@@ -218,7 +214,7 @@ void Fluid::extrapolate_boundary_densities() {
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvol = f_.vol.data();
   const Grid& grid = fluid_cells_.grid();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
-    if (!wall_active_[i]) {  // no fluid near its ghost node: as with no neighbours below
+    if (!wall_active(i)) {  // no fluid near its ghost node: as with no neighbours below
       b_.rho[i] = rho0;
       b_.p[i] = tait_pressure(rho0, rho0, b);
       return;
@@ -309,7 +305,7 @@ void Fluid::gather_boundary_forces(std::span<double> out_x, std::span<double> ou
   const double *frho = f_.rho.data(), *fp = f_.p.data();
   exec::parallel_for(team_, b_.size(), [&](std::size_t b) {
     double sx = 0.0, sy = 0.0;
-    if (!wall_active_[b]) {  // no fluid within its support
+    if (!wall_active(b)) {  // no fluid within its support
       out_x[b] = sx;
       out_y[b] = sy;
       return;

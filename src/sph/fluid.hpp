@@ -123,8 +123,8 @@ class Fluid {
   double max_speed() const { return v_max_; }
   // Whether boundary particle b was within reach of the water at the last cell update
   // (near enough for a fluid particle to be within the support of it or of its ghost
-  // node); the others are skipped by the step's wall loops.
-  bool wall_active(std::size_t b) const { return wall_active_[b] != 0; }
+  // node): binned in the walls' cells. The others are skipped by the step's wall loops.
+  bool wall_active(std::size_t b) const { return boundary_cells_.cell(b) >= 0; }
 
   // Everything a step reads from the steps before (a checkpoint; fluid_state.cpp): the
   // particles in their current order, the clock, the step count (it times the re-sorts),
@@ -182,7 +182,6 @@ class Fluid {
   // The boundary particles within wall_reach_ of the water's bounding box (update_cells):
   // the others have no fluid within the support of them or of their ghost node.
   std::vector<std::int32_t> active_walls_;
-  std::vector<std::uint8_t> wall_active_;
   double wall_reach_ = 0.0;
   double h_ = 0.0, b_tait_ = 0.0, grad_c_ = 0.0, support2_ = 0.0;
   double skin_ = 0.0;

@@ -90,7 +90,7 @@ void Fluid::density_rates() {
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
   exec::parallel_for(team_, b_.size(), [&](std::size_t i) {
     double cont = 0.0;
-    if (!wall_active_[i]) {  // no fluid within its support
+    if (!wall_active(i)) {  // no fluid within its support
       b_.drho[i] = cont;
       return;
     }
