@@ -54,6 +54,8 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   nb_j_.resize(n * neighbour_capacity_);
   nb_n_.resize(n);
   sums_.resize(n);
+  density_records_.resize(n);
+  force_records_.resize(n);
   resort_fluid();
   rebuild_neighbour_lists();
   density_rates();  // the neighbour lists for the first accelerations

@@ -20,7 +20,7 @@
 #include "exec/team.hpp"
 #include "model/types.hpp"
 #include "sph/cell_list.hpp"
-#include "sph/pair_terms.hpp"
+#include "sph/pair_lanes.hpp"
 #include "sph/particles.hpp"
 
 namespace dsdem::sph {
@@ -167,6 +167,8 @@ class Fluid {
   void finish_accelerations(std::size_t lo, std::size_t hi);
   DensityPairConstants density_constants() const;
   ForcePairConstants force_constants() const;
+  void pack_density_records();
+  void pack_force_records();
   DensityPoint density_point(std::size_t i) const {
     return {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.gx[i], f_.gy[i]};
   }
@@ -202,6 +204,10 @@ class Fluid {
   // the force pass (the same positions; F recomputed there: cheaper than its memory).
   std::vector<std::int32_t> nb_j_, nb_n_;
   std::vector<ForceSums> sums_;
+  // The partners' values of each pass in one line apiece (pair_lanes.hpp), packed at the
+  // start of the pass.
+  std::vector<DensityRecord> density_records_;
+  std::vector<ForceRecord> force_records_;
   bool record_ = false;
   std::vector<double> rec_fx_, rec_fy_;  // recorded boundary forces (set_record_boundary_forces)
   std::vector<double> scratch_;          // re-sort buffer

@@ -109,10 +109,23 @@ void Fluid::density_rates() {
   });
 }
 
+void Fluid::pack_density_records() {
+  exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
+    density_records_[i] = {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.gx[i], f_.gy[i], f_.vol[i]};
+  });
+}
+
+void Fluid::pack_force_records() {
+  exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
+    force_records_[i] = {f_.x[i], f_.y[i], f_.vx[i], f_.vy[i], f_.rho[i], f_.p[i], f_.vol[i], 0.0};
+  });
+}
+
 // The fluid's rates: each particle's own gather, in blocks of indices.
 template <bool fourtakas>
 void Fluid::fluid_density_rates() {
   const std::size_t n = f_.size(), blocks = chunks();
+  pack_density_records();
   exec::parallel_for(team_, blocks, [&](std::size_t t) {
     const std::size_t lo = n * t / blocks, hi = n * (t + 1) / blocks;
     density_within<fourtakas>(lo, hi);
@@ -128,25 +141,23 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
   const bool avx2 = pair_lanes_avx2();
   const double s2 = support2_;
   const std::size_t cap = neighbour_capacity_;
-  const DensityArrays arrays{f_.x.data(),   f_.y.data(),  f_.vx.data(), f_.vy.data(),
-                             f_.rho.data(), f_.gx.data(), f_.gy.data(), f_.vol.data()};
-  const double *fx = f_.x.data(), *fy = f_.y.data();
+  const DensityRecord* records = density_records_.data();
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list = vl_j_.data() + i * cap;
     std::int32_t* list_j = nb_j_.data() + i * cap;
     const auto end = static_cast<std::size_t>(vl_n_[i]);
-    const double xi = fx[i], yi = fy[i];
+    const double xi = records[i].x, yi = records[i].y;
     std::size_t count = 0;
     for (std::size_t s = 0; s < end; ++s) {
       const std::int32_t j = list[s];
-      const double dx = xi - fx[j], dy = yi - fy[j];
+      const double dx = xi - records[j].x, dy = yi - records[j].y;
       list_j[count] = j;
       count += dx * dx + dy * dy < s2 ? 1 : 0;
     }
     nb_n_[i] = static_cast<std::int32_t>(count);
     const DensityPoint pi = density_point(i);
-    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, arrays, list_j, count)
-                      : density_sum_scalar<fourtakas>(k, pi, arrays, list_j, count);
+    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, records, list_j, count)
+                      : density_sum_scalar<fourtakas>(k, pi, records, list_j, count);
   }
 }
 
@@ -187,6 +198,7 @@ void Fluid::accelerations() {
 template <bool grad>
 void Fluid::fluid_accelerations() {
   const std::size_t n = f_.size(), blocks = chunks();
+  pack_force_records();
   exec::parallel_for(team_, blocks, [&](std::size_t t) {
     const std::size_t lo = n * t / blocks, hi = n * (t + 1) / blocks;
     forces_within<grad>(lo, hi);
@@ -201,13 +213,13 @@ void Fluid::forces_within(std::size_t lo, std::size_t hi) {
   const ForcePairConstants k = force_constants();
   const bool avx2 = pair_lanes_avx2();
   const std::size_t cap = neighbour_capacity_;
-  const ForceArrays arrays{f_.x.data(), f_.y.data(), f_.vx.data(), f_.vy.data(), f_.rho.data(), f_.p.data(), f_.vol.data()};
+  const ForceRecord* records = force_records_.data();
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list_j = nb_j_.data() + i * cap;
     const auto count = static_cast<std::size_t>(nb_n_[i]);
     const ForcePoint pi = force_point(i);
-    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, arrays, list_j, count)
-                    : force_sum_scalar<grad>(k, pi, arrays, list_j, count);
+    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, records, list_j, count)
+                    : force_sum_scalar<grad>(k, pi, records, list_j, count);
   }
 }
 

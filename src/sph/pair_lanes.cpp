@@ -16,7 +16,7 @@ inline double reduce(const double (&s)[4]) { return (s[0] + s[2]) + (s[1] + s[3]
 
 // The reference: lane l = pair m + l of each group of four; a group's missing pairs add 0.
 template <bool fourtakas>
-double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
                           const std::int32_t* js, std::size_t n) {
   double s[4] = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t m = 0; m < n; m += 4)
@@ -25,16 +25,15 @@ double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi,
         s[l] += 0.0;
         continue;
       }
-      const auto j = static_cast<std::size_t>(js[m + l]);
-      const DensityPairTerms t =
-          density_pair<fourtakas>(k, pi, DensityPoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.gx[j], a.gy[j]});
-      s[l] += t.c + t.q * a.vol[j];
+      const DensityRecord& b = a[js[m + l]];
+      const DensityPairTerms t = density_pair<fourtakas>(k, pi, DensityPoint{b.x, b.y, b.vx, b.vy, b.rho, b.gx, b.gy});
+      s[l] += t.c + t.q * b.vol;
     }
   return reduce(s);
 }
 
 template <bool grad>
-ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
                            const std::int32_t* js, std::size_t n) {
   double s[7][4] = {};
   for (std::size_t m = 0; m < n; m += 4)
@@ -43,12 +42,11 @@ ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, co
         for (auto& c : s) c[l] += 0.0;
         continue;
       }
-      const auto j = static_cast<std::size_t>(js[m + l]);
-      const double dx = pi.x - a.x[j], dy = pi.y - a.y[j];
+      const ForceRecord& b = a[js[m + l]];
+      const double dx = pi.x - b.x, dy = pi.y - b.y;
       const double f = wendland_gradient_factor(dx * dx + dy * dy, k.inv_h, k.grad_c);
-      const ForcePairTerms t =
-          force_pair<grad>(k, pi, ForcePoint{a.x[j], a.y[j], a.vx[j], a.vy[j], a.rho[j], a.p[j]}, f);
-      const double v = a.vol[j];
+      const ForcePairTerms t = force_pair<grad>(k, pi, ForcePoint{b.x, b.y, b.vx, b.vy, b.rho, b.p}, f);
+      const double v = b.vol;
       const double terms[7] = {t.ax, t.ay, v * t.xx, v * t.xy, v * t.yy, v * t.sx, v * t.sy};
       for (int c = 0; c < 7; ++c) s[c][l] += terms[c];
     }
@@ -64,7 +62,22 @@ ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, co
 namespace {
 using V = __m256d;
 DSDEM_LANES V all(double x) { return _mm256_set1_pd(x); }
-DSDEM_LANES V gather(const double* a, const std::int32_t* js) { return _mm256_set_pd(a[js[3]], a[js[2]], a[js[1]], a[js[0]]); }
+// Four records' eight values, lane l from record js[l]: v[c] holds value c of each (two
+// 4 x 4 transposes of the records' halves).
+template <class Record>
+DSDEM_LANES void load_records(const Record* a, const std::int32_t* js, V (&v)[8]) {
+  static_assert(sizeof(Record) == 8 * sizeof(double) && alignof(Record) == 64);
+  const auto half_of = [&](int l, int half) { return _mm256_load_pd(reinterpret_cast<const double*>(a + js[l]) + 4 * half); };
+  for (int half = 0; half < 2; ++half) {
+    const V r0 = half_of(0, half), r1 = half_of(1, half), r2 = half_of(2, half), r3 = half_of(3, half);
+    const V lo01 = _mm256_unpacklo_pd(r0, r1), hi01 = _mm256_unpackhi_pd(r0, r1);  // (0 0 2 2), (1 1 3 3)
+    const V lo23 = _mm256_unpacklo_pd(r2, r3), hi23 = _mm256_unpackhi_pd(r2, r3);
+    v[4 * half + 0] = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+    v[4 * half + 1] = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+    v[4 * half + 2] = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+    v[4 * half + 3] = _mm256_permute2f128_pd(hi01, hi23, 0x31);
+  }
+}
 DSDEM_LANES V add(V a, V b) { return _mm256_add_pd(a, b); }
 DSDEM_LANES V sub(V a, V b) { return _mm256_sub_pd(a, b); }
 DSDEM_LANES V mul(V a, V b) { return _mm256_mul_pd(a, b); }
@@ -97,12 +110,14 @@ struct Group {
 
 // density_pair's c + q V_j for the four pairs (i, js[l]); f: their F.
 template <bool fourtakas>
-DSDEM_LANES V density_terms(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+DSDEM_LANES V density_terms(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
                             const std::int32_t* js, V& f) {
-  const V dx = sub(all(pi.x), gather(a.x, js)), dy = sub(all(pi.y), gather(a.y, js));
-  const V rho_j = gather(a.rho, js);
+  V b[8];  // x, y, vx, vy, rho, gx, gy, vol
+  load_records(a, js, b);
+  const V dx = sub(all(pi.x), b[0]), dy = sub(all(pi.y), b[1]);
+  const V rho_j = b[4];
   f = gradient_factor(add(mul(dx, dx), mul(dy, dy)), k.inv_h, k.grad_c);
-  const V vr = add(mul(sub(all(pi.vx), gather(a.vx, js)), dx), mul(sub(all(pi.vy), gather(a.vy, js)), dy));
+  const V vr = add(mul(sub(all(pi.vx), b[2]), dx), mul(sub(all(pi.vy), b[3]), dy));
   const V c = mul(mul(all(k.mass), f), vr);
   const V diffusion = mul(all(-2.0 * k.delta_h_c0), f);  // density_diffusion without its rho difference
   V q;
@@ -115,30 +130,32 @@ DSDEM_LANES V density_terms(const DensityPairConstants& k, const DensityPoint& p
     const V rho_h = vdiv(mul(rho, g_dot), mul(mul(mul(all(k.c0 * k.c0), r2), r2), r2));
     q = mul(diffusion, sub(sub(rho_j, all(pi.rho)), rho_h));
   } else {
-    const V gsum = neg(add(mul(add(all(pi.gx), gather(a.gx, js)), dx), mul(add(all(pi.gy), gather(a.gy, js)), dy)));
+    const V gsum = neg(add(mul(add(all(pi.gx), b[5]), dx), mul(add(all(pi.gy), b[6]), dy)));
     q = add(mul(diffusion, sub(rho_j, all(pi.rho))), mul(mul(all(k.delta_h_c0), f), gsum));
   }
-  return add(c, mul(q, gather(a.vol, js)));
+  return add(c, mul(q, b[7]));
 }
 
 // force_pair's terms for the four pairs (i, js[l]), into the seven lane sums (the
 // gradient's products times V_j).
 template <bool grad>
-DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
                                  const std::int32_t* js, V mask, V (&s)[7]) {
-  const V dx = sub(all(pi.x), gather(a.x, js)), dy = sub(all(pi.y), gather(a.y, js));
-  const V rho_j = gather(a.rho, js);
-  const V vr = add(mul(sub(all(pi.vx), gather(a.vx, js)), dx), mul(sub(all(pi.vy), gather(a.vy, js)), dy));
+  V b[8];  // x, y, vx, vy, rho, p, vol, unused
+  load_records(a, js, b);
+  const V dx = sub(all(pi.x), b[0]), dy = sub(all(pi.y), b[1]);
+  const V rho_j = b[4];
+  const V vr = add(mul(sub(all(pi.vx), b[2]), dx), mul(sub(all(pi.vy), b[3]), dy));
   const V r2 = add(mul(dx, dx), mul(dy, dy));
   const V f = gradient_factor(r2, k.inv_h, k.grad_c);
   // artificial_viscosity: -2 alpha c h min(v.r, 0) / ((r^2 + 0.01 h^2) (rho_i + rho_j)).
   const V visc = vdiv(mul(all(-2.0 * k.alpha_c * k.h), mul(all(0.5), sub(vr, vabs(vr)))),
                       mul(add(r2, all(0.01 * k.h * k.h)), add(all(pi.rho), rho_j)));
-  const V pressure = vdiv(add(all(pi.p), gather(a.p, js)), mul(all(pi.rho), rho_j));  // pressure_term
+  const V pressure = vdiv(add(all(pi.p), b[5]), mul(all(pi.rho), rho_j));  // pressure_term
   const V coef = mul(mul(all(-k.mass), add(pressure, visc)), f);
   V t[7] = {mul(coef, dx), mul(coef, dy), all(0.0), all(0.0), all(0.0), all(0.0), all(0.0)};
   if constexpr (grad) {
-    const V v = gather(a.vol, js);
+    const V v = b[6];
     const V fdx = mul(f, dx), fdy = mul(f, dy), dr = sub(rho_j, all(pi.rho));
     t[2] = mul(v, mul(fdx, dx));
     t[3] = mul(v, mul(fdx, dy));
@@ -151,7 +168,7 @@ DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& 
 }  // namespace
 
 template <bool fourtakas>
-double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
                         const std::int32_t* js, std::size_t n) {
   V s = all(0.0), fv;
   std::size_t m = 0;
@@ -164,7 +181,7 @@ double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, c
 }
 
 template <bool grad>
-ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
                          const std::int32_t* js, std::size_t n) {
   V s[7];
   for (V& x : s) x = all(0.0);
@@ -178,24 +195,24 @@ ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, cons
   return {reduce(s[0]), reduce(s[1]), -reduce(s[2]), -reduce(s[3]), -reduce(s[4]), reduce(s[5]), reduce(s[6]), 0.0};
 }
 
-template double density_sum_avx2<true>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+template double density_sum_avx2<true>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
                                        const std::int32_t*, std::size_t);
-template double density_sum_avx2<false>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+template double density_sum_avx2<false>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
                                         const std::int32_t*, std::size_t);
-template ForceSums force_sum_avx2<true>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+template ForceSums force_sum_avx2<true>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
                                         const std::int32_t*, std::size_t);
-template ForceSums force_sum_avx2<false>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+template ForceSums force_sum_avx2<false>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
                                          const std::int32_t*, std::size_t);
 #undef DSDEM_LANES
 #pragma GCC pop_options
 
-template double density_sum_scalar<true>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+template double density_sum_scalar<true>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
                                          const std::int32_t*, std::size_t);
-template double density_sum_scalar<false>(const DensityPairConstants&, const DensityPoint&, const DensityArrays&,
+template double density_sum_scalar<false>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
                                           const std::int32_t*, std::size_t);
-template ForceSums force_sum_scalar<true>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+template ForceSums force_sum_scalar<true>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
                                           const std::int32_t*, std::size_t);
-template ForceSums force_sum_scalar<false>(const ForcePairConstants&, const ForcePoint&, const ForceArrays&,
+template ForceSums force_sum_scalar<false>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
                                            const std::int32_t*, std::size_t);
 
 }  // namespace dsdem::sph

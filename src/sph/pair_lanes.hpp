@@ -5,7 +5,8 @@
 // multiply-adds) and summed in four lanes, lane l taking partners l, l + 4, l + 8, ... in
 // list order, the lanes then added as (s0 + s2) + (s1 + s3). The *_scalar functions do the
 // same in the same order: the same bits on any CPU. The sums depend only on the list
-// (the partners within the support, ascending), not on the thread count.
+// (the partners within the support, ascending), not on the thread count. A partner's values
+// come from its record, one cache line (DensityRecord, ForceRecord).
 #include <cstddef>
 #include <cstdint>
 
@@ -13,12 +14,13 @@
 
 namespace dsdem::sph {
 
-// The fluid's arrays read by the sums.
-struct DensityArrays {
-  const double *x, *y, *vx, *vy, *rho, *gx, *gy, *vol;
+// A partner's values read by a pass, packed in one cache line: the lanes load four
+// partners' lines and transpose them, instead of gathering each value from its own array.
+struct alignas(64) DensityRecord {
+  double x, y, vx, vy, rho, gx, gy, vol;
 };
-struct ForceArrays {
-  const double *x, *y, *vx, *vy, *rho, *p, *vol;
+struct alignas(64) ForceRecord {
+  double x, y, vx, vy, rho, p, vol, unused;
 };
 
 // True when the CPU runs the AVX2 lanes.
@@ -26,19 +28,19 @@ bool pair_lanes_avx2();
 
 // drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j)).
 template <bool fourtakas>
-double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
                           const std::int32_t* js, std::size_t n);
 template <bool fourtakas>
-double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityArrays& a,
+double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
                         const std::int32_t* js, std::size_t n);
 
 // i's force sums over the partners js[0..n) (F from wendland_gradient_factor): the accelerations of force_pair(i,
 // j), M = -sum V_j F r r^T and sum V_j (rho_j - rho_i) F r.
 template <bool grad>
-ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
                            const std::int32_t* js, std::size_t n);
 template <bool grad>
-ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceArrays& a,
+ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
                          const std::int32_t* js, std::size_t n);
 
 }  // namespace dsdem::sph

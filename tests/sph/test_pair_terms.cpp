@@ -47,10 +47,16 @@ struct Cloud {
   }
   DensityPoint density_point(int i) const { return {x[i], y[i], vx[i], vy[i], rho[i], gx[i], gy[i]}; }
   ForcePoint force_point(int i) const { return {x[i], y[i], vx[i], vy[i], rho[i], p[i]}; }
-  DensityArrays density_arrays() const {
-    return {x.data(), y.data(), vx.data(), vy.data(), rho.data(), gx.data(), gy.data(), vol.data()};
+  std::vector<DensityRecord> density_records() const {
+    std::vector<DensityRecord> r;
+    for (std::size_t i = 0; i < x.size(); ++i) r.push_back({x[i], y[i], vx[i], vy[i], rho[i], gx[i], gy[i], vol[i]});
+    return r;
   }
-  ForceArrays force_arrays() const { return {x.data(), y.data(), vx.data(), vy.data(), rho.data(), p.data(), vol.data()}; }
+  std::vector<ForceRecord> force_records() const {
+    std::vector<ForceRecord> r;
+    for (std::size_t i = 0; i < x.size(); ++i) r.push_back({x[i], y[i], vx[i], vy[i], rho[i], p[i], vol[i], 0.0});
+    return r;
+  }
 };
 
 template <class T>
@@ -112,6 +118,8 @@ TEST(SphPairTerms, PairBeyondTheSupportAddsNothing) {
 // are the plain sums of the pair terms (to round-off: the lanes add in another order).
 TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
   const Cloud c(64, 3);
+  const std::vector<DensityRecord> dr = c.density_records();
+  const std::vector<ForceRecord> fr = c.force_records();
   std::mt19937 g(4);
   std::uniform_int_distribution<std::int32_t> pick(1, 63);
   const bool avx2 = pair_lanes_avx2();
@@ -123,8 +131,8 @@ TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
     const DensityPoint di = c.density_point(0);
     const ForcePoint fi = c.force_point(0);
     for (bool fourtakas : {false, true}) {
-      const double s1 = fourtakas ? density_sum_scalar<true>(density_constants(), di, c.density_arrays(), js.data(), n)
-                                  : density_sum_scalar<false>(density_constants(), di, c.density_arrays(), js.data(), n);
+      const double s1 = fourtakas ? density_sum_scalar<true>(density_constants(), di, dr.data(), js.data(), n)
+                                  : density_sum_scalar<false>(density_constants(), di, dr.data(), js.data(), n);
       double plain = 0.0, scale = 0.0;
       for (std::size_t m = 0; m < n; ++m) {
         const DensityPairTerms t = fourtakas ? density_pair<true>(density_constants(), di, c.density_point(js[m]))
@@ -135,11 +143,11 @@ TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
       EXPECT_NEAR(s1, plain, 1e-14 * scale) << n << " partners";
       nonzero += s1 != 0.0 ? 1 : 0;
       if (!avx2) continue;
-      const double s2 = fourtakas ? density_sum_avx2<true>(density_constants(), di, c.density_arrays(), js.data(), n)
-                                  : density_sum_avx2<false>(density_constants(), di, c.density_arrays(), js.data(), n);
+      const double s2 = fourtakas ? density_sum_avx2<true>(density_constants(), di, dr.data(), js.data(), n)
+                                  : density_sum_avx2<false>(density_constants(), di, dr.data(), js.data(), n);
       EXPECT_TRUE(same_bits(s1, s2)) << (fourtakas ? "Fourtakas, " : "delta-SPH, ") << n << " partners";
     }
-    const ForceSums t1 = force_sum_scalar<true>(force_constants(), fi, c.force_arrays(), js.data(), n);
+    const ForceSums t1 = force_sum_scalar<true>(force_constants(), fi, fr.data(), js.data(), n);
     double ax = 0.0, mxx = 0.0, sy = 0.0, scale = 0.0;
     for (std::size_t m = 0; m < n; ++m) {
       const double dx = fi.x - c.x[js[m]], dy = fi.y - c.y[js[m]];
@@ -156,10 +164,10 @@ TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
     EXPECT_NEAR(t1.sy, sy, 1e-14 * scale);
     if (!avx2) continue;
     for (bool grad : {true, false}) {
-      const ForceSums a = grad ? force_sum_scalar<true>(force_constants(), fi, c.force_arrays(), js.data(), n)
-                               : force_sum_scalar<false>(force_constants(), fi, c.force_arrays(), js.data(), n);
-      const ForceSums b = grad ? force_sum_avx2<true>(force_constants(), fi, c.force_arrays(), js.data(), n)
-                               : force_sum_avx2<false>(force_constants(), fi, c.force_arrays(), js.data(), n);
+      const ForceSums a = grad ? force_sum_scalar<true>(force_constants(), fi, fr.data(), js.data(), n)
+                               : force_sum_scalar<false>(force_constants(), fi, fr.data(), js.data(), n);
+      const ForceSums b = grad ? force_sum_avx2<true>(force_constants(), fi, fr.data(), js.data(), n)
+                               : force_sum_avx2<false>(force_constants(), fi, fr.data(), js.data(), n);
       EXPECT_TRUE(same_bits(a, b)) << (grad ? "with" : "without") << " the gradient, " << n << " partners";
     }
   }
