@@ -270,12 +270,7 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
 double settling_rate(double depth, double g) { return 2.0 * std::sqrt(g / std::max(depth, 1e-12)); }
 
 double settle_moving_water(sph::Fluid& fluid, double duration, double depth) {
-  if (!(duration > 0.0)) return fluid.max_speed();
-  fluid.set_settling_damping(settling_rate(depth, fluid.parameters().gravity.norm()));
-  const double end = fluid.time() + duration;
-  while (fluid.time() < end - 1e-12) fluid.step(std::min(fluid.stable_dt(), end - fluid.time()));
-  fluid.set_settling_damping(0.0);
-  return fluid.max_speed();
+  return sph::settle(fluid, duration, settling_rate(depth, fluid.parameters().gravity.norm()));
 }
 
 }  // namespace dsdem::run

@@ -38,8 +38,8 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
 // reservoir's slowest gravity waves.
 double settling_rate(double depth, double g);
 
-// Damped settling for `duration` s with the walls held still (Fluid::set_settling_damping);
-// returns the largest particle speed at its end, m/s.
+// sph::settle for `duration` s at settling_rate(depth); returns the largest particle speed
+// at its end, m/s.
 double settle_moving_water(sph::Fluid& fluid, double duration, double depth);
 
 }  // namespace dsdem::run

@@ -55,6 +55,8 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   nb_n_.resize(n);
   sums_.resize(n);
   density_records_.resize(n);
+  shift_x_.resize(n);
+  shift_y_.resize(n);
   force_records_.resize(n);
   resort_fluid();
   rebuild_neighbour_lists();
@@ -105,6 +107,7 @@ void Fluid::step(double dt) {
     f_.vx[i] = keep * (f_.vx[i] + half * f_.ax[i]);
     f_.vy[i] = keep * (f_.vy[i] + half * f_.ay[i]);
   });
+  if (packing_ > 0.0) pack_particles();
   // Maxima are exact in any order; one serial pass.
   double v2 = 0.0, a2 = 0.0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -64,6 +64,13 @@ struct FluidParameters {
 // The sound speed of DESIGN.md §13 for water depth H and an expected largest speed.
 double sound_speed_for(double depth, double v_max, double g);
 
+class Fluid;
+// Brings freshly laid-out water to rest for `duration` s with its walls held still: the
+// velocities damped at `rate` (1/s) throughout, the particles packed (Fluid::set_packing)
+// over the first half so that the lattice fills the gaps it leaves against slanted walls,
+// the second half damped alone. Returns the largest particle speed at the end, m/s.
+double settle(Fluid& fluid, double duration, double rate);
+
 class Fluid {
  public:
   // Throws std::invalid_argument on non-positive dp, h, c0 or rho0.
@@ -85,6 +92,14 @@ class Fluid {
   // water to rest before the run, and for a damped stage's mass-proportional damping.
   void set_settling_damping(double rate) { damping_rate_ = rate; }
   double settling_damping() const { return damping_rate_; }
+  // Packing while the water settles: after each step every particle away from the free
+  // surface moves down its concentration gradient by `coefficient` h^2 grad C, at most dp / 10
+  // (particle shifting, Lind et al. 2012; grad C over the fluid and wall partners), its
+  // density carried along delta-SPH's density gradient, so that a lattice laid against a
+  // slanted wall fills the gap it leaves there. Not a physical motion: for settle() only,
+  // before a run. 0: off.
+  void set_packing(double coefficient) { packing_ = coefficient; }
+  double packing() const { return packing_; }
 
   // The water's force on each boundary particle (N/m), the reaction of the pressure and
   // viscous terms it puts on its fluid neighbours at the last force evaluation (Newton's
@@ -167,6 +182,7 @@ class Fluid {
   void finish_accelerations(std::size_t lo, std::size_t hi);
   DensityPairConstants density_constants() const;
   ForcePairConstants force_constants() const;
+  void pack_particles();
   void pack_density_records();
   void pack_force_records();
   DensityPoint density_point(std::size_t i) const {
@@ -192,6 +208,8 @@ class Fluid {
   long vl_built_at_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   double damping_rate_ = 0.0;
+  double packing_ = 0.0;
+  std::vector<double> shift_x_, shift_y_;  // pack_particles' shifts
   // Each fluid particle's Verlet list: the fluid particles within the support plus a skin
   // at the last rebuild, ascending, neighbour_capacity_ slots per particle, vl_n_ used.
   // Rebuilt after every re-sort and when a particle moved half the skin from vl_x_, vl_y_.

@@ -94,7 +94,8 @@ std::string prepare_error(const std::vector<std::string>& overrides) {
 
 TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   const fs::path dir = dsdem::test::fresh_dir("moving_water_flume");
-  const ordered_json s = run_flume(dir, {"time.end=2.2"}, 0, "", true);  // the wave past the gauge
+  // The wave past the gauge and at the end wall: its run-up there jumps at 2.20-2.21 s.
+  const ordered_json s = run_flume(dir, {"time.end=2.25"}, 0, "", true);
   const ordered_json& m = s["moving_water"];
   // 11 m x 2 m of water less the bank's wedge, 0.2 m apart: 395 particles, none lost.
   EXPECT_EQ(m["particles"].get<long>(), 395);
@@ -106,8 +107,8 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_EQ(m["faces_without_walls"].get<long>(), 0);  // the block's two triangles carry walls on every face
   // Water that got inside the rock at some history row: at most 6 of the 395 particles.
   EXPECT_LE(m["particles_inside_solid"].get<long>(), 6);
-  // The water's steps, never longer than cfl h / c0 = 0.2 x 0.3 m / 70 m/s, cover the 2.2 s.
-  EXPECT_GE(static_cast<double>(m["steps"].get<long>()) * 0.2 * 0.3 / 70.0, 2.2);
+  // The water's steps, never longer than cfl h / c0 = 0.2 x 0.3 m / 70 m/s, cover the 2.25 s.
+  EXPECT_GE(static_cast<double>(m["steps"].get<long>()) * 0.2 * 0.3 / 70.0, 2.25);
   // The block enters at about 1 s. The wave it raises passes the gauge 2.5 depths from the
   // shoreline (x = 9 m) at about 2.1 s with the amplitude of Heller & Hager's equation for this
   // slide, within their data's +/-30 % (a_M = 0.50 m).
