@@ -298,7 +298,8 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(num(b + ".density_diffusion", "", "0.1", 0, 1, "Density diffusion delta (delta-SPH)."));
   s.push_back(num(b + ".settle", "s", "0", 0, kInf,
                   "Settling of the freshly laid water before step 0, the solid held still and the water's velocity "
-                  "damped; the particles then sit at rest on the slanted banks."));
+                  "damped: over its first half the particles are also packed into the gaps the lattice leaves against "
+                  "slanted banks (particle shifting), the second half damps alone."));
   s.push_back(num(b + ".freeboard", "m", "depth", 0, kInf,
                   "Height above the level up to which the bedrock's surface faces are coupled, over the filled x range "
                   "widened by its width on each side (the discrete zone's faces always are). Water that runs up higher "
