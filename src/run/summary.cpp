@@ -217,6 +217,7 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
 
 Json make_diagnosis(const solver::InstabilityError& e, const solver::Solver& solver, const PreparedRun& prepared) {
   const std::string entity = e.kind == "inverted_element" ? "element"
+                             : e.kind == "water_unsound"  ? "water_particle"
                              : e.id == kNoIndex           ? "model"
                                                           : "node";
   const solver::StableStep control = step_control(solver, prepared);

@@ -419,6 +419,7 @@ Vec2 Solver::reaction_on(const std::vector<Index>& nodes) const {
 }
 
 void Solver::check_stability() {
+  if (moving_ && !moving_->fluid.sound()) throw_water_unsound();
   const auto& n = model_.nodes;
   const auto& tri = model_.triangles;
   if (!std::isfinite(energy_.kinetic) || !std::isfinite(energy_.strain)) {
@@ -482,6 +483,22 @@ void Solver::check_stability() {
                     p.x(), p.y(), step_ + 1, time_),
         "energy_growth", static_cast<Index>(worst), p, step_ + 1, time_);
   }
+}
+
+// The moving water left its weakly compressible range (sph::Fluid::sound): checked before
+// the solid, whose elements the water's forces crush next.
+void Solver::throw_water_unsound() const {
+  const sph::Fluid& f = moving_->fluid;
+  const sph::FluidParticles& w = f.fluid();
+  const std::size_t i = std::min(f.first_unsound_particle(), w.size() - 1);
+  const double speed = std::hypot(w.vx[i], w.vy[i]), c0 = f.parameters().c0, rho0 = f.parameters().rho0;
+  throw InstabilityError(
+      fmt::format("the moving water left its weakly compressible range: particle {} at ({:.6g}, {:.6g}) m moves at "
+                  "{:.4g} m/s (c0 = {:.4g} m/s) with density {:.5g} kg/m^3 (rho0 = {:.5g}, at most {:.0f} % off), step "
+                  "{}, t = {:.6g} s: water squeezed faster than it can flow out (a gap closing between solids), or a "
+                  "sound speed too low for the flow",
+                  w.id[i], w.x[i], w.y[i], speed, c0, w.rho[i], rho0, 100.0 * sph::Fluid::kSoundRange, step_ + 1, time_),
+      "water_unsound", static_cast<Index>(w.id[i]), Vec2(w.x[i], w.y[i]), step_ + 1, time_);
 }
 
 }  // namespace dsdem::solver

@@ -32,7 +32,7 @@ class InstabilityError : public std::runtime_error {
  public:
   InstabilityError(const std::string& what, std::string kind, Index id, Vec2 position, long step, double time)
       : std::runtime_error(what), kind(std::move(kind)), id(id), position(position), step(step), time(time) {}
-  std::string kind;  // "inverted_element", "non_finite", "energy_growth"
+  std::string kind;  // "inverted_element", "non_finite", "energy_growth", "water_unsound"
   Index id;
   Vec2 position;
   long step;
@@ -179,6 +179,7 @@ class Solver {
   // The energy ledger but its Verlet kinetic offset, which energy() settles.
   void update_energy();
   void check_stability();
+  [[noreturn]] void throw_water_unsound() const;
   void end_step();
 
   // initialise(): phases 2-7 at the current state, unfused.

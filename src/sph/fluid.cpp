@@ -65,6 +65,7 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   accelerations();
   a_max_ = 0.0;
   for (std::size_t i = 0; i < f_.size(); ++i) a_max_ = std::max(a_max_, std::hypot(f_.ax[i], f_.ay[i]));
+  sound_ = first_unsound_particle() == f_.size();
 }
 
 double Fluid::stable_dt() const { return stable_time_step(h_, par_.c0, v_max_, a_max_, par_.cfl); }
@@ -108,15 +109,34 @@ void Fluid::step(double dt) {
     f_.vy[i] = keep * (f_.vy[i] + half * f_.ay[i]);
   });
   if (packing_ > 0.0) pack_particles();
-  // Maxima are exact in any order; one serial pass.
+  update_maxima();
+  time_ += dt;
+}
+
+// Maxima are exact in any order; one serial pass. A NaN fails every comparison, so the
+// soundness test is written to fail on it.
+void Fluid::update_maxima() {
+  const double c2 = par_.c0 * par_.c0, lo = (1.0 - kSoundRange) * par_.rho0, hi = (1.0 + kSoundRange) * par_.rho0;
   double v2 = 0.0, a2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    v2 = std::max(v2, f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i]);
+  bool sound = true;
+  for (std::size_t i = 0; i < f_.size(); ++i) {
+    const double vi2 = f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i], rho = f_.rho[i];
+    v2 = std::max(v2, vi2);
     a2 = std::max(a2, f_.ax[i] * f_.ax[i] + f_.ay[i] * f_.ay[i]);
+    sound = sound && vi2 <= c2 && rho >= lo && rho <= hi;
   }
   v_max_ = std::sqrt(v2);
   a_max_ = std::sqrt(a2);
-  time_ += dt;
+  sound_ = sound;
+}
+
+std::size_t Fluid::first_unsound_particle() const {
+  const double c2 = par_.c0 * par_.c0, lo = (1.0 - kSoundRange) * par_.rho0, hi = (1.0 + kSoundRange) * par_.rho0;
+  for (std::size_t i = 0; i < f_.size(); ++i) {
+    const double vi2 = f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i], rho = f_.rho[i];
+    if (!(vi2 <= c2 && rho >= lo && rho <= hi)) return i;
+  }
+  return f_.size();
 }
 
 void Fluid::update_cells() {

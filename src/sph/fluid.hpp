@@ -136,6 +136,13 @@ class Fluid {
   // changed between steps; the next step's cell lists see them. Not the particle count.
   BoundaryParticles& moving_boundary() { return b_; }
   double max_speed() const { return v_max_; }
+  // Whether every fluid particle is within the weakly compressible range after the last
+  // step: finite, no faster than c0, density within (1 +- kSoundRange) rho0. Off it the water
+  // no longer models water (a squeeze no flow can leave, an unstable step);
+  // first_unsound_particle() names one (its index; size() when none).
+  static constexpr double kSoundRange = 0.5;
+  bool sound() const { return sound_; }
+  std::size_t first_unsound_particle() const;
   // Whether boundary particle b was within reach of the water at the last cell update
   // (near enough for a fluid particle to be within the support of it or of its ghost
   // node): binned in the walls' cells. The others are skipped by the step's wall loops.
@@ -207,6 +214,8 @@ class Fluid {
   long steps_ = 0;
   long vl_built_at_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
+  bool sound_ = true;
+  void update_maxima();
   double damping_rate_ = 0.0;
   double packing_ = 0.0;
   std::vector<double> shift_x_, shift_y_;  // pack_particles' shifts

@@ -51,6 +51,7 @@ void Fluid::restore(const State& s) {
   record_ = s.record;
   rec_fx_ = record_ ? s.rec_fx : std::vector<double>();
   rec_fy_ = record_ ? s.rec_fy : std::vector<double>();
+  sound_ = first_unsound_particle() == f_.size();
   // The cell lists of the restored positions (boundary_forces() between steps reads them)
   // and neighbour lists built from them: the uninterrupted run built its lists at another
   // step, which leaves the sums unchanged (each runs over the pairs within the support in

@@ -82,8 +82,9 @@ Model pool_model(const Pool& p) {
   return mesh::build_model(sc, raw);
 }
 
-// The water and its coupling to the block's outline and the bed's top face.
-void add_water(solver::Solver& s, const Pool& p, bool parallel, double settling) {
+// The water and its coupling to the block's outline and the bed's top face; with kick > 0
+// the particle first laid moves up at kick m/s.
+void add_water(solver::Solver& s, const Pool& p, bool parallel, double settling, double kick = 0.0) {
   const Model& m = s.model();
   sph::FluidParameters par;
   par.dp = p.dp;
@@ -109,6 +110,13 @@ void add_water(solver::Solver& s, const Pool& p, bool parallel, double settling)
   sph::lay_edge_particles(walls, edges, x, sph::wall_layers(par), par, surface);
   sph::Fluid fluid(par, std::move(water), std::move(walls), parallel);
   fluid.set_settling_damping(settling);
+  if (kick > 0.0) {
+    sph::Fluid::State state = fluid.state();
+    const auto k = static_cast<std::size_t>(std::find(state.fluid.id.begin(), state.fluid.id.end(), 0) - state.fluid.id.begin());
+    state.fluid.vy[k] = kick;
+    state.v_max = kick;
+    fluid.restore(state);
+  }
   s.set_moving_water(std::move(fluid), std::move(edges));
 }
 
@@ -117,8 +125,9 @@ struct Coupled {
   std::unique_ptr<solver::Solver> solver;
 };
 
-// alpha: the solid's Rayleigh mass damping (1/s); settling: the fluid's velocity damping.
-Coupled coupled(const Pool& p, double alpha, double settling, bool parallel = false) {
+// alpha: the solid's Rayleigh mass damping (1/s); settling: the fluid's velocity damping;
+// kick: add_water's.
+Coupled coupled(const Pool& p, double alpha, double settling, bool parallel = false, double kick = 0.0) {
   Coupled c;
   c.model = std::make_unique<Model>(pool_model(p));
   c.solver = std::make_unique<solver::Solver>(*c.model);
@@ -131,7 +140,7 @@ Coupled coupled(const Pool& p, double alpha, double settling, bool parallel = fa
     s.set_constraints(solver::build_constraints(*c.model, {fixed}, 0.0));
   }
   s.set_settings({Vec2(0.0, -kG), alpha, 0.0, 0.3 * solver::stable_time_step(*c.model, 0.0).dt, false});
-  add_water(s, p, parallel, settling);
+  add_water(s, p, parallel, settling, kick);
   s.initialise();
   return c;
 }
@@ -478,6 +487,29 @@ TEST(MovingWater, WaterStepsAtItsOwnStepOverShorterSolidSteps) {
 // A checkpoint of another set-up is refused with the entry named, before anything is
 // restored: moving water in the file but not in the solver, the reverse, another particle
 // count. A run without moving water writes no entry of it.
+// Water faster than its sound speed is no longer weakly compressible water: the step stops
+// the run naming the particle (its creation id, as water.pvd's particle_id) before the
+// water's forces crush an element. A water of sound particles runs on.
+TEST(MovingWater, WaterBeyondItsWeaklyCompressibleRangeStopsTheRunNamingTheParticle) {
+  const Pool p = drop_pool();
+  Coupled calm = coupled(p, 0.0, 0.0);
+  EXPECT_TRUE(calm.solver->moving_water()->sound());
+  for (int k = 0; k < 5; ++k) calm.solver->step();
+  EXPECT_TRUE(calm.solver->moving_water()->sound());
+  const double c0 = sph::sound_speed_for(p.depth, 0.0, kG);
+  Coupled c = coupled(p, 0.0, 0.0, false, 3.0 * c0);
+  EXPECT_FALSE(c.solver->moving_water()->sound());
+  try {
+    c.solver->step();
+    FAIL() << "no instability reported";
+  } catch (const solver::InstabilityError& e) {
+    EXPECT_EQ(e.kind, "water_unsound");
+    EXPECT_EQ(e.id, 0);
+    EXPECT_NE(std::string(e.what()).find("particle 0 at"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("weakly compressible"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MovingWater, CheckpointOfAnotherSetUpIsRefused) {
   const Pool p = drop_pool();
   Coupled wet = coupled(p, 0.0, 0.0);
