@@ -55,9 +55,9 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   nb_n_.resize(n);
   sums_.resize(n);
   density_records_.resize(n);
+  force_records_.resize(n);
   shift_x_.resize(n);
   shift_y_.resize(n);
-  force_records_.resize(n);
   resort_fluid();
   rebuild_neighbour_lists();
   density_rates();  // the neighbour lists for the first accelerations
@@ -113,29 +113,29 @@ void Fluid::step(double dt) {
   time_ += dt;
 }
 
-// Maxima are exact in any order; one serial pass. A NaN fails every comparison, so the
-// soundness test is written to fail on it.
+// Maxima are exact in any order; one serial pass.
 void Fluid::update_maxima() {
-  const double c2 = par_.c0 * par_.c0, lo = (1.0 - kSoundRange) * par_.rho0, hi = (1.0 + kSoundRange) * par_.rho0;
   double v2 = 0.0, a2 = 0.0;
   bool sound = true;
   for (std::size_t i = 0; i < f_.size(); ++i) {
-    const double vi2 = f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i], rho = f_.rho[i];
-    v2 = std::max(v2, vi2);
+    v2 = std::max(v2, f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i]);
     a2 = std::max(a2, f_.ax[i] * f_.ax[i] + f_.ay[i] * f_.ay[i]);
-    sound = sound && vi2 <= c2 && rho >= lo && rho <= hi;
+    sound = sound && particle_sound(i);
   }
   v_max_ = std::sqrt(v2);
   a_max_ = std::sqrt(a2);
   sound_ = sound;
 }
 
+// Written so that a NaN, which fails every comparison, is not sound.
+bool Fluid::particle_sound(std::size_t i) const {
+  const double v2 = f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i], rho = f_.rho[i], rho0 = par_.rho0;
+  return v2 <= par_.c0 * par_.c0 && rho >= (1.0 - kSoundRange) * rho0 && rho <= (1.0 + kSoundRange) * rho0;
+}
+
 std::size_t Fluid::first_unsound_particle() const {
-  const double c2 = par_.c0 * par_.c0, lo = (1.0 - kSoundRange) * par_.rho0, hi = (1.0 + kSoundRange) * par_.rho0;
-  for (std::size_t i = 0; i < f_.size(); ++i) {
-    const double vi2 = f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i], rho = f_.rho[i];
-    if (!(vi2 <= c2 && rho >= lo && rho <= hi)) return i;
-  }
+  for (std::size_t i = 0; i < f_.size(); ++i)
+    if (!particle_sound(i)) return i;
   return f_.size();
 }
 

@@ -216,6 +216,7 @@ class Fluid {
   double v_max_ = 0.0, a_max_ = 0.0;
   bool sound_ = true;
   void update_maxima();
+  bool particle_sound(std::size_t i) const;
   double damping_rate_ = 0.0;
   double packing_ = 0.0;
   std::vector<double> shift_x_, shift_y_;  // pack_particles' shifts
