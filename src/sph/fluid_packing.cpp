@@ -12,8 +12,8 @@ namespace {
 // Below this divergence of the position (2 with a full support in 2D) a particle is at or
 // near the free surface and is not shifted: its gradient points into the water.
 constexpr double kFreeSurfaceDivergence = 1.9;
-// settle()'s packing coefficient: a particle beside a gap of half its support moves about
-// h / 40 a step.
+// settle()'s packing coefficient A (delta r = -A h^2 grad C a step); docs/validation.md §5.6
+// says how it was chosen.
 constexpr double kSettlePacking = 0.05;
 }  // namespace
 
@@ -33,7 +33,8 @@ double settle(Fluid& fluid, double duration, double rate) {
 
 // grad C_i = sum_j V_j grad_i W_ij over the fluid and wall partners within the support,
 // div r_i = -sum_j V_j F_ij r_ij^2; delta r_i = -A h^2 grad C_i (at most dp / 10 a step),
-// rho_i += delta r_i . grad rho_i (the renormalised gradient of the last force pass).
+// rho_i += delta r_i . grad rho_i (delta-SPH's renormalised gradient of the last force pass;
+// Fourtakas' diffusion computes none and the density stays).
 void Fluid::pack_particles() {
   const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, a_h2 = packing_ * h_ * h_, limit = 0.1 * par_.dp;
   const std::size_t cap = neighbour_capacity_;
