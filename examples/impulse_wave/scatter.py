@@ -1,0 +1,40 @@
+#!/usr/bin/env python3
+"""The impulse-wave cases over several settles (scatter.sh): each case's ratios to Heller &
+Hager's a_M, mean, standard deviation and range, for max_wave_amplitude_m and for the largest
+crest at the gauges over the flat bed (compare.py's two measures).
+
+Usage: scatter.py OUT_ROOT   (OUT_ROOT/settle_*/{A,B,C}); writes OUT_ROOT/scatter.md.
+"""
+import glob
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from compare import gauge_positions, read_case  # noqa: E402
+
+
+def main():
+    root = sys.argv[1]
+    xs = gauge_positions()
+    runs = sorted(glob.glob(os.path.join(root, "settle_*")))
+    rows = ["| case | runs | a_M H&H (m) | F | max_wave_amplitude_m / a_M: mean, sd (range) | "
+            "largest gauge crest / a_M: mean, sd (range) |", "|---|---|---|---|---|---|"]
+    for name in ("A", "B", "C"):
+        cases = [read_case(os.path.join(r, name), xs) for r in runs if os.path.isdir(os.path.join(r, name))]
+        if not cases:
+            continue
+        a = [c["a"] / c["aHH"] for c in cases]
+        g = [c["g"] / c["aHH"] for c in cases]
+        sd = (lambda v: statistics.stdev(v) if len(v) > 1 else 0.0)
+        rows.append(f"| {name} | {len(cases)} | {min(c['aHH'] for c in cases):.3f}-{max(c['aHH'] for c in cases):.3f} | "
+                    f"{min(c['F'] for c in cases):.2f}-{max(c['F'] for c in cases):.2f} | "
+                    f"{statistics.mean(a):.2f}, {sd(a):.2f} ({min(a):.2f}-{max(a):.2f}) | "
+                    f"{statistics.mean(g):.2f}, {sd(g):.2f} ({min(g):.2f}-{max(g):.2f}) |")
+    with open(os.path.join(root, "scatter.md"), "w") as f:
+        f.write("\n".join(rows) + "\n")
+    print("\n".join(rows))
+
+
+if __name__ == "__main__":
+    main()
