@@ -23,13 +23,15 @@
 namespace dsdem::io {
 
 enum class VtuEncoding : std::uint8_t {
-  AppendedRaw,   // raw binary appended block, zlib-compressed: smallest and fastest (default)
-  InlineBase64,  // base64 inside each DataArray, zlib-compressed: pure text, still compact
+  AppendedRaw,   // raw binary appended block, zlib-compressed: a third smaller than base64, but
+                 // meshio (the Python tools, users' scripts) misreads some such files: it
+                 // renames each array's offset as it decodes and can then find the wrong array
+  InlineBase64,  // base64 inside each DataArray, zlib-compressed: every reader (default)
   Ascii,         // human-readable numbers, for tests and debugging only (large, slow)
 };
 
 struct VtuOptions {
-  VtuEncoding encoding = VtuEncoding::AppendedRaw;
+  VtuEncoding encoding = VtuEncoding::InlineBase64;
   // Simulated time, s. When finite it is stored as the FieldData array "TimeValue"
   // (ParaView's convention) so a lone file still knows its time; a PVD index supersedes it.
   double time_s = std::numeric_limits<double>::quiet_NaN();
