@@ -15,17 +15,25 @@ else
   SCENARIO="$ROOT/examples/elastic_slope/scenario.yaml"
   OUT="$ROOT/results/elastic_slope"
 fi
+# One job: the run, the Dr2 post-processing and movie, the report, the time taken.
+#   run_job OUT [--set ...]
+run_job() {
+  local out=$1
+  shift
+  local start end
+  start=$(date +%s)
+  "$DSDEM" run "$SCENARIO" -o "$out" "$@"
+  if [ -f "$ROOT/scripts/dr2_postprocess.py" ] && [[ "$SCENARIO" == *dr2* ]]; then
+    /usr/bin/python3 "$ROOT/scripts/dr2_postprocess.py" "$out" --movie --dsdem "$DSDEM" || echo "warning: Dr2 post-processing failed"
+  fi
+  "$DSDEM" report "$out" > /dev/null || echo "warning: the HTML report could not be made"
+  end=$(date +%s)
+  echo
+  echo "Done in $((end - start)) s. Results in $out:"
+}
 echo "dsdem demo: $SCENARIO"
 "$DSDEM" check "$SCENARIO" "${SETS[@]}"
-start=$(date +%s)
-"$DSDEM" run "$SCENARIO" -o "$OUT" "${SETS[@]}"
-if [ -f "$ROOT/scripts/dr2_postprocess.py" ] && [[ "$SCENARIO" == *dr2* ]]; then
-  /usr/bin/python3 "$ROOT/scripts/dr2_postprocess.py" "$OUT" --movie --dsdem "$DSDEM" || echo "warning: Dr2 post-processing failed"
-fi
-"$DSDEM" report "$OUT" > /dev/null || echo "warning: the HTML report could not be made"
-end=$(date +%s)
-echo
-echo "Done in $((end - start)) s. Results in $OUT:"
+run_job "$OUT" "${SETS[@]}"
 echo "  summary.json     key numbers"
 echo "  history.csv      gauges and energies over time"
 echo "  fields.pvd       open in ParaView (deformed mesh, stress, velocity)"
@@ -48,13 +56,8 @@ if [ "${DEMO_WATER:-1}" != 0 ] && [[ "$SCENARIO" == *dr2/shear_sliding* ]]; then
        --set "reservoir.sph.pressure=[{name: intake, polyline: [[708, 759], [720, 745]]}]")
   echo
   echo "dsdem demo, with the reservoir: $SCENARIO"
-  start=$(date +%s)
-  "$DSDEM" run "$SCENARIO" -o "$WET_OUT" "${SETS[@]}" "${WET[@]}"
-  /usr/bin/python3 "$ROOT/scripts/dr2_postprocess.py" "$WET_OUT" --movie --dsdem "$DSDEM" --quiet || echo "warning: Dr2 post-processing failed"
-  "$DSDEM" report "$WET_OUT" > /dev/null || echo "warning: the HTML report could not be made"
-  end=$(date +%s)
-  echo
-  echo "Done in $((end - start)) s. Results in $WET_OUT (as above, and):"
+  run_job "$WET_OUT" "${SETS[@]}" "${WET[@]}"
+  echo "  (as above, and)"
   echo "  water.pvd        the water's particles (velocity, pressure) for ParaView"
   echo "  summary.json     max_wave_amplitude_m, max_runup_m (far bank), heller_hager, moving_water (intake force)"
   echo "  render/material.mp4  rock and water together"
