@@ -189,6 +189,8 @@ class Fluid {
   void finish_accelerations(std::size_t lo, std::size_t hi);
   DensityPairConstants density_constants() const;
   ForcePairConstants force_constants() const;
+  void update_maxima();
+  bool particle_sound(std::size_t i) const;
   void pack_particles();
   void pack_density_records();
   void pack_force_records();
@@ -215,8 +217,6 @@ class Fluid {
   long vl_built_at_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   bool sound_ = true;
-  void update_maxima();
-  bool particle_sound(std::size_t i) const;
   double damping_rate_ = 0.0;
   double packing_ = 0.0;
   std::vector<double> shift_x_, shift_y_;  // pack_particles' shifts
