@@ -229,13 +229,13 @@ class Aggregation {
 
   void write_members_csv() const {
     std::string csv = "member,status,exit_code";
-    for (const auto& v : spec_.vary) csv += "," + csv_field(v.name);
-    for (const auto& c : columns_) csv += "," + csv_field(c);
+    for (const auto& v : spec_.vary) csv.append(",").append(csv_field(v.name));
+    for (const auto& c : columns_) csv.append(",").append(csv_field(c));
     csv += "\n";
     for (std::size_t i = 0; i < plans_.size(); ++i) {
       const MemberData& m = data_[i];
       csv += fmt::format("{},{},{}", i, m.status, m.status == "missing" ? "" : std::to_string(m.exit_code));
-      for (const auto& v : plans_[i].values) csv += "," + csv_field(v);
+      for (const auto& v : plans_[i].values) csv.append(",").append(csv_field(v));
       for (const auto& c : columns_) {
         csv += ",";
         const auto it = m.scalars.find(c);
