@@ -19,6 +19,9 @@ namespace dsdem::run {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+// Water sub-steps per solid step beyond which `check` questions the water's sound speed (a
+// realistic pool steps once over one or more solid steps).
+constexpr double kManyWaterSteps = 10.0;
 
 std::string zone_name(Zone z) {
   switch (z) {
@@ -128,13 +131,51 @@ StepTiming time_steps(const PreparedRun& run) {
 
 }  // namespace
 
+WaterEstimate estimate_water_steps(const PreparedRun& run) {
+  const MovingWaterLayout& w = *run.moving_water;
+  sph::Fluid fluid(w.parameters, w.fluid, w.walls, false);
+  const double dt = fluid.stable_dt();
+  WaterEstimate e;
+  for (int i = 0; i < 3; ++i) fluid.step(dt);  // first touch of the lists
+  const auto t0 = Clock::now();
+  double elapsed = 0.0;
+  while (e.steps_timed < 20 || (elapsed < 0.3 && e.steps_timed < 1000)) {
+    fluid.step(dt);
+    ++e.steps_timed;
+    elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  e.per_step_s = elapsed / e.steps_timed;
+  e.per_solid_step = std::ceil(run.dt / dt);
+  const double during_run = dt < run.dt ? static_cast<double>(run.estimated_steps) * e.per_solid_step
+                                        : std::ceil(run.scenario.end_time() / dt);
+  e.steps = std::ceil(run.scenario.reservoir.sph.settle / dt) + during_run;
+  return e;
+}
+
 std::string check_report(PreparedRun& run) {
   std::string r = model_report(run) + time_report(run);
   const StepTiming timing = time_steps(run);
-  const double wall = timing.per_step_s * static_cast<double>(run.estimated_steps);
+  double wall = timing.per_step_s * static_cast<double>(run.estimated_steps);
   r += fmt::format("estimate   {:.3g} ms per step ({} threads, {} steps timed) -> about {} of wall time (from the "
                    "first steps: contacts that form later make steps slower)\n",
                    timing.per_step_s * 1e3, omp_get_max_threads(), timing.steps_timed, human_time(wall));
+  if (run.moving_water) {
+    const WaterEstimate water = estimate_water_steps(run);
+    const double water_wall = water.per_step_s * water.steps;
+    wall += water_wall;
+    r += fmt::format("estimate   the water: {:.3g} ms per water step (at rest, {} steps timed), about {:.3g} water steps "
+                     "with the settle's ({}) -> about {} more, {} in all\n",
+                     water.per_step_s * 1e3, water.steps_timed, water.steps,
+                     water.per_solid_step > 1.0 ? fmt::format("{:.0f} per solid step", water.per_solid_step)
+                                                : std::string("one over one or more solid steps"),
+                     human_time(water_wall), human_time(wall));
+    // A sound speed far beyond the flow's (a speed typed in the wrong unit) shows as water
+    // steps many to a solid step.
+    if (water.per_solid_step > kManyWaterSteps)
+      r += fmt::format("warning: the water takes {:.0f} steps per solid step: its sound speed {:.4g} m/s "
+                       "(reservoir.sph.sound_speed, or 10 max(sqrt(g H), reservoir.sph.expected_speed)) sets its step\n",
+                       water.per_solid_step, run.moving_water->parameters.c0);
+  }
   const std::size_t mem = estimate_memory_bytes(run), avail = available_memory_bytes();
   r += fmt::format("memory     about {} needed, {} available; output about {}\n", human_bytes(static_cast<double>(mem)),
                    avail ? human_bytes(static_cast<double>(avail)) : std::string("unknown"),
@@ -160,6 +201,13 @@ std::size_t estimate_memory_bytes(const PreparedRun& run) {
   std::size_t bytes = kBase + m.nodes.size() * kNode + m.triangles.size() * kTriangle + m.joints.size() * kJoint;
   for (const auto& rec : {run.quake_horizontal, run.quake_vertical})
     if (rec) bytes += rec->a.size() * 3 * sizeof(double);
+  // The moving water: its particles in the Fluid and in the layout the run keeps, the wall
+  // particles (BoundaryParticles, ~14 values each, and their cell entries).
+  if (const auto& w = run.moving_water) {
+    constexpr std::size_t kWallParticle = 128;
+    bytes += w->fluid.size() * (sph::Fluid::bytes_per_particle(w->parameters) + 14 * sizeof(double)) +
+             2 * w->walls.size() * kWallParticle;
+  }
   return bytes;
 }
 
@@ -172,7 +220,9 @@ std::size_t estimate_output_bytes(const PreparedRun& run, bool write_fields) {
   const double frame = 60.0 * m.nodes.size() + 150.0 * m.triangles.size() + 100.0 * m.joints.size();
   const double rows = sc.output.history_interval > 0 ? std::floor(end / sc.output.history_interval) + 2 : 0;
   const double row = 24.0 * (16 + 2 * 4 + 6 * sc.output.gauges.size());
-  const double total = frames * frame + rows * row + (1u << 20);
+  // The water's frames (water.vtu: position, velocity, pressure, density, id, base64) ~ 70 B per particle.
+  const double water_frame = run.moving_water ? 70.0 * static_cast<double>(run.moving_water->fluid.size()) : 0.0;
+  const double total = frames * (frame + water_frame) + rows * row + (1u << 20);
   return total > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(total);
 }
 

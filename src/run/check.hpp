@@ -12,6 +12,19 @@ namespace dsdem::run {
 // measured on a few steps. Returns the text.
 std::string check_report(PreparedRun& run);
 
+// The moving water's share of the run time: a few water steps at rest timed (one thread, as
+// a small pool runs), and the water steps of the settle and of the run at the stable step at
+// rest (the sound speed's): sub-steps of each solid step when that is shorter than the solid's,
+// else one over as many solid steps as fit in it. The particles' speed shortens the step in
+// the run; the count is a lower bound for a violent flow.
+struct WaterEstimate {
+  double per_step_s = 0.0;
+  int steps_timed = 0;
+  double per_solid_step = 1.0;  // water sub-steps per solid step (1: one water step over one or more)
+  double steps = 0.0;           // the settle's and the run's water steps
+};
+WaterEstimate estimate_water_steps(const PreparedRun& run);
+
 // Bytes of memory a run of this model needs (data structures per node, element, joint,
 // plus contact buffers), and the bytes of output it will write. Estimates, for `check`.
 std::size_t estimate_memory_bytes(const PreparedRun& run);

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "run/check.hpp"
+#include "run/text.hpp"
 #include "sph/kernels.hpp"
 #include "sph/setup.hpp"
 #include "sph/surface.hpp"
@@ -19,7 +21,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string at(const io::SourceLocation& w) { return fmt::format("{}:{}", w.file, w.line); }
 
 // Even-odd rule.
 bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
@@ -185,6 +186,35 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
   out.fluid.mass = out.parameters.mass();
 }
 
+// How many particles the regions take at the spacing dp, counted on a lattice coarse enough
+// for at most about kCountingPoints points and scaled (the solid's triangles left out, not
+// the dp/2 clearance): what laying them out would cost, known before it is paid.
+constexpr double kCountingPoints = 2e5;
+double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double dp) {
+  double total = 0.0;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const auto& poly = regions[r].polygon;
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+    const double top = std::min(y1, regions[r].level);
+    if (!(top > y0) || !(x1 > x0)) continue;
+    const double step = std::max(dp, std::sqrt((x1 - x0) * (top - y0) / kCountingPoints));
+    const int nx = static_cast<int>(std::floor((x1 - x0) / step)), ny = static_cast<int>(std::floor((top - y0) / step));
+    long in = 0;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Vec2 p(x0 + (i + 0.5) * step, top - (j + 0.5) * step);
+        if (!inside_polygon(poly, p) || solid.in_solid(p)) continue;
+        bool earlier = false;
+        for (std::size_t q = 0; q < r && !earlier; ++q)
+          earlier = inside_polygon(regions[q].polygon, p) && p.y() < regions[q].level;
+        in += earlier ? 0 : 1;
+      }
+    total += static_cast<double>(in) * (step / dp) * (step / dp);
+  }
+  return total;
+}
+
 // The faces the water may meet: every face of a discrete triangle (its fragments' walls when
 // joints open), and the other surface faces between `bottom` and `top` over [x0, x1] (the
 // banks the water may run up; not the model's base or far sides).
@@ -223,12 +253,24 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   for (double a : model.triangles.area0) mean_size += std::sqrt(2.0 * a);
   mean_size /= std::max<std::size_t>(1, model.triangles.size());
   const SolidLocator solid(model, std::max({mean_size, 2.0 * w.spacing, 1e-9}));
+  // A spacing the machine cannot hold (a value typed in the wrong unit) is refused before the
+  // lattice is walked, not after the memory is gone.
+  const double expected = estimated_particles(regions, solid, w.spacing);
+  const double bytes = expected * static_cast<double>(sph::Fluid::bytes_per_particle(out.parameters));
+  if (const std::size_t available = available_memory_bytes(); available > 0 && bytes > 0.5 * static_cast<double>(available)) {
+    io::SourceLocation spacing = w.where;
+    spacing.key += ".spacing";
+    throw io::ScenarioError({spacing.describe(fmt::format(
+        "{} m apart the fill regions take about {:.3g} particles, about {} of memory; the machine has {} available: "
+        "a spacing of {:.3g} m or more fits in half of it",
+        w.spacing, expected, human_bytes(bytes), human_bytes(static_cast<double>(available)),
+        w.spacing * std::sqrt(bytes / (0.5 * static_cast<double>(available)))))});
+  }
   // The depth first (c0 depends on it, the densities on c0): lay out, measure, lay out again.
   fill_particles(regions, solid, out);
   if (out.fluid.size() == 0)
-    throw io::ScenarioError({fmt::format("{}: key 'reservoir.sph': no water fits: the fill regions lie inside the solid "
-                                         "or are thinner than the spacing {} m",
-                                         at(w.where), w.spacing)});
+    throw io::ScenarioError({w.where.describe(fmt::format(
+        "no water fits: the fill regions lie inside the solid or are thinner than the spacing {} m", w.spacing))});
   double lowest = std::numeric_limits<double>::infinity(), level = -lowest;
   out.x_min = lowest, out.x_max = -lowest;
   for (std::size_t i = 0; i < out.fluid.size(); ++i) {
@@ -245,7 +287,9 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   const int layers = sph::wall_layers(out.parameters);
   const double reach = layers * w.spacing, width = out.x_max - out.x_min;
   out.coupled_top = level + freeboard;
-  out.edges = coupled_faces(model, out.x_min - width - reach, out.x_max + width + reach, lowest - reach, out.coupled_top);
+  out.coupled_x0 = out.x_min - width - reach;
+  out.coupled_x1 = out.x_max + width + reach;
+  out.edges = coupled_faces(model, out.coupled_x0, out.coupled_x1, lowest - reach, out.coupled_top);
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);

@@ -117,6 +117,31 @@ void load_earthquake(PreparedRun& run) {
   if (!errors.empty()) throw io::ScenarioError(errors);
 }
 
+// The run-up curves, force curves and crests wholly outside the region the water can reach
+// (the coupled faces' span, from the deepest water up to the coupled top) measure nothing:
+// said at their keys before the run, not found in an empty summary after it.
+void warn_of_places_the_water_cannot_reach(const io::SphSpec& sph, const MovingWaterLayout& w,
+                                           std::vector<PreparedRun::LogLine>& log) {
+  const double bottom = w.coupled_top - 2.0 * w.depth;  // below the deepest water
+  // The polyline's bounding box misses the region's.
+  auto outside = [&](const std::vector<Vec2>& line) {
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (const Vec2& p : line) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+    return x1 < w.coupled_x0 || x0 > w.coupled_x1 || y0 > w.coupled_top || y1 < bottom;
+  };
+  const std::string region = fmt::format("x {:.6g} to {:.6g} m, up to y = {:.6g} m (reservoir.sph.freeboard above the "
+                                         "level)", w.coupled_x0, w.coupled_x1, w.coupled_top);
+  for (const auto* curves : {&sph.runup, &sph.pressure})
+    for (const auto& c : *curves)
+      if (outside(c.polyline))
+        log.push_back({3, c.where.describe(fmt::format("'{}' lies outside the region the water can reach ({}): it will "
+                                                       "read nothing", c.name, region))});
+  for (const auto& c : sph.crests)
+    if (c.at.y() > w.coupled_top)
+      log.push_back({3, c.where.describe(fmt::format("crest '{}' at y = {:.6g} m lies above the region the water can "
+                                                     "reach ({}): no water will pass it", c.name, c.at.y(), region))});
+}
+
 // The moving water's particles and coupled faces, and its measuring places against them.
 void lay_out_water(PreparedRun& run) {
   const io::ReservoirSpec& res = run.scenario.reservoir;
@@ -124,9 +149,10 @@ void lay_out_water(PreparedRun& run) {
   std::vector<std::string> errors;
   for (const auto& g : res.sph.gauges)
     if (g.x < w.x_min || g.x > w.x_max)
-      errors.push_back(fmt::format("{}:{}: key 'reservoir.sph.gauges' '{}': x = {} m lies outside the water, {} to {} m",
-                                   g.where.file, g.where.line, g.name, g.x, w.x_min, w.x_max));
+      errors.push_back(
+          g.where.describe(fmt::format("gauge '{}': x = {} m lies outside the water, {} to {} m", g.name, g.x, w.x_min, w.x_max)));
   if (!errors.empty()) throw io::ScenarioError(errors);
+  warn_of_places_the_water_cannot_reach(res.sph, w, run.build_log);
   const auto& par = w.parameters;
   run.build_log.push_back({2, fmt::format("reservoir water: {} particles {} m apart, {} m deep, sound speed {:.4g} m/s, "
                                           "{} coupled faces up to {} m carrying {} wall particles",
@@ -148,14 +174,17 @@ void lay_out_water(PreparedRun& run) {
                         w.faces_without_walls)});
   // The lattice hangs from the level (its top row dp/2 below it): where the depth is no
   // whole number of spacings the bottom row is missing and the water settles below the level.
-  if (run.shore && run.shore->depth - w.depth > 0.25 * par.dp)
+  if (run.shore && run.shore->depth - w.depth > 0.25 * par.dp) {
+    io::SourceLocation spacing = res.sph.where;
+    spacing.key += ".spacing";
     run.build_log.push_back(
-        {3, fmt::format("{}:{}: key 'reservoir.sph.spacing': the particles fill {:.4g} m of the {:.4g} m from the level "
-                        "down to the deepest bed: the water will settle about {:.3g} m below reservoir.level (the "
-                        "wave's amplitude is measured from the settled level); a spacing that divides the depth, "
-                        "e.g. {:.6g} m, fills it",
-                        res.sph.where.file, res.sph.where.line, w.depth, run.shore->depth, run.shore->depth - w.depth,
-                        run.shore->depth / std::max(1.0, std::round(run.shore->depth / par.dp)))});
+        {3, spacing.describe(fmt::format(
+                "the particles fill {:.4g} m of the {:.4g} m from the level down to the deepest bed: the water will "
+                "settle about {:.3g} m below reservoir.level (the wave's amplitude is measured from the settled "
+                "level); a spacing that divides the depth, e.g. {:.6g} m, fills it",
+                w.depth, run.shore->depth, run.shore->depth - w.depth,
+                run.shore->depth / std::max(1.0, std::round(run.shore->depth / par.dp))))});
+  }
   run.moving_water = std::move(w);
 }
 

@@ -37,6 +37,17 @@ namespace {
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// Water faster than a tenth of its sound speed is no longer weakly compressible (DESIGN.md
+// §13: c0 >= 10 v_max): said after the run with the speed, where and when, and the setting.
+void warn_of_fast_water(spdlog::logger& log, const WaterWatch& water, double c0) {
+  const WaterWatch::Peak& v = water.max_speed();
+  if (!v.seen || !(v.value > 0.1 * c0)) return;
+  log.warn("the water moved at up to {:.3g} m/s (x = {:.6g} m, t = {:.4g} s), more than c0 / 10 = {:.3g} m/s: there "
+           "its weak compressibility errs by more than about 1 % in density; reservoir.sph.expected_speed: {:.3g} (or "
+           "sound_speed: {:.3g}) keeps it within, at {:.2g} times the water's steps (summary.json moving_water.max_speed)",
+           v.value, v.x, v.t, 0.1 * c0, v.value, 10.0 * v.value, 10.0 * v.value / c0);
+}
+
 // Before step 0: the output directory must exist or be creatable, be writable and have
 // room for the results. Bad output settings are bad input (exit code 2); nothing is written.
 void check_output_dir(const fs::path& out, const PreparedRun& prepared, bool write_fields) {
@@ -453,6 +464,7 @@ RunResult Runner::finish() {
                "reservoir.sph.freeboard): there the rock carries no wall and the water may run through it; raise the "
                "freeboard (summary.json moving_water.above_freeboard_particles)",
                facts.water->above_freeboard_particles(), facts.water->coupled_top());
+  if (facts.water && prepared_.moving_water) warn_of_fast_water(*log_, *facts.water, prepared_.moving_water->parameters.c0);
   facts.max_balance_error = max_balance_error;
   facts.completed = completed;
   facts.stopped_by = stopped_by_;

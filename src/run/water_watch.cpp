@@ -173,10 +173,15 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   raise(amplitude_, crest.amplitude, crest.x, t);
   observe_curves(fluid, t, row, k);
   long out = 0, above = 0;
+  std::size_t fastest = 0;
+  double v2 = -1.0;
   for (std::size_t i = 0; i < f.size(); ++i) {
     out += f.x[i] < box_min_.x() || f.x[i] > box_max_.x() || f.y[i] < box_min_.y() || f.y[i] > box_max_.y();
     above += f.y[i] > top_;
+    const double s2 = f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i];
+    if (s2 > v2) v2 = s2, fastest = i;
   }
+  if (v2 >= 0.0) raise(speed_, std::sqrt(v2), f.x[fastest], t);
   escaped_ = std::max(escaped_, out);
   above_top_ = std::max(above_top_, above);
   inside_ = std::max(inside_, particles_in_solid(f, model, 2.0 * dp_));
@@ -237,6 +242,7 @@ std::vector<double> WaterWatch::state() const {
   };
   peak(amplitude_);
   peak(energy_gain_);
+  peak(speed_);
   s.push_back(still_);
   s.push_back(energy_start_ ? *energy_start_ : kNaN);
   s.push_back(static_cast<double>(escaped_));
@@ -268,6 +274,7 @@ void WaterWatch::restore(std::span<const double> s) {
   };
   peak(amplitude_);
   peak(energy_gain_);
+  peak(speed_);
   still_ = take();
   const double e0 = take();
   energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);

@@ -42,10 +42,7 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
     f_.vol[i] = f_.mass / f_.rho[i];
   }
   for (std::size_t i = 0; i < b_.size(); ++i) b_.p[i] = tait_pressure(b_.rho[i], par_.rho0, b_tait_);
-  // Room for 1.6 times a square lattice's neighbours within the support and skin (the
-  // water compresses by a few per cent at most).
-  const double reach = (2.0 * h_ + skin_) / par_.dp;
-  neighbour_capacity_ = static_cast<std::size_t>(std::ceil(1.6 * kPi * reach * reach)) + 8;
+  neighbour_capacity_ = neighbour_capacity(par_);
   const std::size_t n = f_.size();
   vl_j_.resize(n * neighbour_capacity_);
   vl_n_.resize(n);
@@ -66,6 +63,23 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   a_max_ = 0.0;
   for (std::size_t i = 0; i < f_.size(); ++i) a_max_ = std::max(a_max_, std::hypot(f_.ax[i], f_.ay[i]));
   sound_ = first_unsound_particle() == f_.size();
+}
+
+std::size_t Fluid::neighbour_capacity(const FluidParameters& parameters) {
+  const double reach = (2.0 + parameters.verlet_skin) * parameters.h_over_dp;  // (2h + skin) / dp
+  return static_cast<std::size_t>(std::ceil(1.6 * kPi * reach * reach)) + 8;
+}
+
+std::size_t Fluid::bytes_per_particle(const FluidParameters& parameters) {
+  // FluidParticles (13 doubles, an id), the shifts, the Verlet and support lists (an index per
+  // slot each, their counts, the positions at the build), the force sums, the two pair records,
+  // the re-sort scratch and the cell lists' entries.
+  const std::size_t state = 13 * sizeof(double) + sizeof(std::int32_t), shifts = 2 * sizeof(double);
+  const std::size_t lists = 2 * neighbour_capacity(parameters) * sizeof(std::int32_t) + 2 * sizeof(std::int32_t) +
+                            2 * sizeof(double);
+  const std::size_t records = sizeof(ForceSums) + sizeof(DensityRecord) + sizeof(ForceRecord);
+  const std::size_t scratch = sizeof(double) + sizeof(std::int32_t), cells = 2 * sizeof(std::int32_t);
+  return state + shifts + lists + records + scratch + cells;
 }
 
 double Fluid::stable_dt() const { return stable_time_step(h_, par_.c0, v_max_, a_max_, par_.cfl); }

@@ -19,6 +19,7 @@
 
 #include "app/cli_util.hpp"
 #include "io/scenario.hpp"
+#include "run/check.hpp"
 #include "run/runner.hpp"
 #include "run/summary.hpp"
 
@@ -262,9 +263,84 @@ TEST(ReservoirWater, BadSectionsAreErrorsAtTheirKeys) {
   EXPECT_NE(parse_error({"reservoir.sph.spacing_m=0.1"}).find("reservoir.sph.spacing_m"), std::string::npos);
   // Against the model: a gauge off the water, a region inside the rock.
   const std::string off = prepare_error({"reservoir.sph.gauges=[{name: far, x: 20}]"});
-  EXPECT_NE(off.find("'far': x = 20 m lies outside the water"), std::string::npos) << off;
+  EXPECT_NE(off.find("gauge 'far': x = 20 m lies outside the water"), std::string::npos) << off;
+  // Set on the command line: no line to give (never a line -1).
+  EXPECT_EQ(off.find(":-1"), std::string::npos) << off;
+  EXPECT_NE(off.find("--set reservoir.sph.gauges"), std::string::npos) << off;
   const std::string rock = prepare_error({"reservoir.sph.fill=[{rectangle: [[13.2, -0.8], [13.8, 4.5]]}]"});
   EXPECT_NE(rock.find("no water fits"), std::string::npos) << rock;
+}
+
+// A spacing a thousand times too fine (a value in the wrong unit) asks for more memory than any
+// machine has: refused at its key before the lattice is walked (walking it would take hours).
+TEST(ReservoirWater, ASpacingTooFineForTheMachineIsRefusedBeforeTheWaterIsLaid) {
+  if (dsdem::run::available_memory_bytes() == 0) GTEST_SKIP() << "no MemAvailable on this machine";
+  const std::string fine = prepare_error({"reservoir.sph.spacing=2e-5"});
+  EXPECT_NE(fine.find("reservoir.sph.spacing: 2e-05 m apart the fill regions take about"), std::string::npos) << fine;
+  EXPECT_NE(fine.find("of memory"), std::string::npos) << fine;
+  EXPECT_NE(fine.find("m or more fits in half of it"), std::string::npos) << fine;
+  EXPECT_EQ(prepare_error({"reservoir.sph.spacing=0.1"}), "");
+}
+
+// A run-up or force curve, or a crest, that the water cannot reach is warned of at its key
+// before the run; those within reach are not.
+TEST(ReservoirWater, PlacesTheWaterCannotReachAreWarnedOf) {
+  auto warnings = [](const std::vector<std::string>& overrides) {
+    auto sc = dsdem::io::load_scenario(kFlume, overrides);
+    const auto prepared = dsdem::run::prepare_run(sc, dsdem::test::fresh_dir("moving_water_reach").string());
+    std::string out;
+    for (const auto& l : prepared.build_log)
+      if (l.level >= 3) out += l.text + "\n";
+    return out;
+  };
+  EXPECT_EQ(warnings({}), "");
+  const std::string far = warnings({"reservoir.sph.runup=[{name: far, polyline: [[100, 0], [101, 5]]}]",
+                                    "reservoir.sph.pressure=[{name: high, polyline: [[13, 40], [13, 45]]}]",
+                                    "reservoir.sph.crests=[{name: top, at: [13, 30]}]"});
+  EXPECT_NE(far.find("reservoir.sph.runup[0]: 'far' lies outside the region the water can reach"), std::string::npos)
+      << far;
+  EXPECT_NE(far.find("reservoir.sph.pressure[0]: 'high' lies outside"), std::string::npos) << far;
+  EXPECT_NE(far.find("reservoir.sph.crests[0]: crest 'top' at y = 30 m lies above"), std::string::npos) << far;
+  // A curve that crosses the region with both ends outside it is within reach.
+  EXPECT_EQ(warnings({"reservoir.sph.runup=[{name: across, polyline: [[-50, 1], [60, 1]]}]"}), "");
+}
+
+// The water's largest speed at a history row goes to summary.json; beyond a tenth of its sound
+// speed the run says so, naming the setting that keeps it within. The flume's block enters at
+// about 5 m/s and throws the water up at 13.5-14.5 m/s (more than its own c0 / 10 = 7 m/s): within
+// c0 = 150 m/s, not within 40.
+TEST(ReservoirWater, WaterFasterThanATenthOfItsSoundSpeedIsWarnedOf) {
+  const fs::path stiff = dsdem::test::fresh_dir("moving_water_c150"), soft = dsdem::test::fresh_dir("moving_water_c40");
+  const ordered_json s = run_flume(stiff, {"time.end=1.3", "reservoir.sph.sound_speed=150"});
+  const auto& v = s["moving_water"]["max_speed"];
+  ASSERT_TRUE(v["speed_mps"].is_number()) << v.dump();
+  const double speed = v["speed_mps"].get<double>();
+  std::printf("the water's largest speed %.3g m/s at x = %.3g m, t = %.3g s\n", speed, v["x_m"].get<double>(),
+              v["time_s"].get<double>());
+  EXPECT_GT(speed, 5.0);
+  EXPECT_LT(speed, 15.0);
+  EXPECT_EQ(file_text(stiff / "out" / "dsdem.log").find("more than c0 / 10"), std::string::npos);
+  run_flume(soft, {"time.end=1.3", "reservoir.sph.sound_speed=40"});
+  const std::string log = file_text(soft / "out" / "dsdem.log");
+  EXPECT_NE(log.find("more than c0 / 10 = 4 m/s"), std::string::npos) << log;
+  EXPECT_NE(log.find("reservoir.sph.expected_speed:"), std::string::npos) << log;
+}
+
+// The water's steps that `check` counts before the run (the settle's and the run's, at the
+// step at rest) against the steps the run takes: the block's entry speeds the water up and
+// shortens its step, so the count is a little low.
+TEST(ReservoirWater, CheckCountsTheWaterStepsOfTheRun) {
+  const std::vector<std::string> o = {"time.end=0.6", "reservoir.sph.settle=0.3"};
+  auto sc = dsdem::io::load_scenario(kFlume, o);
+  auto prepared = dsdem::run::prepare_run(sc, dsdem::test::fresh_dir("moving_water_check").string());
+  const dsdem::run::WaterEstimate e = dsdem::run::estimate_water_steps(prepared);
+  EXPECT_GT(e.per_step_s, 0.0);
+  EXPECT_GE(e.steps_timed, 20);
+  const ordered_json s = run_flume(dsdem::test::fresh_dir("moving_water_check_run"), o);
+  const double actual = s["moving_water"]["steps"].get<double>();
+  std::printf("water steps: %.0f counted before the run, %.0f taken\n", e.steps, actual);
+  EXPECT_NEAR(e.steps, actual, 0.15 * actual);
+  EXPECT_NE(dsdem::run::check_report(prepared).find("estimate   the water:"), std::string::npos);
 }
 
 // The particles hang from the level dp/2 apart; where the depth (2 m here) is no whole number
@@ -281,7 +357,9 @@ TEST(ReservoirWater, ASpacingThatLeavesTheBottomRowOutIsWarnedOf) {
     return out;
   };
   const std::string off = warnings("0.15");  // 13 rows: 1.95 m of 2 m
-  EXPECT_NE(off.find("key 'reservoir.sph.spacing': the particles fill 1.95 m of the 2 m"), std::string::npos) << off;
+  // At the section in the file, 1-based (flume.yaml's `sph:` body starts on line 22, column 5).
+  EXPECT_NE(off.find("flume.yaml:22:5: "), std::string::npos) << off;
+  EXPECT_NE(off.find("reservoir.sph.spacing: the particles fill 1.95 m of the 2 m"), std::string::npos) << off;
   EXPECT_NE(off.find("e.g. 0.153846 m"), std::string::npos) << off;
   EXPECT_EQ(warnings("0.2"), "");
   EXPECT_EQ(warnings("0.153846"), "");  // the spacing it names, as printed
