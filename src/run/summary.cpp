@@ -123,6 +123,7 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["above_freeboard_particles"] = w.above_freeboard_particles();
   m["still_level_m"] = w.still_level();
   m["max_speed"] = peak(w.max_speed(), "speed_mps", true);
+  m["flow_speed"] = peak(w.flow_speed(), "speed_mps", false);
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
   Json runup = Json::object();
   for (const auto& r : w.runup()) runup[r.name] = peak(r.peak, "elevation_m", false);

@@ -174,14 +174,19 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   observe_curves(fluid, t, row, k);
   long out = 0, above = 0;
   std::size_t fastest = 0;
-  double v2 = -1.0;
+  speeds_.resize(f.size());
   for (std::size_t i = 0; i < f.size(); ++i) {
     out += f.x[i] < box_min_.x() || f.x[i] > box_max_.x() || f.y[i] < box_min_.y() || f.y[i] > box_max_.y();
     above += f.y[i] > top_;
-    const double s2 = f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i];
-    if (s2 > v2) v2 = s2, fastest = i;
+    speeds_[i] = std::hypot(f.vx[i], f.vy[i]);
+    if (speeds_[i] > speeds_[fastest]) fastest = i;
   }
-  if (v2 >= 0.0) raise(speed_, std::sqrt(v2), f.x[fastest], t);
+  if (!speeds_.empty()) {
+    raise(speed_, speeds_[fastest], f.x[fastest], t);
+    const auto p99 = speeds_.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(speeds_.size() - 1));
+    std::nth_element(speeds_.begin(), p99, speeds_.end());
+    raise(flow_speed_, *p99, 0.0, t);
+  }
   escaped_ = std::max(escaped_, out);
   above_top_ = std::max(above_top_, above);
   inside_ = std::max(inside_, particles_in_solid(f, model, 2.0 * dp_));
@@ -243,6 +248,7 @@ std::vector<double> WaterWatch::state() const {
   peak(amplitude_);
   peak(energy_gain_);
   peak(speed_);
+  peak(flow_speed_);
   s.push_back(still_);
   s.push_back(energy_start_ ? *energy_start_ : kNaN);
   s.push_back(static_cast<double>(escaped_));
@@ -275,6 +281,7 @@ void WaterWatch::restore(std::span<const double> s) {
   peak(amplitude_);
   peak(energy_gain_);
   peak(speed_);
+  peak(flow_speed_);
   still_ = take();
   const double e0 = take();
   energy_start_ = std::isnan(e0) ? std::nullopt : std::optional<double>(e0);
