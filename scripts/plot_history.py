@@ -216,7 +216,7 @@ class Plotter:
         self._impact(ax)
         self._heller_hager(ax, "amplitude_m", "a_M")
         self._time_axis(ax)
-        ax.set_ylabel("Free surface above the still level (m)")
+        ax.set_ylabel("Free surface above reservoir.level (m)")
         lib.title_pair(ax, "Free surface at the gauges", self.run_title)
         self._legend(ax, len(w.gauges) + 2)
         self._stages(ax)
@@ -300,7 +300,7 @@ class Plotter:
                 self.used.add(c)
             if cols is w.runup:
                 if isinstance(level, (int, float)):
-                    ax.axhline(level, color="0.5", lw=0.8, ls="--", zorder=0.5, label=f"still level {level:g} m")
+                    ax.axhline(level, color="0.5", lw=0.8, ls="--", zorder=0.5, label=f"reservoir.level {level:g} m")
                 ax.set_ylabel("Run-up: highest water on the bank (m)")
             else:
                 ax.set_ylabel("Water past the crest (m²/m)")

@@ -237,7 +237,7 @@ def impulse_wave_section(summary: dict) -> str:
     h = summary.get("heller_hager")
     if not isinstance(h, dict):
         return ""
-    rows = [("still level", "m", h.get("still_level_m")), ("water depth", "m", h.get("depth_m")),
+    rows = [("reservoir level", "m", h.get("still_level_m")), ("water depth", "m", h.get("depth_m")),
             ("bank slope", "deg", h.get("bank_slope_deg"))]
     if not h.get("slide_entered_water"):
         return kv_table(rows) + '<p class="note">The slide did not enter the reservoir in this run.</p>'
@@ -348,7 +348,7 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
                      ("when", "s", peak.get("time_s"))])
     runup = mw.get("runup") or {}
     if runup:
-        body += _table(["bank", "highest water (m)", "above the still level (m)", "at (s)"],
+        body += _table(["bank", "highest water (m)", "above the reservoir level (m)", "at (s)"],
                        [[f"<td><b>{esc(n)}</b></td>", _num(r.get("elevation_m")),
                          _num(r["elevation_m"] - level if isinstance(r.get("elevation_m"), (int, float))
                               and isinstance(level, (int, float)) else None), _num(r.get("time_s"))]
@@ -374,6 +374,12 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
                          _num(T) if isinstance(T, (int, float)) else '<td class="num">fewer than two crests</td>'])
         body += _table(["gauge", f"highest surface{since} (m)", f"lowest surface{since} (m)", "wave period (s)"], rows)
     gain, ke = _by_prefix(mw, "energy_gain"), _by_prefix(mw, "slide_kinetic_energy_at_impact")
+    flow, top = mw.get("flow_speed") or {}, mw.get("max_speed") or {}
+    if flow or top:
+        body += kv_table([("flow speed (1 % of the water faster; weakly compressible below c0 / 10)", "m/s",
+                           flow.get("speed_mps")), ("sound speed c0", "m/s", mw.get("sound_speed_mps")),
+                          ("fastest particle", "m/s", top.get("speed_mps")), ("where: x", "m", top.get("x_m")),
+                          ("when", "s", top.get("time_s"))])
     body += kv_table([("energy handed to the water (its largest gain)", "J/m", gain),
                       ("slide's kinetic energy where it entered", "J/m", ke),
                       ("fraction handed to the water", "", mw.get("energy_handed_to_water_ratio")),
@@ -392,7 +398,10 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     gauges = gauge_wave(out, after)
     parts = [f'<p class="sub">Moving water (SPH): {esc(lib.fmt_num(mw.get("particles", "?")))} particles '
              f'{esc(lib.fmt_num(mw.get("spacing_m", "?")))} m apart, {esc(lib.fmt_num(mw.get("depth_m", "?")))} m deep'
-             + (f", still level {esc(lib.fmt_num(level))} m" if isinstance(level, (int, float)) else "") + ".</p>"]
+             + (f", reservoir level {esc(lib.fmt_num(level))} m" if isinstance(level, (int, float)) else "")
+             + (f"; settled, the water stood at {esc(lib.fmt_num(mw['still_level_m']))} m before the slide met it "
+                "(the still level the wave's amplitude is measured from; gauges and run-up are given above the "
+                "reservoir level)" if isinstance(mw.get("still_level_m"), (int, float)) else "") + ".</p>"]
     if isinstance(mw.get("escaped_particles"), int) and mw["escaped_particles"] > 0:
         parts.append(f'<p class="note">{mw["escaped_particles"]} particles left the model (a gap in the solid): '
                      "the water's measurements miss them.</p>")
