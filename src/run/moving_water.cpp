@@ -160,47 +160,19 @@ sph::FluidParameters fluid_parameters(const io::Scenario& sc, double depth) {
   return par;
 }
 
-// Lattice points of each region dp apart, the top row dp/2 below its level, kept outside
-// the solid and earlier regions.
-void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, MovingWaterLayout& out) {
-  const double dp = out.parameters.dp;
+// Calls at(p, r) for the lattice points `step` apart of each region r, its top row step/2
+// below its level, inside its polygon, outside the solid's triangles and outside the water of
+// earlier regions. The step goes a millionth past the span: a spacing rounded to six digits
+// that divides it keeps its last row.
+template <class At>
+void for_each_lattice_point(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double step,
+                            At&& at) {
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const auto& poly = regions[r].polygon;
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
     for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
     const double top = std::min(y1, regions[r].level);
-    const int nx = static_cast<int>(std::floor((x1 - x0) / dp + 1e-9)), ny = static_cast<int>(std::floor((top - y0) / dp + 1e-9));
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const Vec2 p(x0 + (i + 0.5) * dp, top - (j + 0.5) * dp);
-        // dp/2 from the solid, less a thousandth: a spacing rounded to six digits that divides
-        // the depth keeps its bottom row.
-        if (!inside_polygon(poly, p) || solid.in_solid(p) || solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-3)) continue;
-        bool earlier = false;
-        for (std::size_t q = 0; q < r && !earlier; ++q)
-          earlier = inside_polygon(regions[q].polygon, p) && p.y() < regions[q].level;
-        if (earlier) continue;
-        out.fluid.add(p.x(), p.y(), sph::hydrostatic_density(regions[r].level - p.y(), out.parameters));
-      }
-  }
-  out.fluid.mass = out.parameters.mass();
-}
-
-// How many particles the regions take at the spacing dp, counted on a lattice coarse enough
-// for at most about kCountingPoints points and scaled (the solid's triangles left out, not
-// the dp/2 clearance): what laying them out would cost, known before it is paid.
-constexpr double kCountingPoints = 2e5;
-double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double dp) {
-  double total = 0.0;
-  for (std::size_t r = 0; r < regions.size(); ++r) {
-    const auto& poly = regions[r].polygon;
-    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
-    const double top = std::min(y1, regions[r].level);
-    if (!(top > y0) || !(x1 > x0)) continue;
-    const double step = std::max(dp, std::sqrt((x1 - x0) * (top - y0) / kCountingPoints));
-    const int nx = static_cast<int>(std::floor((x1 - x0) / step)), ny = static_cast<int>(std::floor((top - y0) / step));
-    long in = 0;
+    const int nx = static_cast<int>(std::floor((x1 - x0) / step + 1e-9)), ny = static_cast<int>(std::floor((top - y0) / step + 1e-9));
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const Vec2 p(x0 + (i + 0.5) * step, top - (j + 0.5) * step);
@@ -208,11 +180,37 @@ double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const 
         bool earlier = false;
         for (std::size_t q = 0; q < r && !earlier; ++q)
           earlier = inside_polygon(regions[q].polygon, p) && p.y() < regions[q].level;
-        in += earlier ? 0 : 1;
+        if (!earlier) at(p, r);
       }
-    total += static_cast<double>(in) * (step / dp) * (step / dp);
   }
-  return total;
+}
+
+// The particles of the regions dp apart, each at least dp/2 from the solid's surface (less a
+// thousandth: a spacing rounded to six digits that divides the depth keeps its bottom row).
+void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, MovingWaterLayout& out) {
+  const double dp = out.parameters.dp;
+  for_each_lattice_point(regions, solid, dp, [&](const Vec2& p, std::size_t r) {
+    if (solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-3)) return;
+    out.fluid.add(p.x(), p.y(), sph::hydrostatic_density(regions[r].level - p.y(), out.parameters));
+  });
+  out.fluid.mass = out.parameters.mass();
+}
+
+// How many particles the regions take at the spacing dp, counted on a lattice coarse enough
+// for at most about kCountingPoints points and scaled (without the dp/2 clearance): what laying
+// them out would cost, known before it is paid.
+constexpr double kCountingPoints = 2e5;
+double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double dp) {
+  double area = 0.0;  // the regions' bounding boxes
+  for (const auto& region : regions) {
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (const Vec2& p : region.polygon) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+    area += std::max(0.0, x1 - x0) * std::max(0.0, std::min(y1, region.level) - y0);
+  }
+  const double step = std::max(dp, std::sqrt(area / kCountingPoints));
+  double points = 0.0;
+  for_each_lattice_point(regions, solid, step, [&](const Vec2&, std::size_t) { points += 1.0; });
+  return points * (step / dp) * (step / dp);
 }
 
 // The faces the water may meet: every face of a discrete triangle (its fragments' walls when
@@ -289,7 +287,8 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   out.coupled_top = level + freeboard;
   out.coupled_x0 = out.x_min - width - reach;
   out.coupled_x1 = out.x_max + width + reach;
-  out.edges = coupled_faces(model, out.coupled_x0, out.coupled_x1, lowest - reach, out.coupled_top);
+  out.coupled_bottom = lowest - reach;
+  out.edges = coupled_faces(model, out.coupled_x0, out.coupled_x1, out.coupled_bottom, out.coupled_top);
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);

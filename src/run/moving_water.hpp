@@ -23,7 +23,9 @@ struct MovingWaterLayout {
   double depth = 0.0;        // m: the deepest still water (level less the lowest particle's bottom)
   double x_min = 0.0, x_max = 0.0;  // m: the filled span
   double coupled_top = 0.0;  // m: the level plus the freeboard, the top of the coupled bedrock faces
-  double coupled_x0 = 0.0, coupled_x1 = 0.0;  // m: the span of the coupled bedrock faces (the banks the water may run up)
+  // m: the region of the coupled bedrock faces (the banks the water may run up): x0-x1 over
+  // bottom-top (bottom: the deepest water less the wall layers).
+  double coupled_x0 = 0.0, coupled_x1 = 0.0, coupled_bottom = 0.0;
   // Discrete faces whose triangle carries no wall particle: the water would not see them
   // (sph::lay_edge_particles gives every triangle at least one; a guard).
   long faces_without_walls = 0;

@@ -118,16 +118,15 @@ void load_earthquake(PreparedRun& run) {
 }
 
 // The run-up curves, force curves and crests wholly outside the region the water can reach
-// (the coupled faces' span, from the deepest water up to the coupled top) measure nothing:
-// said at their keys before the run, not found in an empty summary after it.
+// (the coupled faces' region) measure nothing: said at their keys before the run, not found in
+// an empty summary after it.
 void warn_of_places_the_water_cannot_reach(const io::SphSpec& sph, const MovingWaterLayout& w,
                                            std::vector<PreparedRun::LogLine>& log) {
-  const double bottom = w.coupled_top - 2.0 * w.depth;  // below the deepest water
   // The polyline's bounding box misses the region's.
   auto outside = [&](const std::vector<Vec2>& line) {
     double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
     for (const Vec2& p : line) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
-    return x1 < w.coupled_x0 || x0 > w.coupled_x1 || y0 > w.coupled_top || y1 < bottom;
+    return x1 < w.coupled_x0 || x0 > w.coupled_x1 || y0 > w.coupled_top || y1 < w.coupled_bottom;
   };
   const std::string region = fmt::format("x {:.6g} to {:.6g} m, up to y = {:.6g} m (reservoir.sph.freeboard above the "
                                          "level)", w.coupled_x0, w.coupled_x1, w.coupled_top);
