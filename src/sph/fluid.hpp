@@ -78,6 +78,13 @@ class Fluid {
 
   void set_parallel(bool on) { team_.set_parallel(on); }
 
+  // The room each particle's neighbour lists keep: 1.6 times a square lattice's neighbours
+  // within the support and skin (the water compresses by a few per cent at most).
+  static std::size_t neighbour_capacity(const FluidParameters& parameters);
+  // The memory a fluid particle takes in a Fluid (its state, lists, records and scratch), bytes:
+  // for sizing a run before its water is laid out.
+  static std::size_t bytes_per_particle(const FluidParameters& parameters);
+
   // The largest stable step for the current state (DESIGN.md §13).
   double stable_dt() const;
   // Advances by dt_outer in n equal sub-steps no longer than stable_dt(); returns n. This
@@ -141,12 +148,6 @@ class Fluid {
   // no longer models water (a squeeze no flow can leave, an unstable step);
   // first_unsound_particle() names one (its index; size() when none).
   static constexpr double kSoundRange = 0.5;
-  // The room each particle's neighbour lists keep: 1.6 times a square lattice's neighbours
-  // within the support and skin (the water compresses by a few per cent at most).
-  static std::size_t neighbour_capacity(const FluidParameters& parameters);
-  // The memory a fluid particle takes in a Fluid (its state, lists, records and scratch), bytes:
-  // for sizing a run before its water is laid out.
-  static std::size_t bytes_per_particle(const FluidParameters& parameters);
   bool sound() const { return sound_; }
   std::size_t first_unsound_particle() const;
   // Whether boundary particle b was within reach of the water at the last cell update
