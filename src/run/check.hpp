@@ -12,11 +12,11 @@ namespace dsdem::run {
 // measured on a few steps. Returns the text.
 std::string check_report(PreparedRun& run);
 
-// The moving water's share of the run time: a few water steps at rest timed (one thread, as
-// a small pool runs), and the water steps of the settle and of the run at the stable step at
-// rest (the sound speed's): sub-steps of each solid step when that is shorter than the solid's,
-// else one over as many solid steps as fit in it. The particles' speed shortens the step in
-// the run; the count is a lower bound for a violent flow.
+// The moving water's share of the run time (run.moving_water set): a few water steps at rest
+// timed (one thread, as a small pool runs), and the water steps of the settle and of the run
+// at the stable step at rest (the sound speed's): sub-steps of each solid step when that is
+// shorter than the solid's, else one over as many solid steps as fit in it. The particles'
+// speed shortens the step in the run; the count is a lower bound for a violent flow.
 struct WaterEstimate {
   double per_step_s = 0.0;
   int steps_timed = 0;
