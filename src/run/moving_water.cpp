@@ -160,27 +160,30 @@ sph::FluidParameters fluid_parameters(const io::Scenario& sc, double depth) {
   return par;
 }
 
-// Calls at(p, r) for the lattice points `step` apart of each region r, its top row step/2
-// below its level, inside its polygon, outside the solid's triangles and outside the water of
-// earlier regions. The step goes a millionth past the span: a spacing rounded to six digits
-// that divides it keeps its last row.
+// Calls at(p, r, cell) for the lattice points of each region r, `step` apart (or coarser
+// across a span wider than max_points steps: span / max_points; 0 never), its top row half a
+// step below its level, inside its polygon, outside the solid's triangles and outside the water
+// of earlier regions; cell is the area each point stands for. The step goes a millionth past
+// the span: a spacing rounded to six digits that divides it keeps its last row.
 template <class At>
 void for_each_lattice_point(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double step,
-                            At&& at) {
+                            double max_points, At&& at) {
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const auto& poly = regions[r].polygon;
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
     for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
     const double top = std::min(y1, regions[r].level);
-    const int nx = static_cast<int>(std::floor((x1 - x0) / step + 1e-9)), ny = static_cast<int>(std::floor((top - y0) / step + 1e-9));
+    const double sx = max_points > 0.0 ? std::max(step, (x1 - x0) / max_points) : step;
+    const double sy = max_points > 0.0 ? std::max(step, (top - y0) / max_points) : step;
+    const int nx = static_cast<int>(std::floor((x1 - x0) / sx + 1e-9)), ny = static_cast<int>(std::floor((top - y0) / sy + 1e-9));
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        const Vec2 p(x0 + (i + 0.5) * step, top - (j + 0.5) * step);
+        const Vec2 p(x0 + (i + 0.5) * sx, top - (j + 0.5) * sy);
         if (!inside_polygon(poly, p) || solid.in_solid(p)) continue;
         bool earlier = false;
         for (std::size_t q = 0; q < r && !earlier; ++q)
           earlier = inside_polygon(regions[q].polygon, p) && p.y() < regions[q].level;
-        if (!earlier) at(p, r);
+        if (!earlier) at(p, r, sx * sy);
       }
   }
 }
@@ -189,28 +192,23 @@ void for_each_lattice_point(const std::vector<io::WaterFillSpec>& regions, const
 // thousandth: a spacing rounded to six digits that divides the depth keeps its bottom row).
 void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, MovingWaterLayout& out) {
   const double dp = out.parameters.dp;
-  for_each_lattice_point(regions, solid, dp, [&](const Vec2& p, std::size_t r) {
+  for_each_lattice_point(regions, solid, dp, 0.0, [&](const Vec2& p, std::size_t r, double) {
     if (solid.surface_distance(p) < 0.5 * dp * (1.0 - 1e-3)) return;
     out.fluid.add(p.x(), p.y(), sph::hydrostatic_density(regions[r].level - p.y(), out.parameters));
   });
   out.fluid.mass = out.parameters.mass();
 }
 
-// How many particles the regions take at the spacing dp, counted on a lattice coarse enough
-// for at most about kCountingPoints points and scaled (without the dp/2 clearance): what laying
-// them out would cost, known before it is paid.
-constexpr double kCountingPoints = 2e5;
+// How many particles the regions take at the spacing dp, counted on a lattice of at most
+// kCountingPoints^2 points a region (coarser than dp across a long span, so that a thin region
+// still gets rows) and scaled by the area each point stands for (without the dp/2 clearance):
+// what laying them out would cost, known before it is paid.
+constexpr double kCountingPoints = 450.0;
 double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double dp) {
-  double area = 0.0;  // the regions' bounding boxes
-  for (const auto& region : regions) {
-    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (const Vec2& p : region.polygon) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
-    area += std::max(0.0, x1 - x0) * std::max(0.0, std::min(y1, region.level) - y0);
-  }
-  const double step = std::max(dp, std::sqrt(area / kCountingPoints));
-  double points = 0.0;
-  for_each_lattice_point(regions, solid, step, [&](const Vec2&, std::size_t) { points += 1.0; });
-  return points * (step / dp) * (step / dp);
+  double area = 0.0;
+  for_each_lattice_point(regions, solid, dp, kCountingPoints,
+                         [&](const Vec2&, std::size_t, double cell) { area += cell; });
+  return area / (dp * dp);
 }
 
 // The faces the water may meet: every face of a discrete triangle (its fragments' walls when

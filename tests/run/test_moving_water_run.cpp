@@ -271,8 +271,9 @@ TEST(ReservoirWater, BadSectionsAreErrorsAtTheirKeys) {
   EXPECT_NE(rock.find("no water fits"), std::string::npos) << rock;
 }
 
-// A spacing a thousand times too fine (a value in the wrong unit) asks for more memory than any
-// machine has: refused at its key before the lattice is walked (walking it would take hours).
+// A spacing a thousand times too fine (a value in the wrong unit), or a region far too large,
+// asks for more memory than any machine has: refused at the spacing's key before the lattice is
+// walked (walking it would take hours).
 TEST(ReservoirWater, ASpacingTooFineForTheMachineIsRefusedBeforeTheWaterIsLaid) {
   if (dsdem::run::available_memory_bytes() == 0) GTEST_SKIP() << "no MemAvailable on this machine";
   const std::string fine = prepare_error({"reservoir.sph.spacing=2e-5"});
@@ -280,6 +281,11 @@ TEST(ReservoirWater, ASpacingTooFineForTheMachineIsRefusedBeforeTheWaterIsLaid) 
   EXPECT_NE(fine.find("of memory"), std::string::npos) << fine;
   EXPECT_NE(fine.find("m or more fits in half of it"), std::string::npos) << fine;
   EXPECT_EQ(prepare_error({"reservoir.sph.spacing=0.1"}), "");
+  // A long thin region (a kilometre-long strip 0.5 m thick at 1 cm: 5e9 particles) is counted
+  // too: the counting lattice keeps rows across its thickness.
+  const std::string strip =
+      prepare_error({"reservoir.sph.fill=[{rectangle: [[0, 1], [1000000, 1.5]]}]", "reservoir.sph.spacing=0.01"});
+  EXPECT_NE(strip.find("m apart the fill regions take about 5e+09 particles"), std::string::npos) << strip;
 }
 
 // A run-up or force curve, or a crest, that the water cannot reach is warned of at its key
