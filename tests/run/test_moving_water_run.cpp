@@ -281,7 +281,7 @@ TEST(ReservoirWater, ASpacingTooFineForTheMachineIsRefusedBeforeTheWaterIsLaid) 
   EXPECT_NE(fine.find("of memory"), std::string::npos) << fine;
   EXPECT_NE(fine.find("m or more fits in half of it"), std::string::npos) << fine;
   EXPECT_EQ(prepare_error({"reservoir.sph.spacing=0.1"}), "");
-  // A long thin region (a kilometre-long strip 0.5 m thick at 1 cm: 5e9 particles) is counted
+  // A long thin region (a strip 1000 km long and 0.5 m thick at 1 cm: 5e9 particles) is counted
   // too: the counting lattice keeps rows across its thickness.
   const std::string strip =
       prepare_error({"reservoir.sph.fill=[{rectangle: [[0, 1], [1000000, 1.5]]}]", "reservoir.sph.spacing=0.01"});
