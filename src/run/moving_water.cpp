@@ -175,7 +175,9 @@ void for_each_lattice_point(const std::vector<io::WaterFillSpec>& regions, const
     const double top = std::min(y1, regions[r].level);
     const double sx = max_points > 0.0 ? std::max(step, (x1 - x0) / max_points) : step;
     const double sy = max_points > 0.0 ? std::max(step, (top - y0) / max_points) : step;
-    const int nx = static_cast<int>(std::floor((x1 - x0) / sx + 1e-9)), ny = static_cast<int>(std::floor((top - y0) / sy + 1e-9));
+    const double columns = std::floor((x1 - x0) / sx + 1e-9), rows = std::floor((top - y0) / sy + 1e-9);
+    if (!(columns < 2e9 && rows < 2e9)) continue;  // a span no lattice can walk (or not finite); priced first
+    const int nx = static_cast<int>(columns), ny = static_cast<int>(rows);
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const Vec2 p(x0 + (i + 0.5) * sx, top - (j + 0.5) * sy);
@@ -204,6 +206,13 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
 // still gets rows) and scaled by the area each point stands for (without the dp/2 clearance):
 // what laying them out would cost, known before it is paid.
 constexpr double kCountingPoints = 450.0;
+// Whether the region's extent (width and height below its level) is a finite number.
+bool finite_extent(const io::WaterFillSpec& region) {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (const Vec2& p : region.polygon) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+  return std::isfinite(x1 - x0) && std::isfinite(std::min(y1, region.level) - y0);
+}
+
 double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double dp) {
   double area = 0.0;
   for_each_lattice_point(regions, solid, dp, kCountingPoints,
@@ -251,6 +260,9 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   const SolidLocator solid(model, std::max({mean_size, 2.0 * w.spacing, 1e-9}));
   // A spacing the machine cannot hold (a value typed in the wrong unit) is refused before the
   // lattice is walked, not after the memory is gone.
+  for (const auto& region : regions)
+    if (!finite_extent(region))
+      throw io::ScenarioError({region.where.describe("the region's extent overflows: no lattice of water can cover it")});
   const double expected = estimated_particles(regions, solid, w.spacing);
   const double bytes = expected * static_cast<double>(sph::Fluid::bytes_per_particle(out.parameters));
   if (const std::size_t available = available_memory_bytes(); available > 0 && bytes > 0.5 * static_cast<double>(available)) {

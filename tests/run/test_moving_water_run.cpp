@@ -286,6 +286,9 @@ TEST(ReservoirWater, ASpacingTooFineForTheMachineIsRefusedBeforeTheWaterIsLaid) 
   const std::string strip =
       prepare_error({"reservoir.sph.fill=[{rectangle: [[0, 1], [1000000, 1.5]]}]", "reservoir.sph.spacing=0.01"});
   EXPECT_NE(strip.find("m apart the fill regions take about 5e+09 particles"), std::string::npos) << strip;
+  // A region whose span overflows a double is refused at the fill, not walked.
+  const std::string vast = prepare_error({"reservoir.sph.fill=[{rectangle: [[-1e308, 0], [1e308, 1.5]]}]"});
+  EXPECT_NE(vast.find("reservoir.sph.fill[0]: the region's extent overflows"), std::string::npos) << vast;
 }
 
 // A run-up or force curve, or a crest, that the water cannot reach is warned of at its key
