@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "run/bounds.hpp"
 #include "run/check.hpp"
 #include "run/text.hpp"
 #include "sph/kernels.hpp"
@@ -170,8 +171,7 @@ void for_each_lattice_point(const std::vector<io::WaterFillSpec>& regions, const
                             double max_points, At&& at) {
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const auto& poly = regions[r].polygon;
-    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+    const auto [x0, y0, x1, y1] = bounds_of(poly);
     const double top = std::min(y1, regions[r].level);
     const double sx = max_points > 0.0 ? std::max(step, (x1 - x0) / max_points) : step;
     const double sy = max_points > 0.0 ? std::max(step, (top - y0) / max_points) : step;
@@ -201,18 +201,17 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
   out.fluid.mass = out.parameters.mass();
 }
 
+// Whether the region's extent (width and height below its level) is a finite number.
+bool finite_extent(const io::WaterFillSpec& region) {
+  const Bounds b = bounds_of(region.polygon);
+  return std::isfinite(b.x1 - b.x0) && std::isfinite(std::min(b.y1, region.level) - b.y0);
+}
+
 // How many particles the regions take at the spacing dp, counted on a lattice of at most
 // kCountingPoints^2 points a region (coarser than dp across a long span, so that a thin region
 // still gets rows) and scaled by the area each point stands for (without the dp/2 clearance):
 // what laying them out would cost, known before it is paid.
 constexpr double kCountingPoints = 450.0;
-// Whether the region's extent (width and height below its level) is a finite number.
-bool finite_extent(const io::WaterFillSpec& region) {
-  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-  for (const Vec2& p : region.polygon) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
-  return std::isfinite(x1 - x0) && std::isfinite(std::min(y1, region.level) - y0);
-}
-
 double estimated_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLocator& solid, double dp) {
   double area = 0.0;
   for_each_lattice_point(regions, solid, dp, kCountingPoints,

@@ -14,6 +14,7 @@
 
 #include "boundary/boundary_setup.hpp"
 #include "mesh/model_builder.hpp"
+#include "run/bounds.hpp"
 #include "run/time_step.hpp"
 #include "seismic/artificial_wave.hpp"
 
@@ -124,9 +125,8 @@ void warn_of_places_the_water_cannot_reach(const io::SphSpec& sph, const MovingW
                                            std::vector<PreparedRun::LogLine>& log) {
   // The polyline's bounding box misses the region's.
   auto outside = [&](const std::vector<Vec2>& line) {
-    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-    for (const Vec2& p : line) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
-    return x1 < w.coupled_x0 || x0 > w.coupled_x1 || y0 > w.coupled_top || y1 < w.coupled_bottom;
+    const Bounds b = bounds_of(line);
+    return b.x1 < w.coupled_x0 || b.x0 > w.coupled_x1 || b.y0 > w.coupled_top || b.y1 < w.coupled_bottom;
   };
   const std::string region = fmt::format("x {:.6g} to {:.6g} m, up to y = {:.6g} m (reservoir.sph.freeboard above the "
                                          "level)", w.coupled_x0, w.coupled_x1, w.coupled_top);

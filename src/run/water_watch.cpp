@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "run/bounds.hpp"
 #include "sph/kernels.hpp"
 #include "sph/surface.hpp"
 
@@ -37,8 +38,7 @@ std::pair<double, double> pressure_at(const sph::FluidParticles& f, std::span<co
 
 // Particles within `reach` of a polyline's bounding box (one scan).
 void particles_near(const sph::FluidParticles& f, std::span<const Vec2> poly, double reach, std::vector<std::int32_t>& out) {
-  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-  for (const Vec2& p : poly) x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y()), x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+  const auto [x0, y0, x1, y1] = bounds_of(poly);
   out.clear();
   for (std::size_t i = 0; i < f.size(); ++i)
     if (f.x[i] >= x0 - reach && f.x[i] <= x1 + reach && f.y[i] >= y0 - reach && f.y[i] <= y1 + reach)
