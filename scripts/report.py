@@ -341,6 +341,28 @@ def wave_comparison(mw: dict, h, gauges: dict[str, tuple[float, float]]) -> str:
     return body
 
 
+def wave_along_reservoir(h) -> str:
+    """The primary wave at each gauge beyond the shoreline against Heller & Hager's 2D decay laws."""
+    gauges = h.get("gauges") if isinstance(h, dict) and not heller_hager_missing(h) else None
+    if not gauges:
+        return ""
+    onset = h.get("decay_onset_relative_distance")
+    rows = []
+    for g in gauges:
+        rows.append([f"<td><b>{esc(g['name'])}</b></td>", _num(g.get("relative_distance")), _num(g.get("crest_m")),
+                     _num(g.get("heller_hager_crest_m")), _num(g.get("crest_ratio")), _num(g.get("height_m")),
+                     _num(g.get("heller_hager_height_m")), _num(g.get("height_ratio"))])
+    body = _table(["gauge", "x / h from the shoreline", "first crest (m)", "Heller & Hager a(x) (m)", "ratio",
+                   "crest to trough (m)", "Heller & Hager H(x) (m)", "ratio"], rows)
+    note = ("The primary wave at each gauge after the slide's entry: its first crest above the still level and the "
+            "trough after it (a dash: not seen before the run ended). Heller &amp; Hager's decay laws a(x) = 3/5 "
+            "(P (x/h)^-1/3)^4/5 h and H(x) = 3/4 (...) h")
+    if isinstance(onset, (int, float)):
+        note += (f" meet a_M and H_M at x / h = {lib.fmt_num(onset)}; nearer the shoreline they exceed their own "
+                 "maxima, a_M and H_M, which bound the wave there")
+    return body + f'<p class="note">{note}.</p>'
+
+
 def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], since: str) -> str:
     """Where and when the wave peaked, run-up, overtopping, forces, gauges and energy."""
     peak = mw.get("max_wave_amplitude") or {}
@@ -414,7 +436,8 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     if isinstance(a, (int, float)) and a <= 0:
         parts.append('<p class="note">The water\'s surface never rose above the still level in the reservoir '
                      f"(largest amplitude {lib.fmt_num(a)} m): no wave was measured.</p>")
-    parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h, gauges))
+    parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h, gauges)
+                 + wave_along_reservoir(h))
     since = " after the slide's entry" if isinstance(after, (int, float)) else ""
     parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))
     by_name = {p.name: p for p in plots}

@@ -11,7 +11,10 @@ slide the run measured where it entered the water (its speed, thickness and mass
 angle), against max_wave_amplitude_m: the highest free surface above the still level (the
 settled water's mean surface just before the slide entered, moving_water.still_level_m) over
 water at least h/4 deep and beyond the slide's front, at any time. Beside it, the largest crest
-at the free-surface gauges over the flat bed, from the same still level.
+at the free-surface gauges over the flat bed, from the same still level; and at each gauge the
+primary wave (its first crest after the entry and the trough after it, summary.json
+heller_hager.gauges) against Heller & Hager's 2D decay laws a(x) = 3/5 (P (x/h)^-1/3)^4/5 h and
+H(x) = 3/4 (P (x/h)^-1/3)^4/5 h, which meet a_M and H_M at x/h = 3.08.
 """
 import argparse
 import csv
@@ -63,7 +66,13 @@ def read_case(path, xs):
                 V=hh["slide_speed_mps"], s=hh["slide_thickness_m"], m=hh["slide_mass_kg_per_m"],
                 timp=hh["impact_time_s"], g=gmax, gx=(xs[gname] - x0) / h, gname=gname, wall=wall, cpu=cpu, t=t, eta=eta,
                 gauges=gauges, x0=x0, offset=(still - level) / h, escaped=mw["escaped_particles"],
-                handed=mw.get("energy_handed_to_water_ratio"), runup=mw["runup"]["wall"]["elevation_m"])
+                handed=mw.get("energy_handed_to_water_ratio"), runup=mw["runup"]["wall"]["elevation_m"],
+                decay=hh.get("gauges", []))
+
+
+def fmt(v, spec):
+    """A number in `spec`, or '-' for a null (a wave not seen before the run ended)."""
+    return format(v, spec) if isinstance(v, (int, float)) else "-"
 
 
 def tables(cases):
@@ -81,13 +90,22 @@ def tables(cases):
     for c in cases:
         out.append(f"| {c['name']} | {c['gname']} | {c['gx']:.1f} | {c['xM'] / c['h']:.1f} | {c['g']:.3f} "
                    f"| {c['g'] / c['aHH']:.2f} |")
+    out += ["", "The primary wave at each gauge (its first crest after the entry, the trough after it) against "
+            "Heller & Hager's decay laws at its distance x from the shoreline:", "",
+            "| case | gauge | x/h | crest (m) | a(x) H&H (m) | ratio | crest to trough (m) | H(x) H&H (m) | ratio |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for c in cases:
+        for g in c["decay"]:
+            out.append(f"| {c['name']} | {g['name']} | {g['relative_distance']:.2f} | {fmt(g['crest_m'], '.3f')} "
+                       f"| {g['heller_hager_crest_m']:.3f} | {fmt(g['crest_ratio'], '.2f')} | {fmt(g['height_m'], '.3f')} "
+                       f"| {g['heller_hager_height_m']:.3f} | {fmt(g['height_ratio'], '.2f')} |")
     out += ["", "| case | wall / CPU time (s, one thread) | still level - reservoir.level (h) | particles escaped "
             "| slide energy handed to the water | highest water on the end wall (m) |", "|---|---|---|---|---|---|"]
     for c in cases:
         wt = (f"{c['wall']:.0f}" if c["wall"] is not None else "-") + " / " + (
             f"{c['cpu']:.0f}" if c["cpu"] is not None else "-")
         handed = f"{c['handed']:.2f}" if c["handed"] is not None else "-"
-        out.append(f"| {c['name']} | {wt} | {c['offset']:+.4f} | {c['escaped']} | {handed} | {c['runup']:.3f} |")
+        out.append(f"| {c['name']} | {wt} | {c['offset']:+.4f} | {c['escaped']} | {handed} | {fmt(c['runup'], '.3f')} |")
     return out
 
 

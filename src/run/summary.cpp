@@ -2,6 +2,7 @@
 #include "run/water.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 
@@ -63,9 +64,37 @@ Json water_stages(const io::Scenario& sc) {
   return stages;
 }
 
+// The primary wave at each gauge on the open water's side of the shoreline against Heller &
+// Hager's 2D decay laws at its distance x from where the slide met the level (DESIGN.md §13):
+// the wave the run raised along the reservoir beside the one the equations give.
+Json wave_along_reservoir(const Shore& shore, const water::ImpulseWave& w, const WaterWatch& watch, double t_entry) {
+  Json gauges = Json::array();
+  const int dir = wave_direction(shore);
+  for (const WaterWatch::GaugeWave& g : watch.primary_waves(t_entry)) {
+    const double x = (g.x - shore.shoreline.x()) * dir;
+    if (!(x > 0.0)) continue;  // on the slide's side of the shoreline
+    auto number = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
+    const double a = water::heller_hager_amplitude_at(w, shore.depth, x), H = water::heller_hager_height_at(w, shore.depth, x);
+    gauges.push_back(Json::object({{"name", g.name},
+                                   {"x_m", g.x},
+                                   {"distance_m", x},
+                                   {"relative_distance", x / shore.depth},
+                                   {"crest_m", number(g.wave.crest)},
+                                   {"crest_time_s", number(g.wave.crest_t)},
+                                   {"trough_m", number(-g.wave.trough)},
+                                   {"height_m", number(g.wave.height())},
+                                   {"heller_hager_crest_m", a},
+                                   {"heller_hager_height_m", H},
+                                   {"crest_ratio", number(g.wave.crest / a)},
+                                   {"height_ratio", number(g.wave.height() / H)}}));
+  }
+  return gauges;
+}
+
 // The slide where it entered the reservoir and the Heller & Hager (2010) wave it raises
-// (DESIGN.md §13), or that it has not entered it.
-Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>& impact) {
+// (DESIGN.md §13), or that it has not entered it; with the moving water, the run's wave at
+// its gauges beside the equations' decay.
+Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>& impact, const WaterWatch* watch) {
   Json h = Json::object();
   h["still_level_m"] = shore.level;
   h["depth_m"] = shore.depth;
@@ -92,6 +121,8 @@ Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>
   for (const water::RangeCheck& c : w.checks)
     if (!c.inside()) outside.push_back(Json::object({{"parameter", c.name}, {"value", c.value}, {"min", c.min}, {"max", c.max}}));
   h["outside_validity"] = outside;
+  h["decay_onset_relative_distance"] = water::heller_hager_decay_onset();
+  if (watch) h["gauges"] = wave_along_reservoir(shore, w, *watch, impact->time);
   return h;
 }
 
@@ -205,7 +236,7 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
   s["final_energies"] = final_energies(solver.energy(), f.energy_unit);
   s["gauges"] = gauge_summaries(prepared, gauges);
   if (has_water(sc)) s["water"] = water_stages(sc);
-  if (prepared.shore) s["heller_hager"] = heller_hager_summary(*prepared.shore, f.slide_impact);
+  if (prepared.shore) s["heller_hager"] = heller_hager_summary(*prepared.shore, f.slide_impact, f.water);
   if (f.water) {
     const WaterWatch& w = *f.water;
     s["max_wave_amplitude_m"] = w.max_amplitude().seen ? Json(w.max_amplitude().value) : Json(nullptr);

@@ -312,4 +312,16 @@ std::vector<std::pair<std::string, double>> WaterWatch::gauge_periods() const {
   return out;
 }
 
+std::vector<WaterWatch::GaugeWave> WaterWatch::primary_waves(double t_from) const {
+  std::vector<GaugeWave> out;
+  const double offset = still_level() - level_;  // the gauges read above reservoir.level
+  std::vector<double> eta;
+  for (std::size_t g = 0; g < gauge_x_.size(); ++g) {
+    eta.assign(gauge_eta_[g].begin(), gauge_eta_[g].end());
+    for (double& e : eta) e -= offset;
+    out.push_back({spec_.gauges[g].name, gauge_x_[g], sph::primary_wave(gauge_t_[g], eta, t_from, dp_)});
+  }
+  return out;
+}
+
 }  // namespace dsdem::run

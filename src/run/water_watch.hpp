@@ -14,6 +14,7 @@
 #include "io/history_writer.hpp"
 #include "io/scenario.hpp"
 #include "run/moving_water.hpp"
+#include "sph/surface.hpp"
 
 namespace dsdem::run {
 
@@ -71,6 +72,14 @@ class WaterWatch {
   const std::vector<Named>& forces() const { return forces_; }
   // The mean up-crossing period at each gauge (s; NaN with fewer than two crossings).
   std::vector<std::pair<std::string, double>> gauge_periods() const;
+  // The primary wave at each gauge from t_from on (the slide's entry): its first crest and
+  // the trough after it, from the still level (turning points a spacing apart).
+  struct GaugeWave {
+    std::string name;
+    double x = 0.0;  // m
+    sph::PrimaryWave wave;
+  };
+  std::vector<GaugeWave> primary_waves(double t_from) const;
   // The largest gain of the water's energy over its energy at step 0 (J/m) and when.
   const Peak& energy_gain() const { return energy_gain_; }
   // The most fluid particles seen outside the model's box (grown by the kernel's support):

@@ -198,12 +198,11 @@ double volume_beyond(const FluidParticles& f, double x_line, int direction, doub
   return area;
 }
 
-std::vector<double> crest_times(std::span<const double> t, std::span<const double> eta, double band) {
-  std::vector<double> out;
-  // Turning points with hysteresis: a crest is confirmed once the series falls `band` below
-  // it, a trough once it rises `band` above it. Until the series first moves `band` away
-  // from its start, its direction is unknown (a first maximum with no trough before it is
-  // not a crest).
+std::vector<TurningPoint> turning_points(std::span<const double> t, std::span<const double> eta, double band) {
+  std::vector<TurningPoint> out;
+  // Hysteresis: a crest is confirmed once the series falls `band` below it, a trough once it
+  // rises `band` above it. Until the series first moves `band` away from its start, its
+  // direction is unknown.
   enum class Trend { unknown, rising, falling } trend = Trend::unknown;
   double lo = INFINITY, hi = -INFINITY, extreme = 0.0, at = 0.0;
   for (std::size_t k = 0; k < std::min(t.size(), eta.size()); ++k) {
@@ -213,23 +212,44 @@ std::vector<double> crest_times(std::span<const double> t, std::span<const doubl
       case Trend::unknown:
         lo = std::min(lo, e), hi = std::max(hi, e);
         if (e > lo + band) trend = Trend::rising, extreme = e, at = t[k];
-        else if (e < hi - band) trend = Trend::falling, extreme = e;
+        else if (e < hi - band) trend = Trend::falling, extreme = e, at = t[k];
         break;
       case Trend::rising:
         if (e > extreme) {
           extreme = e, at = t[k];
         } else if (e < extreme - band) {
-          out.push_back(at);
-          trend = Trend::falling, extreme = e;
+          out.push_back({at, extreme, true});
+          trend = Trend::falling, extreme = e, at = t[k];
         }
         break;
       case Trend::falling:
-        if (e < extreme) extreme = e;
-        else if (e > extreme + band) trend = Trend::rising, extreme = e, at = t[k];
+        if (e < extreme) {
+          extreme = e, at = t[k];
+        } else if (e > extreme + band) {
+          out.push_back({at, extreme, false});
+          trend = Trend::rising, extreme = e, at = t[k];
+        }
         break;
     }
   }
   return out;
+}
+
+std::vector<double> crest_times(std::span<const double> t, std::span<const double> eta, double band) {
+  std::vector<double> out;
+  for (const TurningPoint& p : turning_points(t, eta, band))
+    if (p.crest) out.push_back(p.t);
+  return out;
+}
+
+PrimaryWave primary_wave(std::span<const double> t, std::span<const double> eta, double t_from, double band) {
+  PrimaryWave w;
+  const std::vector<TurningPoint> points = turning_points(t, eta, band);
+  auto crest = std::find_if(points.begin(), points.end(), [&](const TurningPoint& p) { return p.crest && p.t >= t_from; });
+  if (crest == points.end()) return w;
+  w.crest = crest->eta, w.crest_t = crest->t;
+  if (const auto trough = std::next(crest); trough != points.end()) w.trough = trough->eta, w.trough_t = trough->t;
+  return w;
 }
 
 double mean_crest_period(std::span<const double> t, std::span<const double> eta, double band) {

@@ -11,6 +11,7 @@
 // row, the surface of the water the particles stand for. A lone droplet (c <= V W(0) =
 // 0.25 at h = 1.5 dp) is not surface.
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -53,11 +54,31 @@ double runup_on_polyline(const FluidParticles& f, std::span<const Vec2> polyline
 // start.
 double volume_beyond(const FluidParticles& f, double x_line, int direction, double y_min);
 
-// The times (s) of the crests of the series eta(t) (a gauge's surface): its maxima between
-// which it falls at least `band` (m, > 0: the surface's resolution) and rises again at
-// least `band`, so ripples under the band are not waves, and a level that shifts (a slide
-// deposit raising the pool) does not hide them. NaN samples (a dry gauge) are passed over.
+// The turning points of the series eta(t) (a gauge's surface), in time order: its crests,
+// maxima after which it falls at least `band` (m, > 0: the surface's resolution), and its
+// troughs, minima after which it rises at least `band`; so ripples under the band are not
+// waves, and a level that shifts (a slide deposit raising the pool) does not hide them. NaN
+// samples (a dry gauge) are passed over. A first extreme the series did not move `band`
+// toward is none.
+struct TurningPoint {
+  double t = 0.0, eta = 0.0;  // s, m
+  bool crest = false;
+};
+std::vector<TurningPoint> turning_points(std::span<const double> t, std::span<const double> eta, double band);
+
+// The times (s) of the crests of turning_points.
 std::vector<double> crest_times(std::span<const double> t, std::span<const double> eta, double band);
+
+// The primary wave at a gauge from time t_from on: its first crest and the trough that
+// follows it (Heller & Hager's crest amplitude a_c and trough amplitude a_t, H = a_c + a_t,
+// when eta is measured from the still level). NaN values when the series has no crest from
+// t_from on, or no trough after it before its end.
+struct PrimaryWave {
+  double crest = std::numeric_limits<double>::quiet_NaN(), crest_t = std::numeric_limits<double>::quiet_NaN();
+  double trough = std::numeric_limits<double>::quiet_NaN(), trough_t = std::numeric_limits<double>::quiet_NaN();
+  double height() const { return crest - trough; }
+};
+PrimaryWave primary_wave(std::span<const double> t, std::span<const double> eta, double t_from, double band);
 
 // The mean period between successive crests (s): NaN with fewer than two.
 double mean_crest_period(std::span<const double> t, std::span<const double> eta, double band);

@@ -50,9 +50,18 @@ ImpulseWave heller_hager(const SlideImpact& s) {
   return w;
 }
 
-double heller_hager_height_at(const ImpulseWave& w, double depth, double x) {
+namespace {
+// (P (x/h)^-1/3)^4/5 h, the decay laws' common factor.
+double decay_factor(const ImpulseWave& w, double depth, double x) {
   if (!(x > 0.0)) throw std::invalid_argument(fmt::format("Heller & Hager: the distance must be > 0, got {}", x));
-  return 0.75 * std::pow(w.impulse_product * std::pow(x / depth, -1.0 / 3.0), 0.8) * depth;
+  return std::pow(w.impulse_product * std::pow(x / depth, -1.0 / 3.0), 0.8) * depth;
 }
+}  // namespace
+
+double heller_hager_height_at(const ImpulseWave& w, double depth, double x) { return 0.75 * decay_factor(w, depth, x); }
+
+double heller_hager_amplitude_at(const ImpulseWave& w, double depth, double x) { return 0.6 * decay_factor(w, depth, x); }
+
+double heller_hager_decay_onset() { return std::pow(27.0 / 20.0, 3.75); }
 
 }  // namespace dsdem::water

@@ -43,4 +43,12 @@ ImpulseWave heller_hager(const SlideImpact& s);
 // The 2D wave height at distance x (m) from the impact: H(x) = 3/4 (P (x/h)^-1/3)^4/5 h.
 double heller_hager_height_at(const ImpulseWave& w, double depth, double x);
 
+// The 2D crest amplitude at distance x (m) from the impact: a(x) = 3/5 (P (x/h)^-1/3)^4/5 h
+// (Heller & Hager 2010, the primary wave's crest). a(x) and H(x) reach a_M and H_M at the
+// same x/h (heller_hager_decay_onset): nearer the impact the laws exceed their own maxima.
+double heller_hager_amplitude_at(const ImpulseWave& w, double depth, double x);
+
+// x/h at which the decay laws meet a_M and H_M: (27/20)^(15/4) = 3.08.
+double heller_hager_decay_onset();
+
 }  // namespace dsdem::water

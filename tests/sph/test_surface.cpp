@@ -153,3 +153,55 @@ TEST(WavePeriod, RipplesUnderTheBandAndARisingLevelDoNotHideTheWaves) {
   for (std::size_t k = 0; k < t.size(); ++k) ripple[k] = 837.0 + 0.3 * std::sin(2 * kPi * t[k] / 0.23);
   EXPECT_TRUE(std::isnan(mean_crest_period(t, ripple, 0.8)));
 }
+
+TEST(PrimaryWave, TheFirstCrestAfterTheEntryAndTheTroughThatFollowsIt) {
+  // Still water with a 2 mm ripple, a solitary-like crest of 0.15 m at t = 1.2 s, a trough of
+  // -0.06 m at 1.7 s, then a smaller second crest; the slide entered at t = 0.8 s.
+  std::vector<double> t, eta;
+  for (int k = 0; k <= 300; ++k) {
+    const double s = 0.01 * k;
+    t.push_back(s);
+    eta.push_back(0.002 * std::sin(2 * kPi * s / 0.07) + 0.15 * std::exp(-std::pow((s - 1.2) / 0.12, 2)) -
+                  0.06 * std::exp(-std::pow((s - 1.7) / 0.15, 2)) + 0.05 * std::exp(-std::pow((s - 2.3) / 0.12, 2)));
+  }
+  const PrimaryWave w = primary_wave(t, eta, 0.8, 0.01);
+  EXPECT_NEAR(w.crest, 0.15, 0.003);
+  EXPECT_NEAR(w.crest_t, 1.2, 0.011);
+  // The trough is the series' lowest sample between the two crests (near 1.7 s: the crests'
+  // tails lift it a little).
+  std::size_t low = 130;
+  for (std::size_t k = 130; k < 230; ++k)
+    if (eta[k] < eta[low]) low = k;
+  EXPECT_EQ(w.trough, eta[low]);
+  EXPECT_EQ(w.trough_t, t[low]);
+  EXPECT_NEAR(w.trough, -0.06, 0.003);
+  EXPECT_NEAR(w.trough_t, 1.7, 0.03);
+  EXPECT_NEAR(w.height(), 0.21, 0.005);
+  // From after the first crest on, the primary wave is the second one; it has no trough
+  // confirmed before the record ends.
+  const PrimaryWave later = primary_wave(t, eta, 1.5, 0.01);
+  EXPECT_NEAR(later.crest, 0.05, 0.003);
+  EXPECT_TRUE(std::isnan(later.trough));
+  EXPECT_TRUE(std::isnan(later.height()));
+  // Nothing but the ripple: no wave.
+  const std::vector<double> ripple(eta.size(), 0.001);
+  EXPECT_TRUE(std::isnan(primary_wave(t, ripple, 0.0, 0.01).crest));
+}
+
+TEST(PrimaryWave, TurningPointsAlternateAndKeepTheCrestTimes) {
+  std::vector<double> t, eta;
+  for (int k = 0; k <= 2000; ++k) {
+    t.push_back(0.005 * k);
+    eta.push_back(std::sin(2 * kPi * t.back() / 2.5));
+  }
+  const std::vector<TurningPoint> p = turning_points(t, eta, 0.2);
+  ASSERT_EQ(p.size(), 8u);  // 10 s of a 2.5 s wave: four crests, four troughs
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_EQ(p[i].crest, i % 2 == 0);
+    EXPECT_NEAR(p[i].eta, i % 2 == 0 ? 1.0 : -1.0, 1e-4);
+    EXPECT_NEAR(p[i].t, 0.625 + 1.25 * static_cast<double>(i), 0.005);
+  }
+  const std::vector<double> crests = crest_times(t, eta, 0.2);
+  ASSERT_EQ(crests.size(), 4u);
+  EXPECT_EQ(crests[1], p[2].t);
+}

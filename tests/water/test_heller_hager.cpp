@@ -40,6 +40,13 @@ TEST(HellerHager, ParametersAndWaveFollowTheEquations) {
   EXPECT_NEAR(heller_hager_height_at(w, 0.4, 0.4), 0.75 * std::pow(P, 0.8) * 0.4, 1e-14);
   EXPECT_NEAR(heller_hager_height_at(w, 0.4, 8.0 * 0.4) / heller_hager_height_at(w, 0.4, 0.4), std::pow(8.0, -4.0 / 15.0),
               1e-14);
+  // The crest's decay is 4/5 of the height's, as a_M is of H_M; both meet their maxima at
+  // x/h = (27/20)^(15/4).
+  EXPECT_NEAR(heller_hager_amplitude_at(w, 0.4, 2.0) / heller_hager_height_at(w, 0.4, 2.0), 0.8, 1e-14);
+  EXPECT_NEAR(heller_hager_decay_onset(), 3.0814, 1e-4);
+  const double onset = heller_hager_decay_onset() * 0.4;
+  EXPECT_NEAR(heller_hager_amplitude_at(w, 0.4, onset), w.amplitude_m, 1e-12);
+  EXPECT_NEAR(heller_hager_height_at(w, 0.4, onset), w.height_m, 1e-12);
 }
 
 TEST(HellerHager, SaysWhichParameterLeavesTheValidityBox) {
@@ -65,4 +72,5 @@ TEST(HellerHager, RejectsImpossibleInputs) {
   s.slope_deg = 95.0;
   EXPECT_THROW(heller_hager(s), std::invalid_argument);
   EXPECT_THROW(heller_hager_height_at(heller_hager(flume()), 0.4, 0.0), std::invalid_argument);
+  EXPECT_THROW(heller_hager_amplitude_at(heller_hager(flume()), 0.4, -1.0), std::invalid_argument);
 }
