@@ -11,8 +11,8 @@ Figures (each only when its columns exist):
   energies.png                       every *_J_per_m column, energy balance error on a 2nd axis
   water_surface.png                  moving water: free-surface elevation at every gauge
   wave_amplitude.png                 moving water: the wave's amplitude and its envelope (running max)
-  wave_decay.png                     moving water: wave height and amplitude at the gauges against the
-                                     distance from the slide's entry, beside Heller & Hager's H(x)
+  wave_decay.png                     moving water: the primary wave's height and crest at the gauges against the
+                                     distance from the shoreline, beside Heller & Hager's H(x) and a(x)
   water_runup.png                    moving water: run-up on every bank, water past every crest
   water_forces.png                   moving water: force and peak pressure on every named curve
   fracture.png                       broken joints, damaged joints, fragments vs time
@@ -246,36 +246,51 @@ class Plotter:
         self._save(fig, "wave_amplitude.png")
 
     def wave_decay(self, w: wat.WaterColumns):
-        """The wave at the gauges against their distance from the slide's entry, and Heller &
-        Hager's 2D decay H(x) = (3/4) (P (x/h)^(-1/3))^(4/5) h (DESIGN.md §13)."""
+        """The primary wave at the gauges against their distance from the shoreline (summary.json
+        heller_hager.gauges: the first crest after the slide's entry and crest to trough), beside
+        Heller & Hager's 2D decay a(x) = (3/5) (P (x/h)^(-1/3))^(4/5) h and H(x) = (3/4) (...) h
+        (DESIGN.md §13). A summary without that block: each gauge's highest surface and its
+        range after the entry, against the distance from the entry point."""
         hh = self.summary.get("heller_hager") or {}
         P, h, t0 = hh.get("impulse_product"), hh.get("depth_m"), hh.get("impact_time_s")
-        entry = (hh.get("impact_point_m") or [None])[0]
-        where = wat.gauge_positions(lib.load_yaml(lib.find_scenario(self.out, self.summary)))
-        pts = []
-        for g, c in w.gauges:
-            if g not in where or not isinstance(entry, (int, float)) or not isinstance(t0, (int, float)):
-                continue
-            y = self.h.col(c)[self.t >= t0]
-            if y.size and np.isfinite(y).any():
-                pts.append((g, abs(where[g] - entry), float(np.nanmax(y)) - float(np.nanmin(y)), float(np.nanmax(y))))
+        pts = []  # (gauge, distance, height or None, crest or None)
+        if isinstance(hh.get("gauges"), list):
+            origin = "the shoreline, where the slide met the level"
+            for g in hh["gauges"]:
+                pts.append((g["name"], g["distance_m"], g.get("height_m"), g.get("crest_m")))
+        else:
+            origin = "the slide's entry"
+            entry = (hh.get("impact_point_m") or [None])[0]
+            where = wat.gauge_positions(lib.load_yaml(lib.find_scenario(self.out, self.summary)))
+            for g, c in w.gauges:
+                if g not in where or not isinstance(entry, (int, float)) or not isinstance(t0, (int, float)):
+                    continue
+                y = self.h.col(c)[self.t >= t0]
+                if y.size and np.isfinite(y).any():
+                    pts.append((g, abs(where[g] - entry), float(np.nanmax(y)) - float(np.nanmin(y)),
+                                float(np.nanmax(y))))
         if not pts or not all(isinstance(v, (int, float)) and v > 0 for v in (P, h)):
             return
         fig, ax = _fig()
         x = np.linspace(0.25 * h, max(max(p[1] for p in pts) * 1.3, hh.get("distance_of_max_height_m", 0) * 1.3), 200)
-        ax.plot(x, 0.75 * (P * (x / h) ** (-1 / 3)) ** 0.8 * h, color="tab:red", ls="--",
-                label="Heller & Hager H(x), wave height")
+        decay = (P * (x / h) ** (-1 / 3)) ** 0.8 * h
+        ax.plot(x, 0.75 * decay, color="tab:blue", ls="--", label="Heller & Hager H(x), wave height")
+        ax.plot(x, 0.6 * decay, color="tab:cyan", ls=":", label="Heller & Hager a(x), crest")
         if isinstance(hh.get("height_m"), (int, float)) and isinstance(hh.get("distance_of_max_height_m"), (int, float)):
             ax.plot(hh["distance_of_max_height_m"], hh["height_m"], "s", color="tab:red", ms=7,
                     label=f"Heller & Hager H_M {hh['height_m']:.3g} m")
-        ax.plot([p[1] for p in pts], [p[2] for p in pts], "o", color="tab:blue", ms=7,
+        heights = [p for p in pts if isinstance(p[2], (int, float))]
+        crests = [p for p in pts if isinstance(p[3], (int, float))]
+        ax.plot([p[1] for p in heights], [p[2] for p in heights], "o", color="tab:blue", ms=7,
                 label="computed height: crest to trough after the entry")
-        ax.plot([p[1] for p in pts], [p[3] for p in pts], "^", color="tab:cyan", ms=7,
-                label="computed amplitude: highest surface after the entry")
-        for g, d, H, _ in pts:
-            ax.annotate(g, (d, H), xytext=(5, 5), textcoords="offset points", fontsize=9)
-        ax.set_xlabel("Distance from the slide's entry (m)")
-        ax.set_ylabel("Wave height, amplitude (m)")
+        ax.plot([p[1] for p in crests], [p[3] for p in crests], "^", color="tab:cyan", ms=7,
+                label="computed crest after the entry")
+        for g, d, H, a in pts:
+            y = H if isinstance(H, (int, float)) else a
+            if isinstance(y, (int, float)):
+                ax.annotate(g, (d, y), xytext=(5, 5), textcoords="offset points", fontsize=9)
+        ax.set_xlabel(f"Distance from {origin} (m)")
+        ax.set_ylabel("Wave height, crest (m)")
         ax.set_xlim(left=0)
         ax.set_ylim(bottom=0)
         lib.title_pair(ax, "The wave along the reservoir", self.run_title)
