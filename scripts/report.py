@@ -405,7 +405,9 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
     body += kv_table([("energy handed to the water (its largest gain)", "J/m", gain),
                       ("slide's kinetic energy where it entered", "J/m", ke),
                       ("fraction handed to the water", "", mw.get("energy_handed_to_water_ratio")),
-                      ("work of the water on the solid", "J/m", _by_prefix(mw, "moving_water_work"))])
+                      ("work of the water on the solid", "J/m", _by_prefix(mw, "moving_water_work")),
+                      ("work of the walls' own pressure on the water (modified boundary: no wall state stores "
+                       "it; energy the wall model put in)", "J/m", _by_prefix(mw, "boundary_work"))])
     return body
 
 

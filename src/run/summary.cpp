@@ -174,6 +174,8 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["wave_period_s"] = periods;
   m["energy_gain_" + energy_unit] = w.energy_gain().value;
   m["moving_water_work_" + energy_unit] = solver.energy().moving_water_work;
+  // The energy the modified boundary's wall pressure put into the water (no wall stores it).
+  if (const sph::Fluid* fluid = solver.moving_water()) m["boundary_work_" + energy_unit] = fluid->boundary_work();
   if (impact && impact->slide.mass > 0.0) {
     const double ke = 0.5 * impact->slide.mass * impact->slide.speed * impact->slide.speed;
     m["slide_kinetic_energy_at_impact_" + energy_unit] = ke;

@@ -151,6 +151,7 @@ std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, cons
     c.push_back({r.name + "_peak_pressure", "Pa"});
   }
   c.push_back({"water_energy_gain", energy_unit});
+  c.push_back({"water_boundary_work", energy_unit});
   return c;
 }
 
@@ -195,6 +196,7 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   if (!energy_start_) energy_start_ = total;
   row[k++] = total - *energy_start_;
   raise(energy_gain_, total - *energy_start_, 0.0, t);
+  row[k++] = fluid.boundary_work();
 }
 
 void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k) {

@@ -45,7 +45,8 @@ class WaterWatch {
   WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, const Model& model, int direction);
 
   // history.csv columns: <gauge>_eta, <bank>_runup, <crest>_overtopped, <curve>_force_x/_y,
-  // <curve>_peak_pressure, water_energy_gain.
+  // <curve>_peak_pressure, water_energy_gain, water_boundary_work (sph::Fluid::boundary_work:
+  // the modified boundary's wall pressure work since step 0).
   static std::vector<io::HistoryColumn> columns(const io::SphSpec& spec, const std::string& energy_unit,
                                                 const std::string& force_unit);
   // Measures the water now; writes columns(...).size() values from `row`. slide_front: the x

@@ -273,6 +273,7 @@ void Solver::save_moving_water(io::CheckpointWriter& out) const {
   out.put("water_sph/boundary/edge", int64s(f.boundary.edge));
   out.put("water_sph/masses", std::vector<double>{f.fluid.mass, f.boundary.mass});
   out.put("water_sph/clock", std::vector<double>{f.time, f.v_max, f.a_max, f.damping_rate});
+  out.put("water_sph/boundary_work", f.boundary_work);
   out.put("water_sph/steps", std::vector<std::int64_t>{f.steps, f.record ? 1 : 0});
   out.put("water_sph/recorded_force_x", f.rec_fx);
   out.put("water_sph/recorded_force_y", f.rec_fy);
@@ -525,6 +526,8 @@ void Solver::restore_moving_water(const io::CheckpointReader& in) {
   f.v_max = clock[1];
   f.a_max = clock[2];
   f.damping_rate = clock[3];
+  // A checkpoint from before the walls' work was booked: it counts from the restart.
+  f.boundary_work = in.has("water_sph/boundary_work") ? in.scalar("water_sph/boundary_work") : 0.0;
   const auto steps = in.integers("water_sph/steps");
   check_size("water_sph/steps", steps.size(), 2);
   f.steps = static_cast<long>(steps[0]);

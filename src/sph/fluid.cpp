@@ -55,6 +55,7 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   force_records_.resize(n);
   shift_x_.resize(n);
   shift_y_.resize(n);
+  wall_power_.resize(n);
   resort_fluid();
   rebuild_neighbour_lists();
   density_rates();  // the neighbour lists for the first accelerations
@@ -229,6 +230,12 @@ void Fluid::update_densities(double dt) {
 void Fluid::update_boundary_densities(double dt) {
   const double rho0 = par_.rho0, b = b_tait_;
   if (par_.boundary == BoundaryCondition::ModifiedDynamic) {
+    // The walls' pressure work over the step (boundary_work()): -m_f sum_i wall_power_i, the
+    // fluid's shares gathered with its continuity from the walls at the step's start;
+    // summed in index order, the same bits for any thread count.
+    double power = 0.0;
+    for (double w : wall_power_) power += w;
+    boundary_work_ -= dt * f_.mass * power;
     extrapolate_boundary_densities();
     return;
   }

@@ -68,7 +68,8 @@ class Fluid;
 // Brings freshly laid-out water to rest for `duration` s with its walls held still: the
 // velocities damped at `rate` (1/s) throughout, the particles packed (Fluid::set_packing)
 // over the first half so that the lattice fills the gaps it leaves against slanted walls,
-// the second half damped alone. Returns the largest particle speed at the end, m/s.
+// the second half damped alone; the walls' work is counted from its end. Returns the
+// largest particle speed at the end, m/s.
 double settle(Fluid& fluid, double duration, double rate);
 
 class Fluid {
@@ -130,6 +131,16 @@ class Fluid {
     double kinetic = 0.0, potential = 0.0, compression = 0.0;
   };
   Energy energy() const;
+  // The work the walls' own pressure has done on the water since the fluid was built (J/m):
+  // with the modified dynamic boundary the extrapolated wall density follows no continuity
+  // equation, so the pressure term of the fluid-wall pairs does work no state stores. It is
+  // -m_b p_j / rho_j^2 D_j summed over the walls, D_j the continuity rate the wall would have
+  // (as the dynamic boundary integrates it), at each step's start. Zero with the
+  // dynamic boundary, whose walls store it as compression. The water's energy gain less the
+  // solid's work on it and this stays at or below zero (viscosity and diffusion dissipate).
+  double boundary_work() const { return boundary_work_; }
+  // Counts the walls' work from now (settle(): its motion is not the run's).
+  void reset_boundary_work() { boundary_work_ = 0.0; }
 
   double time() const { return time_; }
   long steps() const { return steps_; }
@@ -162,6 +173,7 @@ class Fluid {
     FluidParticles fluid;
     BoundaryParticles boundary;
     double time = 0.0, v_max = 0.0, a_max = 0.0, damping_rate = 0.0;
+    double boundary_work = 0.0;
     long steps = 0;
     bool record = false;
     std::vector<double> rec_fx, rec_fy;
@@ -221,6 +233,8 @@ class Fluid {
   double skin_ = 0.0;
   double time_ = 0.0;
   long steps_ = 0;
+  double boundary_work_ = 0.0;      // J/m, boundary_work()
+  std::vector<double> wall_power_;  // scratch: each fluid particle's share of the walls' power
   long vl_built_at_ = 0;
   double v_max_ = 0.0, a_max_ = 0.0;
   bool sound_ = true;

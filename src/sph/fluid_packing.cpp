@@ -28,6 +28,7 @@ double settle(Fluid& fluid, double duration, double rate) {
   }
   fluid.set_packing(0.0);
   fluid.set_settling_damping(0.0);
+  fluid.reset_boundary_work();
   return fluid.max_speed();
 }
 

@@ -162,16 +162,21 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
 }
 
 // The walls' continuity terms, a gather; the fluid away from the walls (no boundary
-// particle in its cell's search block) skips them.
+// particle in its cell's search block) skips them. With the modified dynamic boundary each
+// term weighted by its wall's p / rho^2 too: the particle's share of the power of the walls'
+// pressure, which no wall state stores (boundary_work()).
 void Fluid::density_from_walls(std::size_t lo, std::size_t hi) {
   const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, mb = b_.mass;
   const auto border = boundary_cells_.order();
   const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
+  const double *bp = b_.p.data(), *brho = b_.rho.data();
+  const bool book = par_.boundary == BoundaryCondition::ModifiedDynamic;
   for (std::size_t i = lo; i < hi; ++i) {
+    wall_power_[i] = 0.0;
     const int cell = fluid_cells_.cell(i);
     if (!near_wall_[static_cast<std::size_t>(cell)]) continue;
     const double xi = f_.x[i], yi = f_.y[i], vxi = f_.vx[i], vyi = f_.vy[i];
-    double cont = 0.0;
+    double cont = 0.0, power = 0.0;
     boundary_cells_.for_each_range(cell, [&](std::int32_t k0, std::int32_t k1) {
       for (std::int32_t kk = k0; kk < k1; ++kk) {
         const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(kk)]);
@@ -179,10 +184,13 @@ void Fluid::density_from_walls(std::size_t lo, std::size_t hi) {
         const double r2 = dx * dx + dy * dy;
         if (r2 >= s2) continue;
         const double f = wendland_gradient_factor(r2, inv_h, gc);
-        cont += mb * f * ((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy);
+        const double term = mb * f * ((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy);
+        cont += term;
+        if (book) power += bp[j] / (brho[j] * brho[j]) * term;
       }
     });
     f_.drho[i] += cont;
+    wall_power_[i] = power;
   }
 }
 

@@ -21,7 +21,7 @@ void check_count(const std::vector<T>& v, std::size_t n, const char* what) {
 }  // namespace
 
 Fluid::State Fluid::state() const {
-  return {f_, b_, time_, v_max_, a_max_, damping_rate_, steps_, record_, rec_fx_, rec_fy_};
+  return {f_, b_, time_, v_max_, a_max_, damping_rate_, boundary_work_, steps_, record_, rec_fx_, rec_fy_};
 }
 
 void Fluid::restore(const State& s) {
@@ -48,6 +48,7 @@ void Fluid::restore(const State& s) {
   v_max_ = s.v_max;
   a_max_ = s.a_max;
   damping_rate_ = s.damping_rate;
+  boundary_work_ = s.boundary_work;
   record_ = s.record;
   rec_fx_ = record_ ? s.rec_fx : std::vector<double>();
   rec_fy_ = record_ ? s.rec_fy : std::vector<double>();

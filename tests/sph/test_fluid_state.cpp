@@ -63,6 +63,8 @@ void expect_same_state(const Fluid& a, const Fluid& b) {
   EXPECT_EQ(s.steps, t.steps);
   EXPECT_EQ(std::memcmp(&s.v_max, &t.v_max, sizeof(double)), 0);
   EXPECT_EQ(std::memcmp(&s.a_max, &t.a_max, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&s.boundary_work, &t.boundary_work, sizeof(double)), 0);
+  EXPECT_EQ(a.boundary_work(), s.boundary_work);
 }
 
 }  // namespace
