@@ -131,7 +131,8 @@ class Fluid {
     double kinetic = 0.0, potential = 0.0, compression = 0.0;
   };
   Energy energy() const;
-  // The work the walls' own pressure has done on the water since the fluid was built (J/m):
+  // The work the walls' own pressure has done on the water since the fluid was built or its
+  // settle() ended (J/m):
   // with the modified dynamic boundary the extrapolated wall density follows no continuity
   // equation, so the pressure term of the fluid-wall pairs does work no state stores. It is
   // -m_b p_j / rho_j^2 D_j summed over the walls, D_j the continuity rate the wall would have
