@@ -102,10 +102,8 @@ def tables(cases):
     out += ["", "| case | wall / CPU time (s, one thread) | still level - reservoir.level (h) | particles escaped "
             "| slide energy handed to the water | highest water on the end wall (m) |", "|---|---|---|---|---|---|"]
     for c in cases:
-        wt = (f"{c['wall']:.0f}" if c["wall"] is not None else "-") + " / " + (
-            f"{c['cpu']:.0f}" if c["cpu"] is not None else "-")
-        handed = f"{c['handed']:.2f}" if c["handed"] is not None else "-"
-        out.append(f"| {c['name']} | {wt} | {c['offset']:+.4f} | {c['escaped']} | {handed} | {fmt(c['runup'], '.3f')} |")
+        out.append(f"| {c['name']} | {fmt(c['wall'], '.0f')} / {fmt(c['cpu'], '.0f')} | {c['offset']:+.4f} | {c['escaped']} "
+                   f"| {fmt(c['handed'], '.2f')} | {fmt(c['runup'], '.3f')} |")
     return out
 
 

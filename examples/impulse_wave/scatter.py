@@ -21,8 +21,9 @@ def main():
     runs = sorted(glob.glob(os.path.join(root, "settle_*")))
     rows = ["| case | runs | a_M H&H (m) | F | max_wave_amplitude_m / a_M: mean, sd (range) | "
             "largest gauge crest / a_M: mean, sd (range) |", "|---|---|---|---|---|---|"]
-    for name in ("A", "B", "C"):
-        cases = [read_case(os.path.join(r, name), xs) for r in runs if os.path.isdir(os.path.join(r, name))]
+    by_case = {name: [read_case(os.path.join(r, name), xs) for r in runs if os.path.isdir(os.path.join(r, name))]
+               for name in ("A", "B", "C")}
+    for name, cases in by_case.items():
         if not cases:
             continue
         a = [c["a"] / c["aHH"] for c in cases]
@@ -42,8 +43,7 @@ def main():
         sd = statistics.stdev(v) if len(v) > 1 else 0.0
         return f"{statistics.mean(v):.2f}, {sd:.2f} ({min(v):.2f}-{max(v):.2f}), {len(v)} runs"
 
-    for name in ("A", "B", "C"):
-        cases = [read_case(os.path.join(r, name), xs) for r in runs if os.path.isdir(os.path.join(r, name))]
+    for name, cases in by_case.items():
         if not cases or not cases[0]["decay"]:
             continue
         for i, g in enumerate(cases[0]["decay"]):

@@ -70,10 +70,10 @@ Json water_stages(const io::Scenario& sc) {
 Json wave_along_reservoir(const Shore& shore, const water::ImpulseWave& w, const WaterWatch& watch, double t_entry) {
   Json gauges = Json::array();
   const int dir = wave_direction(shore);
+  auto number = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
   for (const WaterWatch::GaugeWave& g : watch.primary_waves(t_entry)) {
     const double x = (g.x - shore.shoreline.x()) * dir;
     if (!(x > 0.0)) continue;  // on the slide's side of the shoreline
-    auto number = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
     const double a = water::heller_hager_amplitude_at(w, shore.depth, x), H = water::heller_hager_height_at(w, shore.depth, x);
     gauges.push_back(Json::object({{"name", g.name},
                                    {"x_m", g.x},
