@@ -306,13 +306,22 @@ def gauge_wave(out: Path, after: float | None) -> dict[str, tuple[float, float]]
     return res
 
 
-def wave_comparison(mw: dict, h, gauges: dict[str, tuple[float, float]]) -> str:
+def primary_height(h) -> tuple[float | None, str | None]:
+    """The largest primary wave (first crest to the trough after it) among the gauges beyond the shoreline."""
+    waves = [(g["height_m"], g.get("name")) for g in (h.get("gauges") or []) if isinstance(g, dict)
+             and isinstance(g.get("height_m"), (int, float))] if isinstance(h, dict) else []
+    return max(waves, key=lambda w: w[0], default=(None, None))
+
+
+def wave_comparison(mw: dict, h) -> str:
     """The computed wave beside Heller & Hager's estimate, and the validity verdict."""
     peak = mw.get("max_wave_amplitude") or {}
     a = peak.get("amplitude_m")
-    height = max((hi - lo for hi, lo in gauges.values()), default=None)
     missing = heller_hager_missing(h)
     hh = {} if missing else h
+    # H as Heller & Hager measure it: one wave's crest to its trough (the gauges' highest and
+    # lowest over the whole record would add the drawdown and the basin's sloshing).
+    height, height_gauge = primary_height(hh)
     entry = (hh.get("impact_point_m") or [None])[0]
     dist = abs(peak["x_m"] - entry) if isinstance(entry, (int, float)) and isinstance(peak.get("x_m"), (int, float)) \
         else None
@@ -322,13 +331,17 @@ def wave_comparison(mw: dict, h, gauges: dict[str, tuple[float, float]]) -> str:
 
     rows = [["<td>maximum wave amplitude a_M (m)</td>", _num(a), _num(hh.get("amplitude_m")),
              ratio(a, hh.get("amplitude_m"))],
-            ["<td>maximum wave height H_M (m): computed, the largest crest-to-trough at a gauge after the entry</td>",
+            ["<td>maximum wave height H_M (m): computed, the largest primary wave (first crest to the trough after "
+             f"it) at a gauge beyond the shoreline{f' ({esc(height_gauge)})' if height_gauge else ''}</td>",
              _num(height), _num(hh.get("height_m")), ratio(height, hh.get("height_m"))],
             ["<td>distance from the slide's entry (m): computed, of a_M; Heller &amp; Hager, of H_M</td>",
              _num(dist), _num(hh.get("distance_of_max_height_m")), _num(None)]]
     body = _table(["", "computed (moving water)", "Heller & Hager (2010)", "computed / Heller & Hager"], rows)
     if missing:
         return body + f'<p class="note">{missing}</p>'
+    if height is None:
+        body += ('<p class="note">No gauge beyond the shoreline saw a whole primary wave (the trough after its first '
+                 'crest) before the run ended: no computed H_M. Gauges nearer the slide, or a longer run, give it.</p>')
     outside = h.get("outside_validity") or []
     if h.get("inside_validity") and not outside:
         body += ('<p><b>Inside the range of Heller &amp; Hager\'s experiments</b> (slide Froude number, relative '
@@ -438,7 +451,7 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     if isinstance(a, (int, float)) and a <= 0:
         parts.append('<p class="note">The water\'s surface never rose above the still level in the reservoir '
                      f"(largest amplitude {lib.fmt_num(a)} m): no wave was measured.</p>")
-    parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h, gauges)
+    parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h)
                  + wave_along_reservoir(h))
     since = " after the slide's entry" if isinstance(after, (int, float)) else ""
     parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))

@@ -169,6 +169,36 @@ TEST_F(WaterPost, RenderDrawsTheWaterMatchedByTime) {
   fs::remove_all(out);
 }
 
+// The computed H_M is one wave's crest to its trough, as Heller & Hager measure it: the
+// largest primary wave among the gauges beyond the shoreline, named; none seen, a note says so.
+TEST_F(WaterPost, ReportsTheLargestPrimaryWaveAsTheComputedHeight) {
+  const fs::path out = copy_of(out_, "post_water_height");
+  ASSERT_EQ(run_dsdem("plot " + out.string() + " -q").exit_code, 0);
+  json s = read_json(out / "summary.json");
+  ASSERT_TRUE(s["heller_hager"]["slide_entered_water"].get<bool>());
+  const double H_hh = s["heller_hager"]["height_m"];
+  auto gauge = [](const char* name, json height) { return json::object({{"name", name}, {"height_m", height}}); };
+  s["heller_hager"]["gauges"] = json::array({gauge("near", 0.0312), gauge("far", 0.0451), gauge("end", nullptr)});
+  write_json(out / "summary.json", s);
+  auto c = run_dsdem("report " + out.string() + " -q --no-render");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  std::string wave = section(read_text(out / "report.html"), "reservoir-wave");
+  const auto row = wave.find("maximum wave height H_M");
+  ASSERT_NE(row, std::string::npos) << wave.substr(0, 2000);
+  const std::string cells = wave.substr(row, wave.find("</tr>", row) - row);
+  EXPECT_NE(cells.find("(far)"), std::string::npos) << cells;
+  EXPECT_NE(cells.find(cell(0.0451) + cell(H_hh) + cell(0.0451 / H_hh)), std::string::npos) << cells;
+  EXPECT_EQ(wave.find("No gauge beyond the shoreline saw a whole primary wave"), std::string::npos);
+
+  s["heller_hager"]["gauges"] = json::array({gauge("end", nullptr)});
+  write_json(out / "summary.json", s);
+  c = run_dsdem("report " + out.string() + " -q --no-render");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  wave = section(read_text(out / "report.html"), "reservoir-wave");
+  EXPECT_NE(wave.find("No gauge beyond the shoreline saw a whole primary wave"), std::string::npos);
+  fs::remove_all(out);
+}
+
 // Why the comparison is missing; and a reservoir without moving water: the Heller & Hager
 // estimate alone, as before.
 TEST_F(WaterPost, ReportSaysWhyThereIsNoEstimateAndKeepsTheDryReservoirSection) {
