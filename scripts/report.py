@@ -198,7 +198,7 @@ def key_cards(summary: dict) -> str:
     runups = [(v, n) for n, v in (summary.get("max_runup_m") or {}).items() if isinstance(v, (int, float))]
     if runups:
         v, n = max(runups)
-        card(scaled(v, "m"), f"highest run-up above the still level ({n})")
+        card(scaled(v, "m"), f"highest run-up above the reservoir level ({n})")
     for k in ("broken_joints", "fragments"):
         if isinstance(summary.get(k), (int, float)):
             card(lib.fmt_num(summary[k]), lib.humanize(k))
@@ -383,11 +383,18 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
                      ("when", "s", peak.get("time_s"))])
     runup = mw.get("runup") or {}
     if runup:
-        body += _table(["bank", "highest water (m)", "above the reservoir level (m)", "at (s)"],
+        body += _table(["bank", "highest water (m)", "above the reservoir level (m)", "at rest against it (m)",
+                        "rise above its rest (m)", "at (s)"],
                        [[f"<td><b>{esc(n)}</b></td>", _num(r.get("elevation_m")),
                          _num(r["elevation_m"] - level if isinstance(r.get("elevation_m"), (int, float))
-                              and isinstance(level, (int, float)) else None), _num(r.get("time_s"))]
+                              and isinstance(level, (int, float)) else None), _num(r.get("at_rest_elevation_m")),
+                         _num(r.get("rise_m")), _num(r.get("time_s"))]
                         for n, r in runup.items()])
+        late = [n for n, r in runup.items() if r.get("peak_at_end_of_run")]
+        if late:
+            body += (f'<p class="note">The run-up on {", ".join(esc(n) for n in late)} was highest at the run\'s last '
+                     "row: the water may still have been rising there (a wave that has not reached the bank leaves "
+                     "only the water at rest); a longer run would tell.</p>")
     crests = mw.get("overtopping") or {}
     if crests:
         body += _table(["crest", "water past it (m²/m)", "at (s)"],

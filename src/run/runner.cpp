@@ -466,6 +466,13 @@ RunResult Runner::finish() {
                "reservoir.sph.freeboard): there the rock carries no wall and the water may run through it; raise the "
                "freeboard (summary.json moving_water.above_freeboard_particles)",
                facts.water->above_freeboard_particles(), facts.water->coupled_top());
+  if (facts.water)
+    for (const auto& r : facts.water->runup())
+      if (facts.water->at_last_row(r.peak))
+        log_->warn("the run-up on '{}' was highest at the run's last row (t = {:.6g} s): the water may still have been "
+                   "rising there, and a wave that has not reached the bank yet leaves only the water at rest; a longer "
+                   "run would tell (summary.json moving_water.runup.{})",
+                   r.name, r.peak.t, r.name);
   if (facts.water && prepared_.moving_water) warn_of_fast_water(*log_, *facts.water, prepared_.moving_water->parameters.c0);
   facts.max_balance_error = max_balance_error;
   facts.completed = completed;

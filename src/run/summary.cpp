@@ -157,7 +157,15 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["flow_speed"] = peak(w.flow_speed(), "speed_mps", false);
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
   Json runup = Json::object();
-  for (const auto& r : w.runup()) runup[r.name] = peak(r.peak, "elevation_m", false);
+  for (const auto& r : w.runup()) {
+    // The rise above the bank's own reading at rest: what the wave added there.
+    Json j = peak(r.peak, "elevation_m", false);
+    const bool rest = r.peak.seen && std::isfinite(r.at_rest);
+    j["at_rest_elevation_m"] = rest ? Json(r.at_rest) : Json(nullptr);
+    j["rise_m"] = rest ? Json(r.peak.value - r.at_rest) : Json(nullptr);
+    j["peak_at_end_of_run"] = w.at_last_row(r.peak);
+    runup[r.name] = j;
+  }
   m["runup"] = runup;
   Json crests = Json::object();
   for (const auto& c : w.crests()) crests[c.name] = peak(c.peak, "volume_m2_per_m", false);

@@ -160,6 +160,7 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
+  last_t_ = t;
   // A gauge reads the water body's surface, not spray thrown above it.
   const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution, 2.0 * dp_);
   for (std::size_t g = 0; g < eta.size(); ++g) {
@@ -203,6 +204,7 @@ void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<dou
   const sph::FluidParticles& f = fluid.fluid();
   for (std::size_t r = 0; r < runup_.size(); ++r) {
     const double z = sph::runup_on_polyline(f, spec_.runup[r].polyline, dp_, dp_);
+    if (std::isnan(runup_[r].at_rest)) runup_[r].at_rest = z;
     row[k++] = z;
     raise(runup_[r].peak, z, 0.0, t);
   }
@@ -267,6 +269,8 @@ std::vector<double> WaterWatch::state() const {
     s.insert(s.end(), gauge_t_[g].begin(), gauge_t_[g].end());
     s.insert(s.end(), gauge_eta_[g].begin(), gauge_eta_[g].end());
   }
+  s.push_back(last_t_);
+  for (const auto& r : runup_) s.push_back(r.at_rest);
   return s;
 }
 
@@ -302,6 +306,11 @@ void WaterWatch::restore(std::span<const double> s) {
     gauge_eta_[g].resize(n);
     for (double& v : gauge_t_[g]) v = take();
     for (double& v : gauge_eta_[g]) v = take();
+  }
+  // A checkpoint written before the last row's time and the banks' rest were kept: unknown.
+  if (k < s.size()) {
+    last_t_ = take();
+    for (auto& r : runup_) r.at_rest = take();
   }
   if (k != s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
 }

@@ -67,6 +67,8 @@ class WaterWatch {
     std::string name;
     Peak peak;             // run-up elevation (m), overtopped area (m^2/m) or force magnitude (N/m)
     double pressure = 0.0;  // Pa, the peak pressure on a pressure curve
+    // m, a bank's run-up at the first row (the settled water at rest against it; NaN until then)
+    double at_rest = std::numeric_limits<double>::quiet_NaN();
   };
   const std::vector<Named>& runup() const { return runup_; }
   const std::vector<Named>& crests() const { return crests_; }
@@ -99,6 +101,9 @@ class WaterWatch {
   // exceed (m/s) and when. Beyond c0 / 10 the weakly compressible water's density errs by more
   // than about 1 % (DESIGN.md §13).
   const Peak& flow_speed() const { return flow_speed_; }
+  // True when this peak came at the last row observed: the quantity may still have been
+  // growing when the run ended.
+  bool at_last_row(const Peak& p) const { return p.seen && p.t >= last_t_; }
   double coupled_top() const { return top_; }
   double level() const { return level_; }
   // The still level the wave's amplitude is measured from (m): the water's mean surface at
@@ -116,6 +121,7 @@ class WaterWatch {
   const io::SphSpec& spec_;
   double level_ = 0.0, dp_ = 0.0, h_ = 0.0;
   double still_ = std::numeric_limits<double>::quiet_NaN();
+  double last_t_ = -std::numeric_limits<double>::infinity();  // s, the last row observed
   int direction_ = 0;
   Vec2 box_min_ = Vec2::Zero(), box_max_ = Vec2::Zero();  // the model's, grown by 2h
   long escaped_ = 0, above_top_ = 0, inside_ = 0;
