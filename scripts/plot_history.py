@@ -379,10 +379,14 @@ class Plotter:
         f, u = self._scaled([self.h.col(c) for c in cols], "J/m")
         styles = {"kinetic": "-", "strain": "-", "gravity_potential": "-", "external_work": "-.", "water_work": "-."}
         lines = []
-        for c in cols:
+        # Twenty distinct colours (tab20's dark shades, then its light ones): a run with moving
+        # water has more than tab10's ten energy curves, and a wrapped cycle gave two the same.
+        tab20 = plt.get_cmap("tab20").colors
+        colours = tab20[0::2] + tab20[1::2]
+        for i, c in enumerate(cols):
             q = lib.split_unit(c)[0]
             ls = styles.get(q, "--" if ("dissipat" in q) else "-")
-            lines += ax.plot(self.t, self.h.col(c) * f, ls=ls, label=lib.humanize(q))
+            lines += ax.plot(self.t, self.h.col(c) * f, ls=ls, color=colours[i % len(colours)], label=lib.humanize(q))
             self.used.add(c)
         ax.axhline(0, color="0.5", lw=0.8, zorder=0.5)
         self._time_axis(ax)

@@ -32,6 +32,7 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   energies["contact_damping_dissipated"] = e.contact_damping_dissipated;
   energies["plastic_dissipated"] = e.plastic_dissipated;
   energies["water_work"] = e.water_work;
+  energies["moving_water_work"] = e.moving_water_work;  // the SPH water's on the solid; closes the balance with it
   energies["verlet_kinetic_offset"] = e.verlet_kinetic_offset;
   return energies;
 }

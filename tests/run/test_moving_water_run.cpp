@@ -156,6 +156,7 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   const double work = m["moving_water_work_J_per_m"].get<double>();
   EXPECT_LT(work, 0.0);  // the water took work from the solid
   EXPECT_DOUBLE_EQ(work, work_end);
+  EXPECT_DOUBLE_EQ(s["final_energies"]["moving_water_work"].get<double>(), work);  // the ledger's own term
   EXPECT_GT(gain_end, 0.0);
   EXPECT_LT(gain_end, -1.01 * work);
   EXPECT_LT(s["energy_balance_error"].get<double>(), 0.01);
