@@ -211,7 +211,7 @@ struct CrestSpec {
 // A body of water the region fills: a rectangle, or a polygon below a level.
 struct WaterFillSpec {
   std::vector<Vec2> polygon;  // m, counter-clockwise or not; a rectangle becomes four corners
-  double level = std::numeric_limits<double>::infinity();  // m, no water above it
+  double level = std::numeric_limits<double>::infinity();  // m, no water above it; unset: reservoir.level
   SourceLocation where;
 };
 

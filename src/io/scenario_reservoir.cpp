@@ -1,4 +1,5 @@
 // The reservoir section of the scenario (DESIGN.md §13).
+#include <cmath>
 #include <fmt/format.h>
 
 #include "io/scenario_sections.hpp"
@@ -127,6 +128,9 @@ void read_reservoir(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   }
   res.density = r.number(s, p, "density").value_or(1000.0);
   read_sph(r, s, p, res.sph);
+  // A region without its own level holds no water above the reservoir's.
+  for (WaterFillSpec& f : res.sph.fill)
+    if (std::isinf(f.level)) f.level = res.level;
 }
 
 }  // namespace dsdem::io::detail

@@ -201,6 +201,29 @@ void fill_particles(const std::vector<io::WaterFillSpec>& regions, const SolidLo
   out.fluid.mass = out.parameters.mass();
 }
 
+// Water laid beyond the model's bounding box has no solid to hold it: it would fall out of
+// the model at once. Refused at the keys of the regions that reach past the box.
+void refuse_water_outside_the_model(const std::vector<io::WaterFillSpec>& regions, const Model& model,
+                                    const sph::FluidParticles& fluid) {
+  const Bounds box = bounds_of(model.nodes.X);
+  long outside = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    outside += fluid.x[i] < box.x0 || fluid.x[i] > box.x1 || fluid.y[i] < box.y0 || fluid.y[i] > box.y1;
+  if (outside == 0) return;
+  std::vector<std::string> errors;
+  for (const auto& region : regions) {
+    const Bounds b = bounds_of(region.polygon);
+    if (b.x0 < box.x0 || b.x1 > box.x1 || b.y0 < box.y0 || std::min(b.y1, region.level) > box.y1)
+      errors.push_back(region.where.describe(fmt::format(
+          "the region reaches beyond the model (x {:.6g} to {:.6g} m, y {:.6g} to {:.6g} m): {} of its water particles "
+          "would lie where no solid holds them",
+          box.x0, box.x1, box.y0, box.y1, outside)));
+  }
+  if (errors.empty())
+    errors.push_back(fmt::format("reservoir.sph.fill: {} water particles lie beyond the model", outside));
+  throw io::ScenarioError(errors);
+}
+
 // Whether the region's extent (width and height below its level) is a finite number.
 bool finite_extent(const io::WaterFillSpec& region) {
   const Bounds b = bounds_of(region.polygon);
@@ -277,7 +300,10 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   fill_particles(regions, solid, out);
   if (out.fluid.size() == 0)
     throw io::ScenarioError({w.where.describe(fmt::format(
-        "no water fits: the fill regions lie inside the solid or are thinner than the spacing {} m", w.spacing))});
+        "no water fits: the fill regions lie inside the solid, above their level (reservoir.level, {} m, unless a region "
+        "gives its own) or are thinner than the spacing {} m",
+        sc.reservoir.level, w.spacing))});
+  refuse_water_outside_the_model(regions, model, out.fluid);
   double lowest = std::numeric_limits<double>::infinity(), level = -lowest;
   out.x_min = lowest, out.x_max = -lowest;
   for (std::size_t i = 0; i < out.fluid.size(); ++i) {

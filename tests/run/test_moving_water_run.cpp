@@ -323,6 +323,15 @@ TEST(ReservoirWater, BadSectionsAreErrorsAtTheirKeys) {
   EXPECT_NE(off.find("--set reservoir.sph.gauges"), std::string::npos) << off;
   const std::string rock = prepare_error({"reservoir.sph.fill=[{rectangle: [[13.2, -0.8], [13.8, 4.5]]}]"});
   EXPECT_NE(rock.find("no water fits"), std::string::npos) << rock;
+  // A region holds no water above reservoir.level unless it gives its own level.
+  const std::string above = prepare_error({"reservoir.sph.fill=[{rectangle: [[6, 2.5], [8, 3]]}]"});
+  EXPECT_NE(above.find("no water fits: the fill regions lie inside the solid, above their level (reservoir.level, 2 m"),
+            std::string::npos)
+      << above;
+  EXPECT_EQ(prepare_error({"reservoir.sph.fill=[{rectangle: [[6, 2.5], [10, 3]], level: 3}]"}), "");
+  // Water beyond the model's box has nothing to hold it: refused at its region.
+  const std::string beyond = prepare_error({"reservoir.sph.fill=[{rectangle: [[20, 0], [30, 1]]}]"});
+  EXPECT_NE(beyond.find("reservoir.sph.fill[0]: the region reaches beyond the model"), std::string::npos) << beyond;
 }
 
 // A spacing a thousand times too fine (a value in the wrong unit), or a region far too large,
