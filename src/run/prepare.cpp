@@ -136,10 +136,14 @@ void warn_of_places_the_water_cannot_reach(const io::SphSpec& sph, const MovingW
         log.push_back({3, c.where.describe(fmt::format("'{}' lies outside the region the water can reach ({}): it will "
                                                        "read nothing", c.name, region))});
   for (const auto& c : sph.crests)
-    if (c.at.y() > w.coupled_top)
-      log.push_back({3, c.where.describe(fmt::format("crest '{}' at y = {:.6g} m lies above the region the water can "
-                                                     "reach ({}): no water will pass it", c.name, c.at.y(), region))});
+    if (c.at.y() > w.coupled_top || c.at.x() < w.coupled_x0 || c.at.x() > w.coupled_x1)
+      log.push_back({3, c.where.describe(fmt::format("crest '{}' at ({:.6g}, {:.6g}) m lies outside the region the water "
+                                                     "can reach ({}): no water will pass it",
+                                                     c.name, c.at.x(), c.at.y(), region))});
 }
+
+// Rows of water over its depth below which the run warns.
+constexpr double kFewestRows = 10.0;
 
 // The moving water's particles and coupled faces, and its measuring places against them.
 void lay_out_water(PreparedRun& run) {
@@ -183,6 +187,17 @@ void lay_out_water(PreparedRun& run) {
                 "level); a spacing that divides the depth, e.g. {:.6g} m, fills it",
                 w.depth, run.shore->depth, run.shore->depth - w.depth,
                 run.shore->depth / std::max(1.0, std::round(run.shore->depth / par.dp))))});
+  }
+  // Few rows over the depth: the wave, the pressures and the settled level are all resolved
+  // on them (the validation cases use 20 or more, docs/validation.md §5).
+  if (w.depth < kFewestRows * par.dp) {
+    io::SourceLocation spacing = res.sph.where;
+    spacing.key += ".spacing";
+    run.build_log.push_back({3, spacing.describe(fmt::format(
+                                    "the water is {:.3g} spacings deep ({:.4g} m at {:.4g} m): fewer than {:.0f} rows "
+                                    "resolve neither the wave nor the pressures; a spacing of {:.3g} m or less gives "
+                                    "{:.0f}",
+                                    w.depth / par.dp, w.depth, par.dp, kFewestRows, w.depth / kFewestRows, kFewestRows))});
   }
   run.moving_water = std::move(w);
 }

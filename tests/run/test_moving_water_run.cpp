@@ -372,9 +372,18 @@ TEST(ReservoirWater, PlacesTheWaterCannotReachAreWarnedOf) {
   EXPECT_NE(far.find("reservoir.sph.runup[0]: 'far' lies outside the region the water can reach"), std::string::npos)
       << far;
   EXPECT_NE(far.find("reservoir.sph.pressure[0]: 'high' lies outside"), std::string::npos) << far;
-  EXPECT_NE(far.find("reservoir.sph.crests[0]: crest 'top' at y = 30 m lies above"), std::string::npos) << far;
+  EXPECT_NE(far.find("reservoir.sph.crests[0]: crest 'top' at (13, 30) m lies outside"), std::string::npos) << far;
+  // A crest beside the region (a dam 40 m away) is out of reach too.
+  const std::string beside = warnings({"reservoir.sph.crests=[{name: dam, at: [80, 1]}]"});
+  EXPECT_NE(beside.find("reservoir.sph.crests[0]: crest 'dam' at (80, 1) m lies outside"), std::string::npos) << beside;
   // A curve that crosses the region with both ends outside it is within reach.
   EXPECT_EQ(warnings({"reservoir.sph.runup=[{name: across, polyline: [[-50, 1], [60, 1]]}]"}), "");
+  // Water a few spacings deep (the flume's 2 m at 0.5 m) is warned of at the spacing, with one
+  // that gives ten rows; ten rows (0.2 m) are not.
+  const std::string shallow = warnings({"reservoir.sph.spacing=0.5"});
+  EXPECT_NE(shallow.find("reservoir.sph.spacing: the water is 4 spacings deep (2 m at 0.5 m)"), std::string::npos)
+      << shallow;
+  EXPECT_NE(shallow.find("a spacing of 0.2 m or less gives 10"), std::string::npos) << shallow;
 }
 
 // The water's speeds at the history rows go to summary.json: the fastest particle, and the
