@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -17,6 +18,7 @@
 #include "run/bounds.hpp"
 #include "run/time_step.hpp"
 #include "seismic/artificial_wave.hpp"
+#include "water/hydrostatic.hpp"
 
 namespace dsdem::run {
 
@@ -142,6 +144,37 @@ void warn_of_places_the_water_cannot_reach(const io::SphSpec& sph, const MovingW
                                                      c.name, c.at.x(), c.at.y(), region))});
 }
 
+// The water-at-rest section's piezometric line over the moving water's span should stand at
+// the pool's level: elsewhere the rock's pore pressure under the pool does not match the water
+// above it (DESIGN.md §11, §13). Said once per distinct line, at its key.
+void warn_of_a_piezometric_line_off_the_pool(const io::Scenario& sc, const MovingWaterLayout& w,
+                                             std::vector<PreparedRun::LogLine>& log) {
+  std::vector<std::vector<Vec2>> said;
+  for (const auto& st : sc.stages) {
+    const io::WaterSpec& ws = st.water;
+    if (!ws.present || ws.ru > 0.0 || ws.line.empty()) continue;
+    if (std::find(said.begin(), said.end(), ws.line) != said.end()) continue;
+    said.push_back(ws.line);
+    const water::PiezometricLine line(ws.line);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    constexpr int kSamples = 64;
+    for (int k = 0; k <= kSamples; ++k) {
+      const double z = line.elevation(w.x_min + (w.x_max - w.x_min) * k / kSamples);
+      lo = std::min(lo, z), hi = std::max(hi, z);
+    }
+    const double level = sc.reservoir.level, off = std::max(hi - level, level - lo);
+    if (off > 0.5 * w.parameters.dp)
+      log.push_back({3, ws.where.describe(fmt::format(
+                            "the piezometric line over the moving water (x {:.6g} to {:.6g} m) stands at {} m, the "
+                            "pool at reservoir.level {:.6g} m: the rock's pore pressure under the pool does not match "
+                            "the water above it",
+                            w.x_min, w.x_max,
+                            hi - lo > 1e-9 * std::max(1.0, std::fabs(hi)) ? fmt::format("{:.6g} to {:.6g}", lo, hi)
+                                                                          : fmt::format("{:.6g}", hi),
+                            level))});
+  }
+}
+
 // Rows of water over its depth below which the run warns.
 constexpr double kFewestRows = 10.0;
 
@@ -188,6 +221,7 @@ void lay_out_water(PreparedRun& run) {
                 w.depth, run.shore->depth, run.shore->depth - w.depth,
                 run.shore->depth / std::max(1.0, std::round(run.shore->depth / par.dp))))});
   }
+  warn_of_a_piezometric_line_off_the_pool(run.scenario, w, run.build_log);
   // Few rows over the depth: the wave, the pressures and the settled level are all resolved
   // on them (the validation cases use 20 or more, docs/validation.md §5).
   if (w.depth < kFewestRows * par.dp) {

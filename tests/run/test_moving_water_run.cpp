@@ -384,6 +384,14 @@ TEST(ReservoirWater, PlacesTheWaterCannotReachAreWarnedOf) {
   EXPECT_NE(shallow.find("reservoir.sph.spacing: the water is 4 spacings deep (2 m at 0.5 m)"), std::string::npos)
       << shallow;
   EXPECT_NE(shallow.find("a spacing of 0.2 m or less gives 10"), std::string::npos) << shallow;
+  // A water-at-rest line that stands off the pool's level over the moving water is warned of at
+  // its key; one at the level is not.
+  const std::string off = warnings({"water={level: 2.6}"});
+  EXPECT_NE(off.find("water.level: the piezometric line over the moving water (x 4.2 to 13 m) stands at 2.6 m, the pool "
+                     "at reservoir.level 2 m"),
+            std::string::npos)
+      << off;
+  EXPECT_EQ(warnings({"water={line: [[-20, 2], [40, 2]]}"}), "");
 }
 
 // The water's speeds at the history rows go to summary.json: the fastest particle, and the
