@@ -59,6 +59,7 @@ _UNIT_SUFFIXES = [
     ("N_per_m2", "N/m²"),
     ("m_per_s2", "m/s²"),
     ("J_per_m", "J/m"),
+    ("kg_per_m", "kg/m"),
     ("N_per_m", "N/m"),
     ("W_per_m", "W/m"),
     ("N_per_m3", "N/m³"),

@@ -109,6 +109,8 @@ def img_tag(path: Path, alt: str) -> str:
 
 
 def value_cell(v) -> str:
+    if v is None:  # null in summary.json: not measured (a wave period with fewer than two crests)
+        return _num(None)
     if isinstance(v, (int, float)) and not isinstance(v, bool):
         return f'<td class="num">{esc(lib.fmt_num(v))}</td>'
     if isinstance(v, list) and all(isinstance(x, (int, float)) for x in v):

@@ -311,8 +311,8 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(of(b + ".fill[].polygon", KeyType::Points, "", "Polygon corners, at least three.", "m"));
   s.push_back(num(b + ".fill[].level", "m", "reservoir.level", -kInf, kInf, "No water above this level."));
   s.push_back(of(b + ".gauges", KeyType::List, "",
-                 "Free-surface gauges: the surface elevation at x in history.csv (<name>_eta, above the level). "
-                 "The wave's amplitude (history wave_amplitude, summary max_wave_amplitude_m) is sought over water at "
+                 "Free-surface gauges: the surface elevation at x in history.csv (<name>_eta_m, above the level). "
+                 "The wave's amplitude (history wave_amplitude_m, summary max_wave_amplitude_m) is sought over water at "
                  "least a quarter of the deepest beyond the slide's front, above the still level measured just before "
                  "the slide enters."));
   s.push_back(of(b + ".gauges[]", KeyType::Map, "", "One gauge."));

@@ -186,12 +186,12 @@ void lay_out_water(PreparedRun& run) {
   for (const auto& g : res.sph.gauges)
     if (g.x < w.x_min || g.x > w.x_max)
       errors.push_back(
-          g.where.describe(fmt::format("gauge '{}': x = {} m lies outside the water, {} to {} m", g.name, g.x, w.x_min, w.x_max)));
+          g.where.describe(fmt::format("gauge '{}': x = {:.6g} m lies outside the water, {:.6g} to {:.6g} m", g.name, g.x, w.x_min, w.x_max)));
   if (!errors.empty()) throw io::ScenarioError(errors);
   warn_of_places_the_water_cannot_reach(res.sph, w, run.build_log);
   const auto& par = w.parameters;
-  run.build_log.push_back({2, fmt::format("reservoir water: {} particles {} m apart, {} m deep, sound speed {:.4g} m/s, "
-                                          "{} coupled faces up to {} m carrying {} wall particles",
+  run.build_log.push_back({2, fmt::format("reservoir water: {} particles {:.6g} m apart, {:.6g} m deep, sound speed {:.4g} m/s, "
+                                          "{} coupled faces up to {:.6g} m carrying {} wall particles",
                                           w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.coupled_top,
                                           w.walls.size())});
   // The artificial sound speed (DESIGN.md §13: c0 >= 10 sqrt(g H), not water's 1480 m/s) puts
