@@ -215,7 +215,7 @@ void refuse_water_outside_the_model(const std::vector<io::WaterFillSpec>& region
     const Bounds b = bounds_of(region.polygon);
     if (b.x0 < box.x0 || b.x1 > box.x1 || b.y0 < box.y0 || std::min(b.y1, region.level) > box.y1)
       errors.push_back(region.where.describe(fmt::format(
-          "the region reaches beyond the model (x {:.6g} to {:.6g} m, y {:.6g} to {:.6g} m): {} of its water particles "
+          "the region reaches beyond the model (x {:.6g} to {:.6g} m, y {:.6g} to {:.6g} m): {} water particles "
           "would lie where no solid holds them",
           box.x0, box.x1, box.y0, box.y1, outside)));
   }

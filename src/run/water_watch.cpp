@@ -307,10 +307,13 @@ void WaterWatch::restore(std::span<const double> s) {
     for (double& v : gauge_t_[g]) v = take();
     for (double& v : gauge_eta_[g]) v = take();
   }
-  // A checkpoint written before the last row's time and the banks' rest were kept: unknown.
+  // A checkpoint written before the last row's time and the banks' rest were kept: the rest
+  // is unknown (infinite: never taken from a later row, null in the summary).
   if (k < s.size()) {
     last_t_ = take();
     for (auto& r : runup_) r.at_rest = take();
+  } else {
+    for (auto& r : runup_) r.at_rest = std::numeric_limits<double>::infinity();
   }
   if (k != s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
 }
