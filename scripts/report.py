@@ -308,11 +308,12 @@ def gauge_wave(out: Path, after: float | None) -> dict[str, tuple[float, float]]
     return res
 
 
-def primary_height(h) -> tuple[float | None, str | None]:
-    """The largest primary wave (first crest to the trough after it) among the gauges beyond the shoreline."""
-    waves = [(g["height_m"], g.get("name")) for g in (h.get("gauges") or []) if isinstance(g, dict)
-             and isinstance(g.get("height_m"), (int, float))] if isinstance(h, dict) else []
-    return max(waves, key=lambda w: w[0], default=(None, None))
+def primary_height(h) -> tuple[float | None, str | None, float | None]:
+    """The largest primary wave (first crest to the trough after it) among the gauges beyond the shoreline:
+    its height, gauge and distance from the shoreline."""
+    waves = [(g["height_m"], g.get("name"), g.get("distance_m")) for g in (h.get("gauges") or [])
+             if isinstance(g, dict) and isinstance(g.get("height_m"), (int, float))] if isinstance(h, dict) else []
+    return max(waves, key=lambda w: w[0], default=(None, None, None))
 
 
 def wave_comparison(mw: dict, h) -> str:
@@ -323,20 +324,17 @@ def wave_comparison(mw: dict, h) -> str:
     hh = {} if missing else h
     # H as Heller & Hager measure it: one wave's crest to its trough (the gauges' highest and
     # lowest over the whole record would add the drawdown and the basin's sloshing).
-    height, height_gauge = primary_height(hh)
-    entry = (hh.get("impact_point_m") or [None])[0]
-    dist = abs(peak["x_m"] - entry) if isinstance(entry, (int, float)) and isinstance(peak.get("x_m"), (int, float)) \
-        else None
+    height, height_gauge, dist = primary_height(hh)
 
     def ratio(c, e):
         return _num(c / e) if isinstance(c, (int, float)) and isinstance(e, (int, float)) and e else _num(None)
 
-    rows = [["<td>maximum wave amplitude a_M (m)</td>", _num(a), _num(hh.get("amplitude_m")),
-             ratio(a, hh.get("amplitude_m"))],
+    rows = [["<td>maximum wave amplitude a_M (m): computed, the highest water above the still level beyond the "
+             "slide's front</td>", _num(a), _num(hh.get("amplitude_m")), ratio(a, hh.get("amplitude_m"))],
             ["<td>maximum wave height H_M (m): computed, the largest primary wave (first crest to the trough after "
              f"it) at a gauge beyond the shoreline{f' ({esc(height_gauge)})' if height_gauge else ''}</td>",
              _num(height), _num(hh.get("height_m")), ratio(height, hh.get("height_m"))],
-            ["<td>distance from the slide's entry (m): computed, of a_M; Heller &amp; Hager, of H_M</td>",
+            ["<td>distance of H_M from the shoreline (m): computed, its gauge's; Heller &amp; Hager, x_M</td>",
              _num(dist), _num(hh.get("distance_of_max_height_m")), _num(None)]]
     body = _table(["", "computed (moving water)", "Heller & Hager (2010)", "computed / Heller & Hager"], rows)
     if missing:

@@ -177,8 +177,11 @@ TEST_F(WaterPost, ReportsTheLargestPrimaryWaveAsTheComputedHeight) {
   json s = read_json(out / "summary.json");
   ASSERT_TRUE(s["heller_hager"]["slide_entered_water"].get<bool>());
   const double H_hh = s["heller_hager"]["height_m"];
-  auto gauge = [](const char* name, json height) { return json::object({{"name", name}, {"height_m", height}}); };
-  s["heller_hager"]["gauges"] = json::array({gauge("near", 0.0312), gauge("far", 0.0451), gauge("end", nullptr)});
+  auto gauge = [](const char* name, json height, double x) {
+    return json::object({{"name", name}, {"height_m", height}, {"distance_m", x}});
+  };
+  s["heller_hager"]["gauges"] =
+      json::array({gauge("near", 0.0312, 1.5), gauge("far", 0.0451, 3.25), gauge("end", nullptr, 6.0)});
   write_json(out / "summary.json", s);
   auto c = run_dsdem("report " + out.string() + " -q --no-render");
   ASSERT_EQ(c.exit_code, 0) << c.output;
@@ -189,8 +192,12 @@ TEST_F(WaterPost, ReportsTheLargestPrimaryWaveAsTheComputedHeight) {
   EXPECT_NE(cells.find("(far)"), std::string::npos) << cells;
   EXPECT_NE(cells.find(cell(0.0451) + cell(H_hh) + cell(0.0451 / H_hh)), std::string::npos) << cells;
   EXPECT_EQ(wave.find("No gauge beyond the shoreline saw a whole primary wave"), std::string::npos);
+  // Where: its gauge's distance from the shoreline, beside Heller & Hager's x_M.
+  const auto where = wave.find("distance of H_M from the shoreline");
+  ASSERT_NE(where, std::string::npos);
+  EXPECT_NE(wave.find(cell(3.25) + cell(s["heller_hager"]["distance_of_max_height_m"]), where), std::string::npos);
 
-  s["heller_hager"]["gauges"] = json::array({gauge("end", nullptr)});
+  s["heller_hager"]["gauges"] = json::array({gauge("end", nullptr, 6.0)});
   write_json(out / "summary.json", s);
   c = run_dsdem("report " + out.string() + " -q --no-render");
   ASSERT_EQ(c.exit_code, 0) << c.output;
