@@ -248,7 +248,24 @@ PrimaryWave primary_wave(std::span<const double> t, std::span<const double> eta,
   auto crest = std::find_if(points.begin(), points.end(), [&](const TurningPoint& p) { return p.crest && p.t >= t_from; });
   if (crest == points.end()) return w;
   w.crest = crest->eta, w.crest_t = crest->t;
-  if (const auto trough = std::next(crest); trough != points.end()) w.trough = trough->eta, w.trough_t = trough->t;
+  // The trough: the lowest surface after the crest until the series turns up by `band` (the
+  // next turning point), or until it crosses the still level upward, from below -band/4 to
+  // above +band/4 (a zero up-crossing ends the wave, so a shallow trough is one too; the
+  // quarter band keeps ripples from crossing).
+  const std::size_t n = std::min(t.size(), eta.size());
+  std::size_t k = 0;
+  while (k < n && t[k] < w.crest_t) ++k;
+  double low = INFINITY, low_t = kNaN;
+  for (; k < n; ++k) {
+    const double e = eta[k];
+    if (std::isnan(e)) continue;
+    if (e < low) {
+      low = e, low_t = t[k];
+    } else if (e > low + band || (low < -0.25 * band && e > 0.25 * band)) {
+      w.trough = low, w.trough_t = low_t;
+      break;
+    }
+  }
   return w;
 }
 

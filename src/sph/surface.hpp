@@ -71,8 +71,10 @@ std::vector<double> crest_times(std::span<const double> t, std::span<const doubl
 
 // The primary wave at a gauge from time t_from on: its first crest and the trough that
 // follows it (Heller & Hager's crest amplitude a_c and trough amplitude a_t, H = a_c + a_t,
-// when eta is measured from the still level). NaN values when the series has no crest from
-// t_from on, or no trough after it before its end.
+// when eta is measured from the still level). The trough ends at the next turning point or
+// where the surface crosses the still level upward, from below -band/4 to above +band/4 (the
+// zero up-crossing that ends a wave). NaN values when the series has no crest
+// from t_from on, or no trough after it before its end.
 struct PrimaryWave {
   double crest = std::numeric_limits<double>::quiet_NaN(), crest_t = std::numeric_limits<double>::quiet_NaN();
   double trough = std::numeric_limits<double>::quiet_NaN(), trough_t = std::numeric_limits<double>::quiet_NaN();

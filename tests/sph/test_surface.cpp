@@ -188,6 +188,33 @@ TEST(PrimaryWave, TheFirstCrestAfterTheEntryAndTheTroughThatFollowsIt) {
   EXPECT_TRUE(std::isnan(primary_wave(t, ripple, 0.0, 0.01).crest));
 }
 
+// A solitary-like crest with a trough shallower than the band (as at the flume's far gauges):
+// the surface dips 6 mm below the still level and comes back 7 mm above it, never turning up
+// by the band of 17 mm. The zero up-crossing ends the wave: the trough is the dip. A dip within
+// the quarter band (ripples) ends nothing.
+TEST(PrimaryWave, AZeroUpCrossingEndsAShallowTrough) {
+  std::vector<double> t;
+  for (int k = 0; k <= 400; ++k) t.push_back(0.01 * k);
+  auto series = [&](double dip) {
+    std::vector<double> eta;
+    for (const double s : t)
+      eta.push_back(0.1 * std::exp(-std::pow((s - 1.5) / 0.2, 2)) - dip * std::exp(-std::pow((s - 2.2) / 0.2, 2)) +
+                    0.007 * std::exp(-std::pow((s - 2.9) / 0.2, 2)));
+    return eta;
+  };
+  const double band = 0.0167;
+  const std::vector<double> eta = series(0.006);
+  const PrimaryWave w = primary_wave(t, eta, 0.5, band);
+  EXPECT_NEAR(w.crest, 0.1, 1e-3);
+  EXPECT_NEAR(w.trough, -0.006, 5e-4);
+  EXPECT_NEAR(w.trough_t, 2.2, 0.03);
+  EXPECT_NEAR(w.height(), 0.106, 1e-3);
+  // Turning points alone do not see that trough.
+  EXPECT_EQ(turning_points(t, eta, band).size(), 1u);
+  // A dip of 3 mm, within the quarter band: no trough before the record ends.
+  EXPECT_TRUE(std::isnan(primary_wave(t, series(0.003), 0.5, band).trough));
+}
+
 TEST(PrimaryWave, TurningPointsAlternateAndKeepTheCrestTimes) {
   std::vector<double> t, eta;
   for (int k = 0; k <= 2000; ++k) {
