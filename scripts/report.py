@@ -292,15 +292,18 @@ def heller_hager_missing(h) -> str:
     return ""
 
 
-def gauge_wave(out: Path, after: float | None) -> dict[str, tuple[float, float]]:
-    """Highest and lowest free surface at each gauge (from history.csv; after the slide's entry when known)."""
+def gauge_wave(out: Path, after: float | None, overrun: dict) -> dict[str, tuple[float, float]]:
+    """Highest and lowest free surface at each gauge (from history.csv; after the slide's entry when known, before
+    the slide's front reached the gauge)."""
     try:
         h = lib.read_history(out / "history.csv")
     except lib.InputError:
         return {}
-    keep = h.time >= after if isinstance(after, (int, float)) else slice(None)
     res = {}
     for g, c in wat.water_columns(h.names).gauges:
+        keep = h.time >= after if isinstance(after, (int, float)) else np.ones(h.time.shape, bool)
+        if isinstance(overrun.get(g), (int, float)):
+            keep = keep & (h.time < overrun[g])
         y = h.col(c)[keep]
         y = y[np.isfinite(y)]
         if y.size:
@@ -364,11 +367,13 @@ def wave_along_reservoir(h) -> str:
     for g in gauges:
         rows.append([f"<td><b>{esc(g['name'])}</b></td>", _num(g.get("relative_distance")), _num(g.get("crest_m")),
                      _num(g.get("heller_hager_crest_m")), _num(g.get("crest_ratio")), _num(g.get("height_m")),
-                     _num(g.get("heller_hager_height_m")), _num(g.get("height_ratio"))])
+                     _num(g.get("heller_hager_height_m")), _num(g.get("height_ratio")),
+                     _num(g.get("slide_front_reached_s"))])
     body = _table(["gauge", "x / h from the shoreline", "first crest (m)", "Heller & Hager a(x) (m)", "ratio",
-                   "crest to trough (m)", "Heller & Hager H(x) (m)", "ratio"], rows)
-    note = ("The primary wave at each gauge after the slide's entry: its first crest above the still level and the "
-            "trough after it (a dash: not seen before the run ended). Heller &amp; Hager's decay laws a(x) = 3/5 "
+                   "crest to trough (m)", "Heller & Hager H(x) (m)", "ratio", "slide's front over it from (s)"], rows)
+    note = ("The primary wave at each gauge after the slide's entry and before the slide's front reached it: its first "
+            "crest above the still level and the trough after it (a dash: not seen before the run ended or the slide "
+            "came over the gauge). Heller &amp; Hager's decay laws a(x) = 3/5 "
             "(P (x/h)^-1/3)^4/5 h and H(x) = 3/4 (...) h")
     if isinstance(onset, (int, float)):
         note += (f" meet a_M and H_M at x / h = {lib.fmt_num(onset)}; nearer the shoreline they exceed their own "
@@ -439,13 +444,14 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     h = summary.get("heller_hager")
     level = h.get("still_level_m") if isinstance(h, dict) else None
     after = h.get("impact_time_s") if isinstance(h, dict) else None
-    gauges = gauge_wave(out, after)
+    gauges = gauge_wave(out, after, mw.get("slide_front_over_gauges_s") or {})
     parts = [f'<p class="sub">Moving water (SPH): {esc(lib.fmt_num(mw.get("particles", "?")))} particles '
              f'{esc(lib.fmt_num(mw.get("spacing_m", "?")))} m apart, {esc(lib.fmt_num(mw.get("depth_m", "?")))} m deep'
              + (f", reservoir level {esc(lib.fmt_num(level))} m" if isinstance(level, (int, float)) else "")
              + (f"; settled, the water stood at {esc(lib.fmt_num(mw['still_level_m']))} m before the slide met it "
-                "(the still level the wave's amplitude is measured from; gauges and run-up are given above the "
-                "reservoir level)" if isinstance(mw.get("still_level_m"), (int, float)) else "") + ".</p>"]
+                "(the still level the wave's amplitude and the primary waves at the gauges are measured from; the "
+                "gauges' highest and lowest surface and the run-up are given above the reservoir level)"
+                if isinstance(mw.get("still_level_m"), (int, float)) else "") + ".</p>"]
     if isinstance(mw.get("escaped_particles"), int) and mw["escaped_particles"] > 0:
         parts.append(f'<p class="note">{mw["escaped_particles"]} particles left the model (a gap in the solid): '
                      "the water's measurements miss them.</p>")
@@ -461,6 +467,8 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h)
                  + wave_along_reservoir(h))
     since = " after the slide's entry" if isinstance(after, (int, float)) else ""
+    if any(isinstance(t, (int, float)) for t in (mw.get("slide_front_over_gauges_s") or {}).values()):
+        since += " until the slide came over it"
     parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))
     by_name = {p.name: p for p in plots}
     for name, cap in WATER_PLOTS:

@@ -120,6 +120,7 @@ WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, 
   for (const auto& g : spec_.gauges) gauge_x_.push_back(g.x);
   gauge_t_.resize(gauge_x_.size());
   gauge_eta_.resize(gauge_x_.size());
+  gauge_overrun_t_.assign(gauge_x_.size(), kNaN);
   // The wave is sought where the still water is at least a quarter of the deepest (the
   // run-up on the banks is measured apart), and beyond the slide (crest_beyond).
   const double dx = dp_;
@@ -167,6 +168,9 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
     row[k++] = eta[g] - level_;
     gauge_t_[g].push_back(t);
     gauge_eta_[g].push_back(eta[g] - level_);
+    if (std::isnan(gauge_overrun_t_[g]) && direction_ != 0 && std::isfinite(slide_front) &&
+        (slide_front - gauge_x_[g]) * direction_ >= 0.0)
+      gauge_overrun_t_[g] = t;
   }
   const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution, 2.0 * dp_);
   if (!slide_entered && !std::isnan(mean_surface(surface))) still_ = mean_surface(surface);
@@ -271,6 +275,7 @@ std::vector<double> WaterWatch::state() const {
   }
   s.push_back(last_t_);
   for (const auto& r : runup_) s.push_back(r.at_rest);
+  s.insert(s.end(), gauge_overrun_t_.begin(), gauge_overrun_t_.end());
   return s;
 }
 
@@ -312,17 +317,24 @@ void WaterWatch::restore(std::span<const double> s) {
   if (k < s.size()) {
     last_t_ = take();
     for (auto& r : runup_) r.at_rest = take();
+    for (double& v : gauge_overrun_t_) v = take();
   } else {
     for (auto& r : runup_) r.at_rest = std::numeric_limits<double>::infinity();
   }
   if (k != s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
 }
 
+std::span<const double> WaterWatch::before_overrun(std::size_t g, const std::vector<double>& series) const {
+  const auto& t = gauge_t_[g];
+  const auto n = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), gauge_overrun_t_[g]) - t.begin());
+  return {series.data(), std::isnan(gauge_overrun_t_[g]) ? series.size() : std::min(n, series.size())};
+}
+
 std::vector<std::pair<std::string, double>> WaterWatch::gauge_periods() const {
   std::vector<std::pair<std::string, double>> out;
   for (std::size_t g = 0; g < gauge_x_.size(); ++g)
-    out.emplace_back(spec_.gauges[g].name,
-                     sph::mean_crest_period(gauge_t_[g], gauge_eta_[g], dp_));
+    out.emplace_back(spec_.gauges[g].name, sph::mean_crest_period(before_overrun(g, gauge_t_[g]),
+                                                                  before_overrun(g, gauge_eta_[g]), dp_));
   return out;
 }
 
@@ -333,7 +345,9 @@ std::vector<WaterWatch::GaugeWave> WaterWatch::primary_waves(double t_from) cons
   for (std::size_t g = 0; g < gauge_x_.size(); ++g) {
     eta.assign(gauge_eta_[g].begin(), gauge_eta_[g].end());
     for (double& e : eta) e -= offset;
-    out.push_back({spec_.gauges[g].name, gauge_x_[g], sph::primary_wave(gauge_t_[g], eta, t_from, dp_)});
+    out.push_back({spec_.gauges[g].name, gauge_x_[g],
+                   sph::primary_wave(before_overrun(g, gauge_t_[g]), before_overrun(g, eta), t_from, dp_),
+                   gauge_overrun_t_[g]});
   }
   return out;
 }

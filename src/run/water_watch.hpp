@@ -73,14 +73,20 @@ class WaterWatch {
   const std::vector<Named>& runup() const { return runup_; }
   const std::vector<Named>& crests() const { return crests_; }
   const std::vector<Named>& forces() const { return forces_; }
-  // The mean up-crossing period at each gauge (s; NaN with fewer than two crossings).
+  // The mean up-crossing period at each gauge (s; NaN with fewer than two crossings), from its
+  // record before the slide's front reached it.
   std::vector<std::pair<std::string, double>> gauge_periods() const;
-  // The primary wave at each gauge from t_from on (the slide's entry): its first crest and
-  // the trough after it, from the still level (turning points a spacing apart).
+  // When the slide's front first reached or passed each gauge (s; NaN: never): from then on the
+  // gauge reads water the slide displaces and the debris over it, not the wave.
+  const std::vector<double>& gauge_overrun_times() const { return gauge_overrun_t_; }
+  // The primary wave at each gauge from t_from on (the slide's entry) until the slide's front
+  // reached it: its first crest and the trough after it, from the still level (turning points a
+  // spacing apart).
   struct GaugeWave {
     std::string name;
     double x = 0.0;  // m
     sph::PrimaryWave wave;
+    double overrun_t = std::numeric_limits<double>::quiet_NaN();  // s, gauge_overrun_times()
   };
   std::vector<GaugeWave> primary_waves(double t_from) const;
   // The largest gain of the water's energy over its energy at step 0 (J/m) and when.
@@ -128,6 +134,9 @@ class WaterWatch {
   double top_ = 0.0;  // m: the top of the coupled bedrock faces
   std::vector<double> gauge_x_, wave_x_;  // the gauges; where the amplitude is sought
   std::vector<std::vector<double>> gauge_t_, gauge_eta_;
+  std::vector<double> gauge_overrun_t_;  // s, NaN until the slide's front reaches the gauge
+  // A gauge's record before the slide's front reached it.
+  std::span<const double> before_overrun(std::size_t g, const std::vector<double>& series) const;
   std::vector<double> crest_start_;
   std::optional<double> energy_start_;
   Peak amplitude_, energy_gain_, speed_, flow_speed_;
