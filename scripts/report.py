@@ -407,9 +407,10 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
                         for n, c in crests.items()])
     forces = mw.get("force_on_curves") or {}
     if forces:
-        body += _table(["curve", "largest force (N/m)", "at (s)", "peak pressure (Pa)"],
+        body += _table(["curve", "largest force (N/m)", "at (s)", "at rest (N/m)", "peak pressure (Pa)"],
                        [[f"<td><b>{esc(n)}</b></td>", _num(_by_prefix(f, "max_force")), _num(f.get("time_s")),
-                         _num(f.get("peak_pressure_Pa"))] for n, f in forces.items()])
+                         _num(_by_prefix(f, "at_rest_force")), _num(f.get("peak_pressure_Pa"))]
+                        for n, f in forces.items()])
     periods = mw.get("wave_period_s") or {}
     names = list(dict.fromkeys(list(gauges) + list(periods)))
     if names:
@@ -429,7 +430,8 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
                           ("when", "s", top.get("time_s"))])
     body += kv_table([("energy handed to the water (its largest gain)", "J/m", gain),
                       ("slide's kinetic energy where it entered", "J/m", ke),
-                      ("fraction handed to the water", "", mw.get("energy_handed_to_water_ratio")),
+                      ("ratio of the two (above 1 when the slide goes on descending into the water after its "
+                       "entry)", "", mw.get("energy_handed_to_water_ratio")),
                       ("work of the water on the solid", "J/m", _by_prefix(mw, "moving_water_work")),
                       ("work of the walls' own pressure on the water (modified boundary: no wall state stores "
                        "it; energy the wall model put in)", "J/m", _by_prefix(mw, "boundary_work"))])

@@ -320,8 +320,10 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(num(b + ".gauges[].x", "m", "required", -kInf, kInf, "Where along the section."));
   s.push_back(of(b + ".runup", KeyType::List, "",
                  "Banks on which the run-up is measured: the highest water on each joined to the pool along "
-                 "the bank (a gap of about a spacing bridged; spray landing higher up is left out), in "
-                 "history.csv and summary.json max_runup_m."));
+                 "the bank (a gap of about a spacing bridged; spray landing higher up is left out): its "
+                 "elevation in history.csv (<name>_runup_m), its highest above reservoir.level in summary.json "
+                 "max_runup_m, and in moving_water.runup the highest elevation, the reading at rest and the "
+                 "rise above it."));
   s.push_back(of(b + ".runup[]", KeyType::Map, "", "One bank."));
   s.push_back(of(b + ".runup[].name", KeyType::String, "required", "Its name."));
   s.push_back(of(b + ".runup[].polyline", KeyType::Points, "required", "The bank's surface, at least two points.", "m"));

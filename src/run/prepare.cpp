@@ -200,7 +200,7 @@ void lay_out_water(PreparedRun& run) {
   if (run.scenario.earthquake.present && w.depth > 0.0)
     run.build_log.push_back({2, fmt::format("reservoir water: its first compression mode c0 / 4H = {:.3g} Hz (real "
                                             "water: {:.3g} Hz): the pressures of the shaking itself above about {:.2g} "
-                                            "Hz are not real water's; the wave is",
+                                            "Hz are not real water's, though the wave (a gravity wave) is",
                                             par.c0 / (4.0 * w.depth), 1480.0 / (4.0 * w.depth),
                                             par.c0 / (4.0 * w.depth))});
   if (w.faces_without_walls > 0)

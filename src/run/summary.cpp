@@ -176,6 +176,8 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   for (const auto& c : w.forces()) {
     Json j = peak(c.peak, "max_force_N_per_m", false);
     j["peak_pressure_Pa"] = c.pressure;
+    // The water at rest against it (the first row): the hydrostatic load the peak stands over.
+    j["at_rest_force_N_per_m"] = std::isfinite(c.at_rest) ? Json(c.at_rest) : Json(nullptr);
     forces[c.name] = j;
   }
   m["force_on_curves"] = forces;

@@ -243,6 +243,7 @@ void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<dou
     row[k++] = force.x();
     row[k++] = force.y();
     row[k++] = peak;
+    if (std::isnan(forces_[c].at_rest)) forces_[c].at_rest = force.norm();
     raise(forces_[c].peak, force.norm(), 0.0, t);
     forces_[c].pressure = std::max(forces_[c].pressure, peak);
   }
@@ -276,6 +277,7 @@ std::vector<double> WaterWatch::state() const {
   s.push_back(last_t_);
   for (const auto& r : runup_) s.push_back(r.at_rest);
   s.insert(s.end(), gauge_overrun_t_.begin(), gauge_overrun_t_.end());
+  for (const auto& c : forces_) s.push_back(c.at_rest);
   return s;
 }
 
@@ -318,8 +320,10 @@ void WaterWatch::restore(std::span<const double> s) {
     last_t_ = take();
     for (auto& r : runup_) r.at_rest = take();
     for (double& v : gauge_overrun_t_) v = take();
+    for (auto& c : forces_) c.at_rest = take();
   } else {
-    for (auto& r : runup_) r.at_rest = std::numeric_limits<double>::infinity();
+    for (auto* list : {&runup_, &forces_})
+      for (auto& n : *list) n.at_rest = std::numeric_limits<double>::infinity();
   }
   if (k != s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
 }

@@ -67,7 +67,8 @@ class WaterWatch {
     std::string name;
     Peak peak;             // run-up elevation (m), overtopped area (m^2/m) or force magnitude (N/m)
     double pressure = 0.0;  // Pa, the peak pressure on a pressure curve
-    // m, a bank's run-up at the first row (the settled water at rest against it; NaN until then)
+    // A bank's run-up elevation (m) or a curve's force (N/m) at the first row: the settled water
+    // at rest against it (NaN until then; infinite: unknown, from an older checkpoint).
     double at_rest = std::numeric_limits<double>::quiet_NaN();
   };
   const std::vector<Named>& runup() const { return runup_; }

@@ -145,6 +145,9 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_GT(wall["rise_m"].get<double>(), 0.0);
   EXPECT_TRUE(wall["peak_at_end_of_run"].get<bool>());
   EXPECT_GT(m["force_on_curves"]["wall_face"]["max_force_N_per_m"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
+  // The water at rest against it at the first row: rho g H^2 / 2 to a few per cent.
+  EXPECT_NEAR(m["force_on_curves"]["wall_face"]["at_rest_force_N_per_m"].get<double>() / (1000 * 9.81 * 2.0), 1.0,
+              0.05);
   EXPECT_GT(m["force_on_curves"]["wall_face"]["peak_pressure_Pa"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
   EXPECT_DOUBLE_EQ(m["overtopping"]["wall_top"]["volume_m2_per_m"].get<double>(), 0.0);
   // The slide hands energy to the water: more than its kinetic energy at the entry, as it
