@@ -126,6 +126,21 @@ double slide_front(const Model& model, const Shore& shore) {
   return front;
 }
 
+double moved_slide_front(const Model& model, const Shore& shore, double min_displacement) {
+  const int dir = wave_direction(shore);
+  const double d2 = min_displacement * min_displacement;
+  double front = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    if (model.triangles.zone[t] != Zone::Discrete) continue;
+    for (Index i : model.triangles.conn[t]) {
+      const Vec2 x = model.nodes.x(i);
+      if ((x - model.nodes.X[static_cast<std::size_t>(i)]).squaredNorm() <= d2) continue;
+      if (std::isnan(front) || (x.x() - front) * dir > 0.0) front = x.x();
+    }
+  }
+  return front;
+}
+
 bool SlideImpactWatch::observe(const Model& model, double time) {
   if (impact_) return false;
   const auto& tri = model.triangles;

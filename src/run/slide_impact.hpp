@@ -49,6 +49,10 @@ inline int wave_direction(const Shore& shore) { return shore.downslope.x() < 0.0
 // The slide's foremost point along x in the wave's direction: the x of the node of the
 // discrete zone furthest toward the open water (the deposit's toe once it has stopped).
 double slide_front(const Model& model, const Shore& shore);
+// The same over the discrete zone's nodes that have moved more than `min_displacement` (m)
+// from where they started: the slide's reach, which rock shaken in place does not extend
+// (NaN: no such node).
+double moved_slide_front(const Model& model, const Shore& shore, double min_displacement);
 
 // Watches for the slide's first entry into the reservoir; observe() at each history row.
 class SlideImpactWatch {

@@ -162,9 +162,10 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   for (const auto& r : w.runup()) {
     // The rise above the bank's own reading at rest: what the wave added there.
     Json j = peak(r.peak, "elevation_m", false);
-    const bool rest = r.peak.seen && std::isfinite(r.at_rest);
-    j["at_rest_elevation_m"] = rest ? Json(r.at_rest) : Json(nullptr);
-    j["rise_m"] = rest ? Json(r.peak.value - r.at_rest) : Json(nullptr);
+    const double at_rest = r.at_rest();
+    const bool rest = r.peak.seen && std::isfinite(at_rest);
+    j["at_rest_elevation_m"] = rest ? Json(at_rest) : Json(nullptr);
+    j["rise_m"] = rest ? Json(r.peak.value - at_rest) : Json(nullptr);
     j["peak_at_end_of_run"] = w.at_last_row(r.peak);
     runup[r.name] = j;
   }
@@ -176,8 +177,10 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   for (const auto& c : w.forces()) {
     Json j = peak(c.peak, "max_force_N_per_m", false);
     j["peak_pressure_Pa"] = c.pressure;
-    // The water at rest against it (the first row): the hydrostatic load the peak stands over.
-    j["at_rest_force_N_per_m"] = std::isfinite(c.at_rest) ? Json(c.at_rest) : Json(nullptr);
+    // The water at rest against it (the median before the slide met the water): the
+    // hydrostatic load the peak stands over.
+    const double at_rest = c.at_rest();
+    j["at_rest_force_N_per_m"] = std::isfinite(at_rest) ? Json(at_rest) : Json(nullptr);
     forces[c.name] = j;
   }
   m["force_on_curves"] = forces;

@@ -157,7 +157,7 @@ std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, cons
 }
 
 void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front,
-                         bool slide_entered, const Model& model) {
+                         double slide_reach, bool slide_entered, const Model& model) {
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
@@ -168,8 +168,8 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
     row[k++] = eta[g] - level_;
     gauge_t_[g].push_back(t);
     gauge_eta_[g].push_back(eta[g] - level_);
-    if (std::isnan(gauge_overrun_t_[g]) && direction_ != 0 && std::isfinite(slide_front) &&
-        (slide_front - gauge_x_[g]) * direction_ >= 0.0)
+    if (std::isnan(gauge_overrun_t_[g]) && direction_ != 0 && std::isfinite(slide_reach) &&
+        (slide_reach - gauge_x_[g]) * direction_ >= 0.0)
       gauge_overrun_t_[g] = t;
   }
   const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution, 2.0 * dp_);
@@ -177,7 +177,7 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   const Crest crest = crest_beyond(wave_x_, surface, still_level(), slide_front, direction_);
   row[k++] = crest.amplitude;
   raise(amplitude_, crest.amplitude, crest.x, t);
-  observe_curves(fluid, t, row, k);
+  observe_curves(fluid, t, row, k, slide_entered);
   long out = 0, above = 0;
   std::size_t fastest = 0;
   speeds_.resize(f.size());
@@ -204,11 +204,25 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   row[k++] = fluid.boundary_work();
 }
 
-void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k) {
+double WaterWatch::Named::at_rest() const {
+  std::vector<double> v;
+  for (const double x : before_entry) {
+    if (std::isinf(x)) return kNaN;  // restored from a checkpoint that did not keep them
+    if (!std::isnan(x)) v.push_back(x);
+  }
+  if (v.empty()) return kNaN;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2 == 1) return *mid;
+  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
+}
+
+void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k,
+                                bool slide_entered) {
   const sph::FluidParticles& f = fluid.fluid();
   for (std::size_t r = 0; r < runup_.size(); ++r) {
     const double z = sph::runup_on_polyline(f, spec_.runup[r].polyline, dp_, dp_);
-    if (std::isnan(runup_[r].at_rest)) runup_[r].at_rest = z;
+    if (!slide_entered) runup_[r].before_entry.push_back(z);
     row[k++] = z;
     raise(runup_[r].peak, z, 0.0, t);
   }
@@ -243,7 +257,7 @@ void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<dou
     row[k++] = force.x();
     row[k++] = force.y();
     row[k++] = peak;
-    if (std::isnan(forces_[c].at_rest)) forces_[c].at_rest = force.norm();
+    if (!slide_entered) forces_[c].before_entry.push_back(force.norm());
     raise(forces_[c].peak, force.norm(), 0.0, t);
     forces_[c].pressure = std::max(forces_[c].pressure, peak);
   }
@@ -275,9 +289,12 @@ std::vector<double> WaterWatch::state() const {
     s.insert(s.end(), gauge_eta_[g].begin(), gauge_eta_[g].end());
   }
   s.push_back(last_t_);
-  for (const auto& r : runup_) s.push_back(r.at_rest);
   s.insert(s.end(), gauge_overrun_t_.begin(), gauge_overrun_t_.end());
-  for (const auto& c : forces_) s.push_back(c.at_rest);
+  for (const auto* list : {&runup_, &forces_})
+    for (const auto& n : *list) {
+      s.push_back(static_cast<double>(n.before_entry.size()));
+      s.insert(s.end(), n.before_entry.begin(), n.before_entry.end());
+    }
   return s;
 }
 
@@ -314,16 +331,19 @@ void WaterWatch::restore(std::span<const double> s) {
     for (double& v : gauge_t_[g]) v = take();
     for (double& v : gauge_eta_[g]) v = take();
   }
-  // A checkpoint written before the last row's time and the banks' rest were kept: the rest
-  // is unknown (infinite: never taken from a later row, null in the summary).
+  // A checkpoint written before these were kept leaves them unknown: no rest (null in the
+  // summary; later rows before the entry would not be the same median), no overrun.
   if (k < s.size()) {
     last_t_ = take();
-    for (auto& r : runup_) r.at_rest = take();
     for (double& v : gauge_overrun_t_) v = take();
-    for (auto& c : forces_) c.at_rest = take();
+    for (auto* list : {&runup_, &forces_})
+      for (auto& n : *list) {
+        n.before_entry.resize(static_cast<std::size_t>(take()));
+        for (double& v : n.before_entry) v = take();
+      }
   } else {
     for (auto* list : {&runup_, &forces_})
-      for (auto& n : *list) n.at_rest = std::numeric_limits<double>::infinity();
+      for (auto& n : *list) n.before_entry.assign(1, std::numeric_limits<double>::infinity());
   }
   if (k != s.size()) throw std::runtime_error("its water measurements do not fit this scenario's water");
 }

@@ -55,8 +55,9 @@ class WaterWatch {
   // level is measured anew at each row (the mean surface over the wave's columns: the
   // settled water's, a little below reservoir.level as the weakly compressible water is
   // squeezed by its weight, about g H^2 / (2 c0^2)).
-  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, bool slide_entered,
-               const Model& model);
+  // slide_reach: moved_slide_front, where a gauge stops reading the wave.
+  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, double slide_reach,
+               bool slide_entered, const Model& model);
 
   struct Peak {
     double value = 0.0, x = 0.0, t = 0.0;
@@ -67,9 +68,12 @@ class WaterWatch {
     std::string name;
     Peak peak;             // run-up elevation (m), overtopped area (m^2/m) or force magnitude (N/m)
     double pressure = 0.0;  // Pa, the peak pressure on a pressure curve
-    // A bank's run-up elevation (m) or a curve's force (N/m) at the first row: the settled water
-    // at rest against it (NaN until then; infinite: unknown, from an older checkpoint).
-    double at_rest = std::numeric_limits<double>::quiet_NaN();
+    // A bank's run-up elevation (m) or a curve's force (N/m) at each row before the slide met
+    // the water (all rows when it never does).
+    std::vector<double> before_entry;
+    // Their median: the water at rest against it, through the solid's own settling and an
+    // earthquake's sloshing before the slide (NaN: no row).
+    double at_rest() const;
   };
   const std::vector<Named>& runup() const { return runup_; }
   const std::vector<Named>& crests() const { return crests_; }
@@ -77,8 +81,9 @@ class WaterWatch {
   // The mean up-crossing period at each gauge (s; NaN with fewer than two crossings), from its
   // record before the slide's front reached it.
   std::vector<std::pair<std::string, double>> gauge_periods() const;
-  // When the slide's front first reached or passed each gauge (s; NaN: never): from then on the
-  // gauge reads water the slide displaces and the debris over it, not the wave.
+  // When the slide's moved front (moved_slide_front) first reached or passed each gauge (s; NaN:
+  // never): from then on the gauge reads water the slide displaces and the debris over it, not
+  // the wave.
   const std::vector<double>& gauge_overrun_times() const { return gauge_overrun_t_; }
   // The primary wave at each gauge from t_from on (the slide's entry) until the slide's front
   // reached it: its first crest and the trough after it, from the still level (turning points a
@@ -123,7 +128,7 @@ class WaterWatch {
   void restore(std::span<const double> s);
 
  private:
-  void observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k);
+  void observe_curves(const sph::Fluid& fluid, double t, std::span<double> row, std::size_t& k, bool slide_entered);
 
   const io::SphSpec& spec_;
   double level_ = 0.0, dp_ = 0.0, h_ = 0.0;

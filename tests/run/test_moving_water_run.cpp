@@ -136,8 +136,8 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_GT(m["runup"]["wall"]["elevation_m"].get<double>(), still + 0.5 * a_M);
   EXPECT_LT(m["runup"]["wall"]["elevation_m"].get<double>(), m["coupled_top_m"].get<double>());
   EXPECT_TRUE(s["max_runup_m"].contains("wall"));
-  // Its rise above the wall's own reading at rest (the first row, the settled water), and that
-  // the run ended while it was still rising there.
+  // Its rise above the wall's own reading at rest (the median of the rows before the block met
+  // the water), and that the run ended while it was still rising there.
   const ordered_json& wall = m["runup"]["wall"];
   EXPECT_NEAR(wall["at_rest_elevation_m"].get<double>(), still, 0.2);  // within a spacing
   EXPECT_DOUBLE_EQ(wall["rise_m"].get<double>(),
@@ -145,7 +145,8 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_GT(wall["rise_m"].get<double>(), 0.0);
   EXPECT_TRUE(wall["peak_at_end_of_run"].get<bool>());
   EXPECT_GT(m["force_on_curves"]["wall_face"]["max_force_N_per_m"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
-  // The water at rest against it at the first row: rho g H^2 / 2 to a few per cent.
+  // The water at rest against it (the median before the block met the water): rho g H^2 / 2 to
+  // a few per cent.
   EXPECT_NEAR(m["force_on_curves"]["wall_face"]["at_rest_force_N_per_m"].get<double>() / (1000 * 9.81 * 2.0), 1.0,
               0.05);
   EXPECT_GT(m["force_on_curves"]["wall_face"]["peak_pressure_Pa"].get<double>(), 0.9 * 1000 * 9.81 * 2.0);
