@@ -88,8 +88,15 @@ class Plotter:
         for t, _ in self.stage_changes[1:]:
             ax.axvline(t, color="0.35", ls="--", lw=1.0, zorder=0.5)
         if labels:
+            # A stage too short on this time axis for its name (a gravity stage before a long
+            # earthquake) keeps its line but not its label, which would run into the next one.
+            t0, t1 = float(np.nanmin(self.t)), float(np.nanmax(self.t))
+            span = t1 - t0 if t1 > t0 else 1.0
+            starts = [t for t, _ in self.stage_changes] + [t1]
+            names = [n if (starts[i + 1] - t) / span >= 0.013 * len(n) or i + 1 == len(self.stage_changes) else ""
+                     for i, (t, n) in enumerate(self.stage_changes)]
             top = ax.secondary_xaxis("top")
-            top.set_xticks([t for t, _ in self.stage_changes], [n for _, n in self.stage_changes])
+            top.set_xticks([t for t, _ in self.stage_changes], names)
             top.tick_params(axis="x", length=4, labelsize=9.5, labelcolor="0.3", direction="out")
             for lbl in top.get_xticklabels():
                 lbl.set_fontstyle("italic")
