@@ -592,8 +592,11 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
     if scen_path is not None:
         try:
             text = scen_path.read_text(encoding="utf-8", errors="replace")
+            sets = [o for o in summary.get("overrides") or [] if isinstance(o, str)]
+            applied = ("<p><b>Run with these overrides</b> of the file (<code>--set</code>, applied in this order; "
+                       "the values below are the file's):</p><pre>" + esc("\n".join(sets)) + "</pre>") if sets else ""
             section("parameters", "Parameters (scenario)",
-                    f'<p class="sub">From <code>{esc(scen_path)}</code></p><pre>{esc(text)}</pre>')
+                    f'<p class="sub">From <code>{esc(scen_path)}</code></p>{applied}<pre>{esc(text)}</pre>')
         except OSError:
             pass
     else:

@@ -136,6 +136,7 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
   std::stringstream buf;
   buf << in.rdbuf();
   Scenario s = parse_scenario(buf.str(), path, overrides);
+  s.overrides = overrides;
   return s;
 }
 

@@ -263,6 +263,7 @@ struct StabilitySpec {
 
 struct Scenario {
   std::string file;       // path of the scenario file
+  std::vector<std::string> overrides;  // the --set key=value overrides applied to it, in order
   std::string directory;  // its folder: relative paths are resolved from here
   std::string title;
   std::string mesh_file;  // absolute or relative to directory

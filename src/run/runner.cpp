@@ -37,6 +37,18 @@ namespace {
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// The --set overrides as a shell would take them back: " --set 'key=value'" each, a single
+// quote inside written '\''.
+std::string shell_sets(const std::vector<std::string>& overrides) {
+  std::string out;
+  for (const std::string& o : overrides) {
+    out += " --set '";
+    for (const char c : o) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    out += "'";
+  }
+  return out;
+}
+
 // Water faster than a tenth of its sound speed is no longer weakly compressible (DESIGN.md
 // §13: c0 >= 10 v_max): said after the run with the flow's speed (1 % of the water faster) and
 // when, the setting that keeps it within, and the fastest particle apart.
@@ -500,9 +512,10 @@ void Runner::log_end(bool completed, double wall, double max_balance_error) {
   const solver::Solver& solver = *solver_;
   if (!completed)
     log_->warn("stopped{}: {} steps in {}; last fields, history and summary in {}; continue with "
-               "`dsdem run {} --restart {}`",
+               "`dsdem run {}{} --restart {}`",
                stopped_by_ ? " by " + signal_name(stopped_by_) : " at step " + std::to_string(solver.step_count()),
-               solver.step_count(), human_time(wall), out_.string(), sc_.file, checkpoint_path_.string());
+               solver.step_count(), human_time(wall), out_.string(), sc_.file, shell_sets(sc_.overrides),
+               checkpoint_path_.string());
   else
     log_->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(),
                human_time(wall), max_balance_error, out_.string());

@@ -228,6 +228,7 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
   Json s = Json::object();
   s["title"] = sc.title;
   s["scenario"] = sc.file;
+  s["overrides"] = sc.overrides;  // --set, in order: the scenario as run is the file with these
   s["dsdem_version"] = std::string(DSDEM_VERSION) + " (" + DSDEM_GIT_COMMIT + ")";
   s["elements"] = static_cast<long>(model.triangles.size());
   s["nodes"] = static_cast<long>(model.nodes.size());

@@ -280,7 +280,11 @@ TEST(ReservoirWater, ARestartGivesTheSameRecord) {
   const ordered_json a = run_flume(whole, shorter);
   for (long stop : {2500L}) {  // t = 1.03 s, just after the block entered (about step 2370)
     const fs::path dir = dsdem::test::fresh_dir("moving_water_restart_" + std::to_string(stop));
-    run_flume(dir, shorter, stop);
+    const ordered_json stopped = run_flume(dir, shorter, stop);
+    // The overrides are part of the scenario as run: in the summary, and in the command the log
+    // gives to continue.
+    EXPECT_EQ(stopped["overrides"], ordered_json::array({"time.end=1.1"}));
+    EXPECT_NE(file_text(dir / "out" / "dsdem.log").find("flume.yaml --set 'time.end=1.1' --restart "), std::string::npos);
     const ordered_json b = run_flume(dir, shorter, 0, (dir / "out" / "checkpoint.h5").string());
     EXPECT_EQ(b["moving_water"].dump(), a["moving_water"].dump()) << "stopped at step " << stop;
     EXPECT_EQ(b["max_wave_amplitude_m"].dump(), a["max_wave_amplitude_m"].dump());

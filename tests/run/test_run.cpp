@@ -41,7 +41,7 @@ TEST(Run, SummaryReadsBackWithItsKeysInOrder) {
   std::vector<std::string> keys;
   for (const auto& [k, v] : s.items()) keys.push_back(k);
   const std::vector<std::string> expected{
-      "title",        "scenario",      "dsdem_version", "elements",     "nodes",
+      "title",        "scenario",      "overrides",     "dsdem_version", "elements",     "nodes",
       "joints",       "broken_joints", "fragments",     "steps",        "dt_s",
       "dt_controlled_by", "dt_adaptive", "triangle_order", "dt_last_s", "dt_last_controlled_by",
       "end_time_s",   "threads",       "wall_time_s",   "checkpoint",   "element_steps_per_s",
