@@ -46,16 +46,21 @@ def main_outputs(ens: dict, limit: int = 8) -> list[str]:
             "gauges_from_run_start.")
 
     def rank(k: str) -> tuple[int, str]:
+        # The skip list first: gauges_from_run_start.* repeat the gauges' own keys.
+        if any(k.startswith(s) for s in skip):
+            return (4, k)
         if k.startswith("mean_max_displacement") or k.endswith(".max_displacement_m"):
             return (0, k)
-        if k.startswith(("river", "intake", "deposit", "duration")) or k.endswith("peak_velocity_mps"):
+        # The reservoir's wave, run-up and water force on the curves (a wet ensemble).
+        if k == "max_wave_amplitude_m" or k.startswith("max_runup_m.") or \
+                (k.startswith("moving_water.force_on_curves.") and ".max_force" in k):
             return (1, k)
-        if any(k.startswith(s) for s in skip):
-            return (3, k)
-        return (2, k)
+        if k.startswith(("river", "intake", "deposit", "duration")) or k.endswith("peak_velocity_mps"):
+            return (2, k)
+        return (3, k)
 
     ordered = sorted(varying, key=rank)
-    return [k for k in ordered if rank(k)[0] < 3][:limit] or ordered[:limit]
+    return [k for k in ordered if rank(k)[0] < 4][:limit] or ordered[:limit]
 
 
 def label(key: str) -> str:
