@@ -133,14 +133,10 @@ void RunOutputs::write_history(int stage_index) {
   if (has_water_) row_[k++] = e.water_work;
   if (water_watch_) {
     row_[k++] = e.moving_water_work;
-    const double none = std::numeric_limits<double>::quiet_NaN();
-    const double front = prepared_.shore ? slide_front(model_, *prepared_.shore) : none;
-    // The slide's reach: its rock moved by more than a water spacing (shaken in place, it stays).
-    const double reach =
-        prepared_.shore ? moved_slide_front(model_, *prepared_.shore, prepared_.moving_water->parameters.dp) : none;
+    const double front = prepared_.shore ? slide_front(model_, *prepared_.shore) : std::numeric_limits<double>::quiet_NaN();
     const bool entered = slide_watch_ && slide_watch_->impact().has_value();
     water_watch_->observe(*solver_.moving_water(), solver_.time(), std::span<double>(row_).subspan(k, water_columns_), front,
-                          reach, entered, model_);
+                          entered, model_);
     k += water_columns_;
   }
   for (const auto& [name, nodes] : reactions_) {

@@ -126,19 +126,24 @@ double slide_front(const Model& model, const Shore& shore) {
   return front;
 }
 
-double moved_slide_front(const Model& model, const Shore& shore, double min_displacement) {
-  const int dir = wave_direction(shore);
+std::vector<double> moved_rock_tops(const Model& model, std::span<const double> xs, double min_displacement) {
+  std::vector<double> top(xs.size(), -std::numeric_limits<double>::infinity());
   const double d2 = min_displacement * min_displacement;
-  double front = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {
     if (model.triangles.zone[t] != Zone::Discrete) continue;
-    for (Index i : model.triangles.conn[t]) {
+    const auto& c = model.triangles.conn[t];
+    bool moved = false;
+    double x0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (Index i : c) {
       const Vec2 x = model.nodes.x(i);
-      if ((x - model.nodes.X[static_cast<std::size_t>(i)]).squaredNorm() <= d2) continue;
-      if (std::isnan(front) || (x.x() - front) * dir > 0.0) front = x.x();
+      moved = moved || (x - model.nodes.X[static_cast<std::size_t>(i)]).squaredNorm() > d2;
+      x0 = std::min(x0, x.x()), x1 = std::max(x1, x.x()), y1 = std::max(y1, x.y());
     }
+    if (!moved) continue;
+    for (std::size_t g = 0; g < xs.size(); ++g)
+      if (xs[g] >= x0 && xs[g] <= x1) top[g] = std::max(top[g], y1);
   }
-  return front;
+  return top;
 }
 
 bool SlideImpactWatch::observe(const Model& model, double time) {

@@ -3,6 +3,7 @@
 // and the slide measured at its first entry into the water (speed, thickness, mass, the
 // bank's angle), the inputs of the Heller & Hager (2010) impulse-wave estimate.
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "io/scenario.hpp"
@@ -49,10 +50,10 @@ inline int wave_direction(const Shore& shore) { return shore.downslope.x() < 0.0
 // The slide's foremost point along x in the wave's direction: the x of the node of the
 // discrete zone furthest toward the open water (the deposit's toe once it has stopped).
 double slide_front(const Model& model, const Shore& shore);
-// The same over the discrete zone's nodes that have moved more than `min_displacement` (m)
-// from where they started: the slide's reach, which rock shaken in place does not extend
-// (NaN: no such node).
-double moved_slide_front(const Model& model, const Shore& shore, double min_displacement);
+// The top of the slide's rock over each x of `xs`: the highest node of the discrete triangles
+// that span x and have a node moved more than `min_displacement` (m) from where it started
+// (rock shaken in place is not the slide); -infinity where there is none.
+std::vector<double> moved_rock_tops(const Model& model, std::span<const double> xs, double min_displacement);
 
 // Watches for the slide's first entry into the reservoir; observe() at each history row.
 class SlideImpactWatch {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "run/bounds.hpp"
+#include "run/slide_impact.hpp"
 #include "sph/kernels.hpp"
 #include "sph/surface.hpp"
 
@@ -157,20 +158,20 @@ std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, cons
 }
 
 void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front,
-                         double slide_reach, bool slide_entered, const Model& model) {
+                         bool slide_entered, const Model& model) {
   const sph::FluidParticles& f = fluid.fluid();
   const double resolution = dp_ / 20.0;
   std::size_t k = 0;
   last_t_ = t;
   // A gauge reads the water body's surface, not spray thrown above it.
   const auto eta = sph::free_surface_elevations(f, gauge_x_, h_, resolution, 2.0 * dp_);
+  const auto rock = moved_rock_tops(model, gauge_x_, dp_);
   for (std::size_t g = 0; g < eta.size(); ++g) {
     row[k++] = eta[g] - level_;
     gauge_t_[g].push_back(t);
     gauge_eta_[g].push_back(eta[g] - level_);
-    if (std::isnan(gauge_overrun_t_[g]) && direction_ != 0 && std::isfinite(slide_reach) &&
-        (slide_reach - gauge_x_[g]) * direction_ >= 0.0)
-      gauge_overrun_t_[g] = t;
+    const bool debris = std::isfinite(rock[g]) && (std::isnan(eta[g]) || rock[g] >= eta[g] - 2.0 * dp_);
+    if (std::isnan(gauge_overrun_t_[g]) && debris) gauge_overrun_t_[g] = t;
   }
   const auto surface = sph::free_surface_elevations(f, wave_x_, h_, resolution, 2.0 * dp_);
   if (!slide_entered && !std::isnan(mean_surface(surface))) still_ = mean_surface(surface);

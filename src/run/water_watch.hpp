@@ -55,9 +55,8 @@ class WaterWatch {
   // level is measured anew at each row (the mean surface over the wave's columns: the
   // settled water's, a little below reservoir.level as the weakly compressible water is
   // squeezed by its weight, about g H^2 / (2 c0^2)).
-  // slide_reach: moved_slide_front, where a gauge stops reading the wave.
-  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, double slide_reach,
-               bool slide_entered, const Model& model);
+  void observe(const sph::Fluid& fluid, double t, std::span<double> row, double slide_front, bool slide_entered,
+               const Model& model);
 
   struct Peak {
     double value = 0.0, x = 0.0, t = 0.0;
@@ -81,9 +80,10 @@ class WaterWatch {
   // The mean up-crossing period at each gauge (s; NaN with fewer than two crossings), from its
   // record before the slide's front reached it.
   std::vector<std::pair<std::string, double>> gauge_periods() const;
-  // When the slide's moved front (moved_slide_front) first reached or passed each gauge (s; NaN:
-  // never): from then on the gauge reads water the slide displaces and the debris over it, not
-  // the wave.
+  // When the slide's rock first rose at each gauge to within two spacings of the water's surface
+  // there, or the gauge went dry over it (s; NaN: never; moved_rock_tops): from then on the gauge
+  // reads the debris and the water it displaces, not the wave. A slide running under the gauge
+  // deeper down leaves its reading the wave's, as in Heller & Hager's flume.
   const std::vector<double>& gauge_overrun_times() const { return gauge_overrun_t_; }
   // The primary wave at each gauge from t_from on (the slide's entry) until the slide's front
   // reached it: its first crest and the trough after it, from the still level (turning points a
