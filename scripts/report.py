@@ -368,12 +368,12 @@ def wave_along_reservoir(h) -> str:
         rows.append([f"<td><b>{esc(g['name'])}</b></td>", _num(g.get("relative_distance")), _num(g.get("crest_m")),
                      _num(g.get("heller_hager_crest_m")), _num(g.get("crest_ratio")), _num(g.get("height_m")),
                      _num(g.get("heller_hager_height_m")), _num(g.get("height_ratio")),
-                     _num(g.get("slide_front_reached_s"))])
+                     _num(g.get("slide_at_gauge_s"))])
     body = _table(["gauge", "x / h from the shoreline", "first crest (m)", "Heller & Hager a(x) (m)", "ratio",
-                   "crest to trough (m)", "Heller & Hager H(x) (m)", "ratio", "slide's front over it from (s)"], rows)
-    note = ("The primary wave at each gauge after the slide's entry and before the slide's front reached it: its first "
-            "crest above the still level and the trough after it (a dash: not seen before the run ended or the slide "
-            "came over the gauge). Heller &amp; Hager's decay laws a(x) = 3/5 "
+                   "crest to trough (m)", "Heller & Hager H(x) (m)", "ratio", "slide's rock at its surface from (s)"], rows)
+    note = ("The primary wave at each gauge after the slide's entry and before the slide's rock rose to within two "
+            "spacings of the surface there: its first crest above the still level and the trough after it (a dash: "
+            "not seen before the run ended or the debris reached the gauge). Heller &amp; Hager's decay laws a(x) = 3/5 "
             "(P (x/h)^-1/3)^4/5 h and H(x) = 3/4 (...) h")
     if isinstance(onset, (int, float)):
         note += (f" meet a_M and H_M at x / h = {lib.fmt_num(onset)}; nearer the shoreline they exceed their own "
@@ -446,7 +446,7 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     h = summary.get("heller_hager")
     level = h.get("still_level_m") if isinstance(h, dict) else None
     after = h.get("impact_time_s") if isinstance(h, dict) else None
-    gauges = gauge_wave(out, after, mw.get("slide_front_over_gauges_s") or {})
+    gauges = gauge_wave(out, after, mw.get("slide_at_gauges_s") or {})
     parts = [f'<p class="sub">Moving water (SPH): {esc(lib.fmt_num(mw.get("particles", "?")))} particles '
              f'{esc(lib.fmt_num(mw.get("spacing_m", "?")))} m apart, {esc(lib.fmt_num(mw.get("depth_m", "?")))} m deep'
              + (f", reservoir level {esc(lib.fmt_num(level))} m" if isinstance(level, (int, float)) else "")
@@ -469,8 +469,8 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     parts.append("<h3>The wave against Heller &amp; Hager (2010)</h3>" + wave_comparison(mw, h)
                  + wave_along_reservoir(h))
     since = " after the slide's entry" if isinstance(after, (int, float)) else ""
-    if any(isinstance(t, (int, float)) for t in (mw.get("slide_front_over_gauges_s") or {}).values()):
-        since += " until the slide came over it"
+    if any(isinstance(t, (int, float)) for t in (mw.get("slide_at_gauges_s") or {}).values()):
+        since += " until the slide's rock reached its surface"
     parts.append("<h3>Measurements</h3>" + water_measurements(mw, level, gauges, since))
     by_name = {p.name: p for p in plots}
     for name, cap in WATER_PLOTS:

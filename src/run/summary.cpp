@@ -84,7 +84,7 @@ Json wave_along_reservoir(const Shore& shore, const water::ImpulseWave& w, const
                                    {"crest_time_s", number(g.wave.crest_t)},
                                    {"trough_m", number(-g.wave.trough)},
                                    {"height_m", number(g.wave.height())},
-                                   {"slide_front_reached_s", number(g.overrun_t)},
+                                   {"slide_at_gauge_s", number(g.overrun_t)},
                                    {"heller_hager_crest_m", a},
                                    {"heller_hager_height_m", H},
                                    {"crest_ratio", number(g.wave.crest / a)},
@@ -187,13 +187,13 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   Json periods = Json::object();
   for (const auto& [name, T] : w.gauge_periods()) periods[name] = std::isnan(T) ? Json(nullptr) : Json(T);
   m["wave_period_s"] = periods;
-  // When the slide's front reached each gauge: its record after that is not the wave.
+  // When the slide's rock rose to each gauge's surface: its record after that is not the wave.
   Json overrun = Json::object();
   for (std::size_t g = 0; g < w.gauge_overrun_times().size(); ++g) {
     const double t = w.gauge_overrun_times()[g];
     overrun[prepared.scenario.reservoir.sph.gauges[g].name] = std::isnan(t) ? Json(nullptr) : Json(t);
   }
-  m["slide_front_over_gauges_s"] = overrun;
+  m["slide_at_gauges_s"] = overrun;
   m["energy_gain_" + energy_unit] = w.energy_gain().value;
   m["moving_water_work_" + energy_unit] = solver.energy().moving_water_work;
   // The energy the modified boundary's wall pressure put into the water (no wall stores it).

@@ -226,21 +226,21 @@ TEST(ReservoirWater, TheWaveAtTheGaugeStandsBesideHellerHagersDecay) {
 // history row the water's energy gain stays at or below the solid's work on it plus that
 // work, to 1 % of the largest work of the run. Without it the gain exceeds the solid's work
 // by up to 21 % while the block presses water against the toe.
-// A gauge the sliding block comes over (x = 5 m, a metre past the shoreline) reads the water
+// A gauge the sliding block comes up under (x = 5 m, a metre past the shoreline) reads the water
 // the block pushes aside and then the block itself: its record stops being the wave when the
-// slide's front reaches it (moving_water.slide_front_over_gauges_s), and its primary wave is
-// read before then. A gauge the block never reaches keeps its whole record.
+// block's rock rises to within two spacings of the surface there (moving_water.slide_at_gauges_s),
+// and its primary wave is read before then. A gauge the block never reaches keeps its whole record.
 TEST(ReservoirWater, AGaugeTheSlideComesOverIsReadOnlyUntilThen) {
   const fs::path dir = dsdem::test::fresh_dir("moving_water_overrun");
   const ordered_json s = run_flume(dir, {"time.end=2.0", "reservoir.sph.gauges=[{name: mid, x: 9}, {name: toe, x: 5}]"});
-  const ordered_json& over = s["moving_water"]["slide_front_over_gauges_s"];
+  const ordered_json& over = s["moving_water"]["slide_at_gauges_s"];
   EXPECT_TRUE(over["mid"].is_null());
   const double t_entry = s["heller_hager"]["impact_time_s"].get<double>(), t_over = over["toe"].get<double>();
   EXPECT_GT(t_over, t_entry);
   EXPECT_LT(t_over, 2.0);
   const ordered_json& toe = s["heller_hager"]["gauges"][1];
   ASSERT_EQ(toe["name"].get<std::string>(), "toe");
-  EXPECT_DOUBLE_EQ(toe["slide_front_reached_s"].get<double>(), t_over);
+  EXPECT_DOUBLE_EQ(toe["slide_at_gauge_s"].get<double>(), t_over);
   // Its crest is the highest water between the entry and the front's arrival.
   const double offset = s["moving_water"]["still_level_m"].get<double>() - 2.0;
   const History h = read_history(dir / "out" / "history.csv");
