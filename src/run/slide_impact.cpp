@@ -128,6 +128,7 @@ double slide_front(const Model& model, const Shore& shore) {
 
 std::vector<double> moved_rock_tops(const Model& model, std::span<const double> xs, double min_displacement) {
   std::vector<double> top(xs.size(), -std::numeric_limits<double>::infinity());
+  if (xs.empty()) return top;  // a run without gauges: no pass over the triangles at each row
   const double d2 = min_displacement * min_displacement;
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {
     if (model.triangles.zone[t] != Zone::Discrete) continue;
