@@ -122,13 +122,13 @@ int run_command(RunArgs& a) {
   if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
   const auto result = dsdem::run::run(prepared, options);
   if (result.stopped_by_signal) {
-    fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with --restart {}\n",
-               result.stopped_by_signal, a.out_dir, result.checkpoint_path);
+    fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with {}\n",
+               result.stopped_by_signal, a.out_dir, result.continue_command);
     return 128 + result.stopped_by_signal;
   }
   if (result.stopped_at_step) {
-    fmt::print("stopped at step {} as asked: results so far in {}; continue with --restart {}\n", result.steps,
-               a.out_dir, result.checkpoint_path);
+    fmt::print("stopped at step {} as asked: results so far in {}; continue with {}\n", result.steps, a.out_dir,
+               result.continue_command);
     return 0;
   }
   fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", a.out_dir, result.steps,

@@ -124,6 +124,10 @@ class Runner {
   RunResult finish();
   void write_last_state();
   void log_end(bool completed, double wall, double max_balance_error);
+  // `dsdem run SCENARIO --set ... --restart CHECKPOINT`: the run continued as it was set up.
+  std::string continue_command() const {
+    return "dsdem run " + sc_.file + shell_sets(sc_.overrides) + " --restart " + checkpoint_path_.string();
+  }
 
   PreparedRun& prepared_;
   const RunOptions& options_;
@@ -505,17 +509,16 @@ RunResult Runner::finish() {
   result.stopped_by_signal = stopped_by_;
   result.stopped_at_step = stopped_at_step_;
   result.checkpoint_path = checkpoint_path_.string();
+  result.continue_command = continue_command();
   return result;
 }
 
 void Runner::log_end(bool completed, double wall, double max_balance_error) {
   const solver::Solver& solver = *solver_;
   if (!completed)
-    log_->warn("stopped{}: {} steps in {}; last fields, history and summary in {}; continue with "
-               "`dsdem run {}{} --restart {}`",
+    log_->warn("stopped{}: {} steps in {}; last fields, history and summary in {}; continue with `{}`",
                stopped_by_ ? " by " + signal_name(stopped_by_) : " at step " + std::to_string(solver.step_count()),
-               solver.step_count(), human_time(wall), out_.string(), sc_.file, shell_sets(sc_.overrides),
-               checkpoint_path_.string());
+               solver.step_count(), human_time(wall), out_.string(), continue_command());
   else
     log_->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(),
                human_time(wall), max_balance_error, out_.string());

@@ -35,6 +35,9 @@ struct RunResult {
   int stopped_by_signal = 0;  // the signal that stopped the run early, 0 if it ran to the end
   bool stopped_at_step = false;  // RunOptions::stop_at_step reached
   std::string checkpoint_path;   // the last checkpoint written
+  // The command that continues the run from it: the scenario, its --set overrides (shell-quoted)
+  // and --restart.
+  std::string continue_command;
 };
 
 // Runs every stage and writes OUT/{fields.pvd, fields/, history.csv, summary.json, dsdem.log}.

@@ -197,7 +197,16 @@ TEST_F(Restart, KilledRunResumesFromItsLastPeriodicCheckpoint) {
   ASSERT_EQ(run_dsdem("run " + args + " -o " + ref.string()).exit_code, 0);
   // Stand in for a SIGKILL at step 2345: a stop there, then the files as a kill after the
   // periodic checkpoint at step 2000 leaves them (rows and frames beyond the checkpoint).
-  ASSERT_EQ(run_dsdem("run " + args + " -o " + out.string() + " --stop-at-step 2000").exit_code, 0);
+  const auto stopped = run_dsdem("run " + args + " -o " + out.string() + " --stop-at-step 2000");
+  ASSERT_EQ(stopped.exit_code, 0);
+  // It says how to continue: the scenario with its --set overrides, then --restart.
+  EXPECT_NE(stopped.output.find("continue with dsdem run " + example("dr2/shear_sliding.yaml") +
+                                 " --set 'mesh.element_size=20' --set 'stages.0.duration=0.3'"),
+            std::string::npos)
+      << stopped.output;
+  EXPECT_NE(stopped.output.find("--set 'output.checkpoint_steps=1000' --restart " + (out / "checkpoint.h5").string()),
+            std::string::npos)
+      << stopped.output;
   const fs::path saved = out.string() + ".ckpt";
   fs::copy_file(out / "checkpoint.h5", saved, fs::copy_options::overwrite_existing);
   ASSERT_EQ(run_dsdem("run " + args + " --restart " + (out / "checkpoint.h5").string() + " --stop-at-step 2345")
