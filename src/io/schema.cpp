@@ -26,6 +26,7 @@ std::string type_name(KeyType t) {
     case KeyType::String: return "string";
     case KeyType::Boolean: return "boolean";
     case KeyType::Vector2: return "[x, y]";
+    case KeyType::Range: return "[min, max]";
     case KeyType::Map: return "map";
     case KeyType::List: return "list";
     case KeyType::Table: return "[[t, value], ...]";

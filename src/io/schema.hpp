@@ -13,7 +13,8 @@
 
 namespace dsdem::io {
 
-enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable, Polyline, Points };
+// Range: two numbers [min, max] (a Vector2 read the same way, documented as a range).
+enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable, Polyline, Points, Range };
 
 struct KeySpec {
   std::string pattern;  // e.g. "materials.*.E", "regions[].group"

@@ -347,7 +347,7 @@ void add_reservoir(std::vector<KeySpec>& s) {
                  "The reservoir at its still level: the run measures the slide where it enters the water (speed, "
                  "thickness, mass, slope) and gives the Heller & Hager (2010) estimate of the impulse wave."));
   s.push_back(num("reservoir.level", "m", "required", -kInf, kInf, "Still water level."));
-  s.push_back(of("reservoir.x", KeyType::Vector2, "required",
+  s.push_back(of("reservoir.x", KeyType::Range, "required",
                  "The reservoir's extent [x_min, x_max] along the section; the bank the slide enters is where the "
                  "ground surface crosses the level at one end.",
                  "m"));
@@ -385,7 +385,7 @@ void add_stability(std::vector<KeySpec>& s) {
                   "found too."));
   s.push_back(num("stability.kv", "", "", -kInf, kInf,
                   "Pseudo-static vertical coefficient: a body force kv g m, upward for kv > 0."));
-  s.push_back(of("stability.bounds", KeyType::Vector2, "[0.5, 4]",
+  s.push_back(of("stability.bounds", KeyType::Range, "[0.5, 4]",
                  "[F_low, F_high]: the bisection's bounds. The slope must stand at F_low and fail at F_high, else "
                  "the command stops with an error that says which."));
   s.push_back(num("stability.tolerance", "", "0.005", 0, kInf,
