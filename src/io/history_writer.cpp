@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -56,12 +57,20 @@ HistoryWriter::HistoryWriter(fs::path path, std::vector<HistoryColumn> columns, 
     : path_(std::move(path)), columns_(std::move(columns)), options_(options) {
   check_columns(columns_, path_);
   std::ifstream in(path_, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("cannot resume history '{}': the file is missing", path_.string()));
+  if (!in) throw HistoryResumeError(fmt::format("cannot resume history '{}': the file is missing", path_.string()));
   std::string line;
-  if (!std::getline(in, line) || line != header())
-    throw std::runtime_error(fmt::format(
-        "cannot resume history '{}': its columns differ from this run's (another scenario or version?)",
-        path_.string()));
+  if (!std::getline(in, line) || line != header()) {
+    // The first column that differs: what the two runs' scenarios (or versions) disagree on.
+    std::vector<std::string> had;
+    std::stringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) had.push_back(c);
+    std::size_t k = 0;
+    while (k < had.size() && k < columns_.size() && had[k] == columns_[k].name()) ++k;
+    throw HistoryResumeError(fmt::format(
+        "cannot resume history '{}': its columns differ from this run's at column {}: '{}' there, '{}' here "
+        "(another scenario, --set options or version?)",
+        path_.string(), k + 1, k < had.size() ? had[k] : "(none)", k < columns_.size() ? columns_[k].name() : "(none)"));
+  }
   std::string kept = line + "\n";
   std::size_t rows = 0;
   // Only complete lines count (a kill never leaves half a row, but be safe).
@@ -71,7 +80,7 @@ HistoryWriter::HistoryWriter(fs::path path, std::vector<HistoryColumn> columns, 
     ++rows;
   }
   if (rows < resume.keep_rows)
-    throw std::runtime_error(fmt::format("cannot resume history '{}': it has {} rows, the checkpoint expects {}",
+    throw HistoryResumeError(fmt::format("cannot resume history '{}': it has {} rows, the checkpoint expects {}",
                                          path_.string(), rows, resume.keep_rows));
   in.close();
   write_file_atomically(path_, kept);

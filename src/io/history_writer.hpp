@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,12 @@ struct HistoryOptions {
   std::chrono::duration<double> flush_interval = std::chrono::seconds(2);
 };
 
+// A history that does not fit the run resuming it (missing, other columns, fewer rows): the
+// checkpoint or the scenario's --set options are not the first run's.
+struct HistoryResumeError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 class HistoryWriter {
  public:
   // Creates (or truncates) `path` and writes the header. Throws std::invalid_argument on
@@ -43,8 +50,8 @@ class HistoryWriter {
   // Resuming a run from a checkpoint: `path` must exist with the same header;
   // its first `keep_rows` rows are kept and any later ones (written after the checkpoint,
   // before the run was stopped or killed) are dropped, atomically; appends follow them.
-  // Throws std::runtime_error naming the path if the file is missing, has another
-  // header or fewer than `keep_rows` complete rows.
+  // Throws HistoryResumeError naming the path if the file is missing, has another header
+  // (the first column that differs) or fewer than `keep_rows` complete rows.
   struct Resume {
     std::size_t keep_rows = 0;
   };

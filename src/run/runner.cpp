@@ -226,7 +226,11 @@ void Runner::start_solver() {
   // there (write_fields; Solver::save) instead of every step, and not kept in between.
   solver_->set_stress_on_demand(true);
   if (prepared_.moving_water) start_moving_water();
-  outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr);
+  try {
+    outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr);
+  } catch (const io::HistoryResumeError& e) {  // the restart does not fit, as a checkpoint of another model
+    throw io::ScenarioError({fmt::format("--restart {}: {}", options_.restart_from, e.what())});
+  }
   state_.gauges.resize(prepared_.gauges.size());
   tty_ = !options_.quiet && isatty(STDERR_FILENO);
   loop_start_ = last_progress_ = last_checkpoint_ = Clock::now();

@@ -239,6 +239,13 @@ TEST_F(Restart, RefusesAnotherModelOrACompleteRunWithExitCode2) {
                                (out / "checkpoint.h5").string());
   EXPECT_EQ(fixed.exit_code, 2) << fixed.output;
   EXPECT_NE(fixed.output.find("time.adaptive = true"), std::string::npos) << fixed.output;
+  // The water switched on (a --set the first run did not have): the history it goes on with has
+  // another column; refused the same way, naming the first column that differs.
+  const auto wet = run_dsdem("run " + small_dr2() + " --set water.dry=false --restart " +
+                             (out / "checkpoint.h5").string());
+  EXPECT_EQ(wet.exit_code, 2) << wet.output;
+  EXPECT_NE(wet.output.find("cannot resume history"), std::string::npos) << wet.output;
+  EXPECT_NE(wet.output.find("'water_work_J_per_m' here"), std::string::npos) << wet.output;
 
   const auto done = run_dsdem("run " + small_dr2() + " --restart " + (reference_ / "checkpoint.h5").string() +
                               " -o " + out.string());
