@@ -294,7 +294,7 @@ def heller_hager_missing(h) -> str:
 
 def gauge_wave(out: Path, after: float | None, overrun: dict) -> dict[str, tuple[float, float]]:
     """Highest and lowest free surface at each gauge (from history.csv; after the slide's entry when known, before
-    the slide's front reached the gauge)."""
+    the slide's rock reached the gauge's surface: summary.json moving_water.slide_at_gauges_s)."""
     try:
         h = lib.read_history(out / "history.csv")
     except lib.InputError:

@@ -288,9 +288,7 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   const double expected = estimated_particles(regions, solid, w.spacing);
   const double bytes = expected * static_cast<double>(sph::Fluid::bytes_per_particle(out.parameters));
   if (const std::size_t available = available_memory_bytes(); available > 0 && bytes > 0.5 * static_cast<double>(available)) {
-    io::SourceLocation spacing = w.where;
-    spacing.key += ".spacing";
-    throw io::ScenarioError({spacing.describe(fmt::format(
+    throw io::ScenarioError({spacing_key(w).describe(fmt::format(
         "{} m apart the fill regions take about {:.3g} particles, about {} of memory; the machine has {} available: "
         "a spacing of {:.3g} m or more fits in half of it",
         w.spacing, expected, human_bytes(bytes), human_bytes(static_cast<double>(available)),

@@ -37,6 +37,14 @@ struct MovingWaterLayout {
 // filled span widened by its own width on each side (the banks the water may run up). Throws io::ScenarioError naming the section when no water fits.
 MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& model);
 
+// Where reservoir.sph.spacing stands in the scenario: the key the spacing's errors and
+// warnings name.
+inline io::SourceLocation spacing_key(const io::SphSpec& sph) {
+  io::SourceLocation at = sph.where;
+  at.key += ".spacing";
+  return at;
+}
+
 // The velocity damping rate of the settling (1/s): 2 sqrt(g / H), about critical for the
 // reservoir's slowest gravity waves.
 double settling_rate(double depth, double g);

@@ -211,10 +211,8 @@ void lay_out_water(PreparedRun& run) {
   // The lattice hangs from the level (its top row dp/2 below it): where the depth is no
   // whole number of spacings the bottom row is missing and the water settles below the level.
   if (run.shore && run.shore->depth - w.depth > 0.25 * par.dp) {
-    io::SourceLocation spacing = res.sph.where;
-    spacing.key += ".spacing";
     run.build_log.push_back(
-        {3, spacing.describe(fmt::format(
+        {3, spacing_key(res.sph).describe(fmt::format(
                 "the particles fill {:.4g} m of the {:.4g} m from the level down to the deepest bed: the water will "
                 "settle about {:.3g} m below reservoir.level (the wave's amplitude is measured from the settled "
                 "level); a spacing that divides the depth, e.g. {:.6g} m, fills it",
@@ -225,9 +223,7 @@ void lay_out_water(PreparedRun& run) {
   // Few rows over the depth: the wave, the pressures and the settled level are all resolved
   // on them (the validation cases use 20 or more, docs/validation.md §5).
   if (w.depth < kFewestRows * par.dp) {
-    io::SourceLocation spacing = res.sph.where;
-    spacing.key += ".spacing";
-    run.build_log.push_back({3, spacing.describe(fmt::format(
+    run.build_log.push_back({3, spacing_key(res.sph).describe(fmt::format(
                                     "the water is {:.3g} spacings deep ({:.4g} m at {:.4g} m): fewer than {:.0f} rows "
                                     "resolve neither the wave nor the pressures; a spacing of {:.3g} m or less gives "
                                     "{:.0f}",
