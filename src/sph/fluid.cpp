@@ -48,8 +48,10 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   vl_n_.resize(n);
   vl_x_.resize(n);
   vl_y_.resize(n);
-  nb_j_.resize(n * neighbour_capacity_);
+  nb_j_ = std::make_unique_for_overwrite<std::int32_t[]>(n * neighbour_capacity_);
+  nb_f_ = std::make_unique_for_overwrite<double[]>(n * neighbour_capacity_);
   nb_n_.resize(n);
+  nb_at_.resize(n);
   sums_.resize(n);
   density_records_.resize(n);
   force_records_.resize(n);
@@ -73,11 +75,11 @@ std::size_t Fluid::neighbour_capacity(const FluidParameters& parameters) {
 
 std::size_t Fluid::bytes_per_particle(const FluidParameters& parameters) {
   // FluidParticles (13 doubles, an id), the shifts, the Verlet and support lists (an index per
-  // slot each, their counts, the positions at the build), the force sums, the two pair records,
-  // the re-sort scratch and the cell lists' entries.
+  // slot each, the support list's F too, their counts and offset, the positions at the build),
+  // the force sums, the two pair records, the re-sort scratch and the cell lists' entries.
   const std::size_t state = 13 * sizeof(double) + sizeof(std::int32_t), shifts = 2 * sizeof(double);
-  const std::size_t lists = 2 * neighbour_capacity(parameters) * sizeof(std::int32_t) + 2 * sizeof(std::int32_t) +
-                            2 * sizeof(double);
+  const std::size_t lists = neighbour_capacity(parameters) * (2 * sizeof(std::int32_t) + sizeof(double)) +
+                            2 * sizeof(std::int32_t) + sizeof(std::size_t) + 2 * sizeof(double);
   const std::size_t records = sizeof(ForceSums) + sizeof(DensityRecord) + sizeof(ForceRecord);
   const std::size_t scratch = sizeof(double) + sizeof(std::int32_t), cells = 2 * sizeof(std::int32_t);
   return state + shifts + lists + records + scratch + cells;

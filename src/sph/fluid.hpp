@@ -14,6 +14,7 @@
 // (pair_lanes.hpp), and over the walls: the same bits for any thread count and whenever the
 // lists were built. Nothing allocates in the time loop once the grid stopped growing.
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -250,9 +251,14 @@ class Fluid {
   std::size_t neighbour_capacity_ = 0;
   std::vector<std::int32_t> vl_j_, vl_n_;
   std::vector<double> vl_x_, vl_y_;
-  // Each particle's partners within the support, found by the density pass and read by
-  // the force pass (the same positions; F recomputed there: cheaper than its memory).
-  std::vector<std::int32_t> nb_j_, nb_n_;
+  // Each particle's partners within the support and their F, found by the density pass and
+  // read by the force pass (the same positions): nb_n_[i] of them from slot nb_at_[i], each
+  // block of particles' one after another in its own n_block x capacity slots (left
+  // uninitialised: the slots beyond the partners are never touched, nor resident).
+  std::unique_ptr<std::int32_t[]> nb_j_;
+  std::unique_ptr<double[]> nb_f_;
+  std::vector<std::int32_t> nb_n_;
+  std::vector<std::size_t> nb_at_;
   std::vector<ForceSums> sums_;
   // The partners' values of each pass in one line apiece (pair_lanes.hpp), packed at the
   // start of the pass.

@@ -38,13 +38,12 @@ double settle(Fluid& fluid, double duration, double rate) {
 // Fourtakas' diffusion computes none and the density stays).
 void Fluid::pack_particles() {
   const double inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_, a_h2 = packing_ * h_ * h_, limit = 0.1 * par_.dp;
-  const std::size_t cap = neighbour_capacity_;
   const auto border = boundary_cells_.order();
   const double mb = b_.mass;
   exec::parallel_for(team_, f_.size(), [&](std::size_t i) {
     const double xi = f_.x[i], yi = f_.y[i];
     double gx = 0.0, gy = 0.0, div = 0.0;
-    const std::int32_t* list = nb_j_.data() + i * cap;
+    const std::int32_t* list = nb_j_.get() + nb_at_[i];
     for (std::int32_t s = 0; s < nb_n_[i]; ++s) {
       const auto j = static_cast<std::size_t>(list[s]);
       const double dx = xi - f_.x[j], dy = yi - f_.y[j], r2 = dx * dx + dy * dy;

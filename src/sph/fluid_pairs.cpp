@@ -142,9 +142,10 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
   const double s2 = support2_;
   const std::size_t cap = neighbour_capacity_;
   const DensityRecord* records = density_records_.data();
+  std::size_t at = lo * cap;  // the block's partners, one after another
   for (std::size_t i = lo; i < hi; ++i) {
     const std::int32_t* list = vl_j_.data() + i * cap;
-    std::int32_t* list_j = nb_j_.data() + i * cap;
+    std::int32_t* list_j = nb_j_.get() + at;
     const auto end = static_cast<std::size_t>(vl_n_[i]);
     const double xi = records[i].x, yi = records[i].y;
     std::size_t count = 0;
@@ -155,9 +156,12 @@ void Fluid::density_within(std::size_t lo, std::size_t hi) {
       count += dx * dx + dy * dy < s2 ? 1 : 0;
     }
     nb_n_[i] = static_cast<std::int32_t>(count);
+    nb_at_[i] = at;
+    double* fs = nb_f_.get() + at;
+    at += count;
     const DensityPoint pi = density_point(i);
-    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, records, list_j, count)
-                      : density_sum_scalar<fourtakas>(k, pi, records, list_j, count);
+    f_.drho[i] = avx2 ? density_sum_avx2<fourtakas>(k, pi, records, list_j, count, fs)
+                      : density_sum_scalar<fourtakas>(k, pi, records, list_j, count, fs);
   }
 }
 
@@ -220,14 +224,14 @@ template <bool grad>
 void Fluid::forces_within(std::size_t lo, std::size_t hi) {
   const ForcePairConstants k = force_constants();
   const bool avx2 = pair_lanes_avx2();
-  const std::size_t cap = neighbour_capacity_;
   const ForceRecord* records = force_records_.data();
   for (std::size_t i = lo; i < hi; ++i) {
-    const std::int32_t* list_j = nb_j_.data() + i * cap;
+    const std::int32_t* list_j = nb_j_.get() + nb_at_[i];
+    const double* fs = nb_f_.get() + nb_at_[i];
     const auto count = static_cast<std::size_t>(nb_n_[i]);
     const ForcePoint pi = force_point(i);
-    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, records, list_j, count)
-                    : force_sum_scalar<grad>(k, pi, records, list_j, count);
+    sums_[i] = avx2 ? force_sum_avx2<grad>(k, pi, records, list_j, fs, count)
+                    : force_sum_scalar<grad>(k, pi, records, list_j, fs, count);
   }
 }
 

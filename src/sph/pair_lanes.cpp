@@ -17,7 +17,7 @@ inline double reduce(const double (&s)[4]) { return (s[0] + s[2]) + (s[1] + s[3]
 // The reference: lane l = pair m + l of each group of four; a group's missing pairs add 0.
 template <bool fourtakas>
 double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
-                          const std::int32_t* js, std::size_t n) {
+                          const std::int32_t* js, std::size_t n, double* fs) {
   double s[4] = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t m = 0; m < n; m += 4)
     for (std::size_t l = 0; l < 4; ++l) {
@@ -27,6 +27,7 @@ double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi,
       }
       const DensityRecord& b = a[js[m + l]];
       const DensityPairTerms t = density_pair<fourtakas>(k, pi, DensityPoint{b.x, b.y, b.vx, b.vy, b.rho, b.gx, b.gy});
+      fs[m + l] = t.f;
       s[l] += t.c + t.q * b.vol;
     }
   return reduce(s);
@@ -34,7 +35,7 @@ double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi,
 
 template <bool grad>
 ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
-                           const std::int32_t* js, std::size_t n) {
+                           const std::int32_t* js, const double* fs, std::size_t n) {
   double s[7][4] = {};
   for (std::size_t m = 0; m < n; m += 4)
     for (std::size_t l = 0; l < 4; ++l) {
@@ -43,9 +44,7 @@ ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, co
         continue;
       }
       const ForceRecord& b = a[js[m + l]];
-      const double dx = pi.x - b.x, dy = pi.y - b.y;
-      const double f = wendland_gradient_factor(dx * dx + dy * dy, k.inv_h, k.grad_c);
-      const ForcePairTerms t = force_pair<grad>(k, pi, ForcePoint{b.x, b.y, b.vx, b.vy, b.rho, b.p}, f);
+      const ForcePairTerms t = force_pair<grad>(k, pi, ForcePoint{b.x, b.y, b.vx, b.vy, b.rho, b.p}, fs[m + l]);
       const double v = b.vol;
       const double terms[7] = {t.ax, t.ay, v * t.xx, v * t.xy, v * t.yy, v * t.sx, v * t.sy};
       for (int c = 0; c < 7; ++c) s[c][l] += terms[c];
@@ -101,9 +100,12 @@ DSDEM_LANES V gradient_factor(V r2, double inv_h, double c) {
 // A group of w < 4 pairs: its indices padded with the first (terms computed, masked to 0).
 struct Group {
   std::int32_t js[4];
+  alignas(32) double fs[4] = {0.0, 0.0, 0.0, 0.0};  // the force pass's F, 0 in the padding
   V mask;
-  Group(const std::int32_t* js0, std::size_t w) {
+  Group(const std::int32_t* js0, std::size_t w, const double* fs0 = nullptr) {
     for (std::size_t l = 0; l < 4; ++l) js[l] = js0[l < w ? l : 0];
+    if (fs0 != nullptr)
+      for (std::size_t l = 0; l < w; ++l) fs[l] = fs0[l];
     mask = _mm256_castsi256_pd(_mm256_set_epi64x(w > 3 ? -1 : 0, w > 2 ? -1 : 0, w > 1 ? -1 : 0, -1));
   }
 };
@@ -140,14 +142,13 @@ DSDEM_LANES V density_terms(const DensityPairConstants& k, const DensityPoint& p
 // gradient's products times V_j).
 template <bool grad>
 DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
-                                 const std::int32_t* js, V mask, V (&s)[7]) {
+                                 const std::int32_t* js, V f, V mask, V (&s)[7]) {
   V b[8];  // x, y, vx, vy, rho, p, vol, unused
   load_records(a, js, b);
   const V dx = sub(all(pi.x), b[0]), dy = sub(all(pi.y), b[1]);
   const V rho_j = b[4];
   const V vr = add(mul(sub(all(pi.vx), b[2]), dx), mul(sub(all(pi.vy), b[3]), dy));
   const V r2 = add(mul(dx, dx), mul(dy, dy));
-  const V f = gradient_factor(r2, k.inv_h, k.grad_c);
   // artificial_viscosity: -2 alpha c h min(v.r, 0) / ((r^2 + 0.01 h^2) (rho_i + rho_j)).
   const V visc = vdiv(mul(all(-2.0 * k.alpha_c * k.h), mul(all(0.5), sub(vr, vabs(vr)))),
                       mul(add(r2, all(0.01 * k.h * k.h)), add(all(pi.rho), rho_j)));
@@ -169,50 +170,56 @@ DSDEM_LANES void add_force_terms(const ForcePairConstants& k, const ForcePoint& 
 
 template <bool fourtakas>
 double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
-                        const std::int32_t* js, std::size_t n) {
+                        const std::int32_t* js, std::size_t n, double* fs) {
   V s = all(0.0), fv;
   std::size_t m = 0;
-  for (; m + 4 <= n; m += 4) s = add(s, density_terms<fourtakas>(k, pi, a, js + m, fv));
+  for (; m + 4 <= n; m += 4) {
+    s = add(s, density_terms<fourtakas>(k, pi, a, js + m, fv));
+    _mm256_storeu_pd(fs + m, fv);
+  }
   if (m < n) {
     const Group g(js + m, n - m);
     s = add(s, _mm256_and_pd(density_terms<fourtakas>(k, pi, a, g.js, fv), g.mask));
+    alignas(32) double f4[4];
+    _mm256_store_pd(f4, fv);
+    for (std::size_t l = 0; m + l < n; ++l) fs[m + l] = f4[l];
   }
   return reduce(s);
 }
 
 template <bool grad>
 ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
-                         const std::int32_t* js, std::size_t n) {
+                         const std::int32_t* js, const double* fs, std::size_t n) {
   V s[7];
   for (V& x : s) x = all(0.0);
   const V every = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
   std::size_t m = 0;
-  for (; m + 4 <= n; m += 4) add_force_terms<grad>(k, pi, a, js + m, every, s);
+  for (; m + 4 <= n; m += 4) add_force_terms<grad>(k, pi, a, js + m, _mm256_loadu_pd(fs + m), every, s);
   if (m < n) {
-    const Group g(js + m, n - m);
-    add_force_terms<grad>(k, pi, a, g.js, g.mask, s);
+    const Group g(js + m, n - m, fs + m);
+    add_force_terms<grad>(k, pi, a, g.js, _mm256_load_pd(g.fs), g.mask, s);
   }
   return {reduce(s[0]), reduce(s[1]), -reduce(s[2]), -reduce(s[3]), -reduce(s[4]), reduce(s[5]), reduce(s[6]), 0.0};
 }
 
 template double density_sum_avx2<true>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
-                                       const std::int32_t*, std::size_t);
+                                       const std::int32_t*, std::size_t, double*);
 template double density_sum_avx2<false>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
-                                        const std::int32_t*, std::size_t);
+                                        const std::int32_t*, std::size_t, double*);
 template ForceSums force_sum_avx2<true>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
-                                        const std::int32_t*, std::size_t);
+                                        const std::int32_t*, const double*, std::size_t);
 template ForceSums force_sum_avx2<false>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
-                                         const std::int32_t*, std::size_t);
+                                         const std::int32_t*, const double*, std::size_t);
 #undef DSDEM_LANES
 #pragma GCC pop_options
 
 template double density_sum_scalar<true>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
-                                         const std::int32_t*, std::size_t);
+                                         const std::int32_t*, std::size_t, double*);
 template double density_sum_scalar<false>(const DensityPairConstants&, const DensityPoint&, const DensityRecord*,
-                                          const std::int32_t*, std::size_t);
+                                          const std::int32_t*, std::size_t, double*);
 template ForceSums force_sum_scalar<true>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
-                                          const std::int32_t*, std::size_t);
+                                          const std::int32_t*, const double*, std::size_t);
 template ForceSums force_sum_scalar<false>(const ForcePairConstants&, const ForcePoint&, const ForceRecord*,
-                                           const std::int32_t*, std::size_t);
+                                           const std::int32_t*, const double*, std::size_t);
 
 }  // namespace dsdem::sph

@@ -26,21 +26,23 @@ struct alignas(64) ForceRecord {
 // True when the CPU runs the AVX2 lanes.
 bool pair_lanes_avx2();
 
-// drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j)).
+// drho_i/dt's fluid part, sum over the partners js[0..n) of c + q V_j (density_pair(i, j));
+// each pair's F (wendland_gradient_factor) written to fs[0..n) for the force pass.
 template <bool fourtakas>
 double density_sum_scalar(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
-                          const std::int32_t* js, std::size_t n);
+                          const std::int32_t* js, std::size_t n, double* fs);
 template <bool fourtakas>
 double density_sum_avx2(const DensityPairConstants& k, const DensityPoint& pi, const DensityRecord* a,
-                        const std::int32_t* js, std::size_t n);
+                        const std::int32_t* js, std::size_t n, double* fs);
 
-// i's force sums over the partners js[0..n) (F from wendland_gradient_factor): the accelerations of force_pair(i,
-// j), M = -sum V_j F r r^T and sum V_j (rho_j - rho_i) F r.
+// i's force sums over the partners js[0..n) with their F fs[0..n) from the density pass (the
+// same positions): the accelerations of force_pair(i, j), M = -sum V_j F r r^T and
+// sum V_j (rho_j - rho_i) F r.
 template <bool grad>
 ForceSums force_sum_scalar(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
-                           const std::int32_t* js, std::size_t n);
+                           const std::int32_t* js, const double* fs, std::size_t n);
 template <bool grad>
 ForceSums force_sum_avx2(const ForcePairConstants& k, const ForcePoint& pi, const ForceRecord* a,
-                         const std::int32_t* js, std::size_t n);
+                         const std::int32_t* js, const double* fs, std::size_t n);
 
 }  // namespace dsdem::sph

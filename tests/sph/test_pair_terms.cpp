@@ -115,7 +115,8 @@ TEST(SphPairTerms, PairBeyondTheSupportAddsNothing) {
 
 // A particle's sums over lists of 0 to 30 partners (some beyond the support, so groups of
 // four and a padded last group): the AVX2 lanes give the scalar reference's bits, and both
-// are the plain sums of the pair terms (to round-off: the lanes add in another order).
+// are the plain sums of the pair terms (to round-off: the lanes add in another order). The
+// density pass hands each pair's F to the force pass: the kernel's, from either.
 TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
   const Cloud c(64, 3);
   const std::vector<DensityRecord> dr = c.density_records();
@@ -130,9 +131,15 @@ TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
     for (auto& j : js) j = pick(g);
     const DensityPoint di = c.density_point(0);
     const ForcePoint fi = c.force_point(0);
+    std::vector<double> fs(n, -1.0), fs2(n, -1.0);
     for (bool fourtakas : {false, true}) {
-      const double s1 = fourtakas ? density_sum_scalar<true>(density_constants(), di, dr.data(), js.data(), n)
-                                  : density_sum_scalar<false>(density_constants(), di, dr.data(), js.data(), n);
+      const double s1 = fourtakas ? density_sum_scalar<true>(density_constants(), di, dr.data(), js.data(), n, fs.data())
+                                  : density_sum_scalar<false>(density_constants(), di, dr.data(), js.data(), n, fs.data());
+      for (std::size_t m = 0; m < n; ++m) {
+        const double dx = di.x - c.x[js[m]], dy = di.y - c.y[js[m]];
+        const double f = wendland_gradient_factor(dx * dx + dy * dy, density_constants().inv_h, density_constants().grad_c);
+        EXPECT_TRUE(same_bits(fs[m], f)) << m;
+      }
       double plain = 0.0, scale = 0.0;
       for (std::size_t m = 0; m < n; ++m) {
         const DensityPairTerms t = fourtakas ? density_pair<true>(density_constants(), di, c.density_point(js[m]))
@@ -143,11 +150,12 @@ TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
       EXPECT_NEAR(s1, plain, 1e-14 * scale) << n << " partners";
       nonzero += s1 != 0.0 ? 1 : 0;
       if (!avx2) continue;
-      const double s2 = fourtakas ? density_sum_avx2<true>(density_constants(), di, dr.data(), js.data(), n)
-                                  : density_sum_avx2<false>(density_constants(), di, dr.data(), js.data(), n);
+      const double s2 = fourtakas ? density_sum_avx2<true>(density_constants(), di, dr.data(), js.data(), n, fs2.data())
+                                  : density_sum_avx2<false>(density_constants(), di, dr.data(), js.data(), n, fs2.data());
       EXPECT_TRUE(same_bits(s1, s2)) << (fourtakas ? "Fourtakas, " : "delta-SPH, ") << n << " partners";
+      EXPECT_TRUE(n == 0 || std::memcmp(fs.data(), fs2.data(), n * sizeof(double)) == 0) << n << " partners";
     }
-    const ForceSums t1 = force_sum_scalar<true>(force_constants(), fi, fr.data(), js.data(), n);
+    const ForceSums t1 = force_sum_scalar<true>(force_constants(), fi, fr.data(), js.data(), fs.data(), n);
     double ax = 0.0, mxx = 0.0, sy = 0.0, scale = 0.0;
     for (std::size_t m = 0; m < n; ++m) {
       const double dx = fi.x - c.x[js[m]], dy = fi.y - c.y[js[m]];
@@ -164,10 +172,10 @@ TEST(SphPairLanes, SumsAreThePairTermsAndTheLanesGiveTheScalarBits) {
     EXPECT_NEAR(t1.sy, sy, 1e-14 * scale);
     if (!avx2) continue;
     for (bool grad : {true, false}) {
-      const ForceSums a = grad ? force_sum_scalar<true>(force_constants(), fi, fr.data(), js.data(), n)
-                               : force_sum_scalar<false>(force_constants(), fi, fr.data(), js.data(), n);
-      const ForceSums b = grad ? force_sum_avx2<true>(force_constants(), fi, fr.data(), js.data(), n)
-                               : force_sum_avx2<false>(force_constants(), fi, fr.data(), js.data(), n);
+      const ForceSums a = grad ? force_sum_scalar<true>(force_constants(), fi, fr.data(), js.data(), fs.data(), n)
+                               : force_sum_scalar<false>(force_constants(), fi, fr.data(), js.data(), fs.data(), n);
+      const ForceSums b = grad ? force_sum_avx2<true>(force_constants(), fi, fr.data(), js.data(), fs.data(), n)
+                               : force_sum_avx2<false>(force_constants(), fi, fr.data(), js.data(), fs.data(), n);
       EXPECT_TRUE(same_bits(a, b)) << (grad ? "with" : "without") << " the gradient, " << n << " partners";
     }
   }
