@@ -193,7 +193,10 @@ def key_cards(summary: dict) -> str:
            if isinstance(g.get("peak_velocity_mps"), (int, float))]
     if vel:
         v, n, t = max(vel, key=lambda x: x[0])
-        when = f" at {t:.3g} s" if isinstance(t, (int, float)) else ""
+        # dr2_postprocess.py counts the gauges' times from the earthquake's start (and keeps the
+        # runner's, from the run's start, as gauges_from_run_start); every other time is the run's.
+        origin = "the earthquake's start" if "gauges_from_run_start" in summary else "the run's start"
+        when = f" at {t:.3g} s from {origin}" if isinstance(t, (int, float)) else ""
         card(scaled(v, "m/s"), f"peak gauge velocity ({n}{when})")
     if isinstance(summary.get("max_wave_amplitude_m"), (int, float)):
         card(scaled(summary["max_wave_amplitude_m"], "m"), "max wave amplitude (moving water)")

@@ -134,9 +134,9 @@ WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, 
   }
   for (std::size_t b = 0; b < n; ++b)
     if (level_ - bottom[b] >= 0.25 * layout.depth) wave_x_.push_back(layout.x_min + (b + 0.5) * dx);
-  for (const auto& r : spec_.runup) runup_.push_back({r.name, {}, 0.0});
-  for (const auto& c : spec_.crests) crests_.push_back({c.name, {}, 0.0});
-  for (const auto& c : spec_.pressure) forces_.push_back({c.name, {}, 0.0});
+  for (const auto& r : spec_.runup) runup_.push_back({r.name, {}, 0.0, {}});
+  for (const auto& c : spec_.crests) crests_.push_back({c.name, {}, 0.0, {}});
+  for (const auto& c : spec_.pressure) forces_.push_back({c.name, {}, 0.0, {}});
   crest_start_.assign(crests_.size(), kNaN);
 }
 
