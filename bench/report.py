@@ -93,6 +93,72 @@ FLAT_SERIES = {
 }
 
 
+def water(raw):
+    """The water's section and its target rows from scripts/bench.sh's raw/sph: the tank's
+    rounds (tank_N_rR.json), the 1- and 2-thread end states (threads.txt) and the Dr2 wall times
+    dry and wet (dr2.tsv). Returns (lines, targets); both empty when the runs are absent."""
+    lines, targets = [], []
+    rounds = {}
+    for m, b in round_files(raw, "sph", r"tank_(\d+)_r(\d+)\.json$"):
+        rounds.setdefault(int(m.group(1)), []).append(b)
+    rate = {}
+    if rounds:
+        lines += ["## Water alone (SPH, DESIGN.md §13)", "",
+                  "A square tank of water at rest (n x n particles 0.01 m apart, walls on three sides; "
+                  "bench/sph_tank.hpp), one thread; each round is five repetitions (their median), the rounds "
+                  "alternate the two sizes. Particle-steps per second per core: fluid particles x steps per wall "
+                  "second.", "",
+                  "| tank | fluid particles | wall particles | ms per step, by round | M particle-steps/s per core, by round | median |",
+                  "|---|---|---|---|---|---|"]
+        for n, bs in sorted(rounds.items()):
+            ms = [b["real_time"] if b["time_unit"] == "ms" else b["real_time"] / 1e6 for b in bs]
+            ps = [b["particle_steps/s"] / 1e6 for b in bs]
+            rate[n] = statistics.median(ps)
+            lines.append(f"| {n} x {n} | {bs[0]['particles']:.0f} | {bs[0]['boundary']:.0f} | "
+                         f"{', '.join(f'{x:.3g}' for x in ms)} | {', '.join(f'{x:.2f}' for x in ps)} | {rate[n]:.2f} |")
+        lines.append("")
+        if rate:
+            low = min(rate.values())
+            per = ", ".join(f"{n} x {n}: {r:.2f} M" for n, r in sorted(rate.items()))
+            targets.append(f"| water alone >= 5 M particle-steps/s per core at 10^4 and 10^5 particles (tank at rest, "
+                           f"1 thread, medians of {min(len(b) for b in rounds.values())} alternating rounds) | {per} | "
+                           f"{'yes' if low >= 5.0 and len(rate) >= 2 else 'no'} |")
+        if len(rate) >= 2:
+            spread = max(rate.values()) / min(rate.values())
+            targets.append(f"| water alone flat within 1.3x between 10^4 and 10^5 particles | {spread:.2f}x | "
+                           f"{'yes' if spread <= 1.3 else 'no'} |")
+    states = {}
+    path = os.path.join(raw, "sph", "threads.txt")
+    if os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                m = re.match(r"(\d+) .*state (\w+)", line)
+                if m:
+                    states[m.group(1)] = m.group(2)
+    if "1" in states and "2" in states:
+        same = states["1"] == states["2"]
+        targets.append(f"| water: 1 and 2 threads bit-identical (10^4 tank, 20 steps, hash of every particle's state) | "
+                       f"{states['1']} / {states['2']} | {'yes' if same else 'no'} |")
+    path = os.path.join(raw, "sph", "dr2.tsv")
+    if os.path.exists(path):
+        walls = {}
+        with open(path) as f:
+            for row in (l.rstrip("\n").split("\t") for l in f if l.strip()):
+                if len(row) == 3 and row[2] != "failed":
+                    walls.setdefault(int(row[1]), {})[row[0]] = float(row[2])
+        ratios = [w["wet"] / w["dry"] for _, w in sorted(walls.items()) if "wet" in w and "dry" in w]
+        if ratios:
+            med = statistics.median(ratios)
+            per = "; ".join(f"{w['dry']:.1f} s dry, {w['wet']:.1f} s wet" for _, w in sorted(walls.items())
+                            if "wet" in w and "dry" in w)
+            targets.append(f"| Dr2 shear sliding with the reservoir (the demo's water, 4 m apart) at the 12 m demo mesh "
+                           f"within 2x the dry run (whole runs, 1 thread, {len(ratios)} alternating round(s)) | {per}: "
+                           f"median {med:.2f}x | {'yes' if med <= 2.0 else 'no'} |")
+        else:
+            targets.append("| Dr2 shear sliding with the reservoir within 2x the dry run | a run failed (raw/sph/dr2_*.log) | no |")
+    return lines, targets
+
+
 def sh(cmd):
     try:
         return subprocess.run(cmd, shell=True, capture_output=True, text=True, timeout=10).stdout.strip()
@@ -241,6 +307,9 @@ def main():
                      "above stands in for the first; see the Dr2 estimate in the notes below.")
     lines.append("")
 
+    water_lines, water_targets = water(raw)
+    lines += water_lines
+
     # Targets.
     def get(n, k):
         return whole[n][k] if n in whole and k in whole[n] else None
@@ -372,6 +441,7 @@ def main():
                 met = "yes" if seconds <= 180 else "no"
             lines.append(f"| Dr2 shear sliding, 40 s (+ 3 s gravity) at the default mesh under 3 min on 2 cores | "
                          f"{measured} | {met} |")
+    lines += water_targets
     lines.append("")
 
     notes = os.path.join(root, "bench", "profile_notes.md")

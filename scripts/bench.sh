@@ -17,6 +17,7 @@ mkdir -p "$RAW"
 # Only this run's numbers go into results.md: a QUICK run must not report the examples of an
 # earlier full run as if measured now.
 rm -f "$RAW"/*.json "$RAW/examples.tsv" "$RAW/round_trip.txt" "$RAW/settings.txt"
+rm -rf "$RAW/sph"
 # What was measured: the time and revision of this run (report.py may run again later).
 changes=$(git -C "$ROOT" diff --quiet HEAD -- src 'bench/*.cpp' 'bench/*.hpp' bench/CMakeLists.txt CMakeLists.txt \
   2> /dev/null || echo " with uncommitted changes to the code")
@@ -29,7 +30,7 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
 fi
 cmake -S "$ROOT" -B "$BUILD" > /dev/null   # picks up bench/ if it appeared since
-cmake --build "$BUILD" -j "$(nproc)" --target dsdem_bench dsdem dsdem_core_round_trip
+cmake --build "$BUILD" -j "$(nproc)" --target dsdem_bench dsdem dsdem_core_round_trip dsdem_profile_sph
 BENCH="$BUILD/bench/dsdem_bench"
 if [ ! -x "$BENCH" ]; then
   echo "bench.sh: $BENCH not built (is Google Benchmark installed? libbenchmark-dev)" >&2
@@ -146,6 +147,44 @@ for ex in brazilian_disc dr2; do
       "$(echo "$ut + $st" | bc)" "${steps:-?}" "$load" >> "$EXAMPLES"
   done
 done
+
+# The water alone (SPH, DESIGN.md §13): the tank at rest of 10^4 and 10^5 particles, one
+# thread, in alternating rounds of five repetitions each (report.py: each size's median over the
+# rounds, particle-steps per second per core, and their ratio); the end state of 20 steps on one
+# and on two threads (dsdem_profile_sph's hash of every particle's bits); Dr2 shear sliding at
+# the demo's 12 m mesh, dry and with the reservoir as the demo's moving water (4 m apart), whole
+# runs on one thread, alternating (QUICK too: the wet run's 20 s settle is part of its cost).
+SPH_ROUNDS=${SPH_ROUNDS:-3}
+mkdir -p "$RAW/sph"
+for r in $(seq "$SPH_ROUNDS"); do
+  echo "== water alone, round $r of $SPH_ROUNDS" >&2
+  for n in 100 316; do
+    "$BENCH" --benchmark_filter="^BM_SphTank/$n/1/" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+      --benchmark_format=json --benchmark_out="$RAW/sph/tank_${n}_r$r.json" --benchmark_out_format=json > /dev/null
+  done
+done
+for t in 1 2; do
+  echo "$t $(OMP_NUM_THREADS=$t "$BUILD/bench/dsdem_profile_sph" 100 20 5 | tail -1)" >> "$RAW/sph/threads.txt"
+done
+DR2_SCEN="$ROOT/examples/dr2/shear_sliding.yaml"
+if [ -f "$DR2_SCEN" ]; then
+  source "$ROOT/examples/dr2/wet/water_sets.sh"
+  dr2_water_sets 4
+  for r in $(seq "${DR2_WATER_ROUNDS:-$([ "${QUICK:-0}" = 1 ] && echo 1 || echo 3)}"); do
+    for kind in dry wet; do
+      echo "== Dr2 shear sliding at 12 m, $kind, round $r" >&2
+      extra=()
+      [ "$kind" = wet ] && extra=("${DR2_WATER[@]}")
+      start=$(date +%s.%N)
+      if OMP_NUM_THREADS=1 "$BUILD/dsdem" run "$DR2_SCEN" -o "$RAW/sph/dr2_$kind" --threads 1 --no-fields --no-plots -q \
+           --set mesh.element_size=12 "${extra[@]}" > "$RAW/sph/dr2_$kind.log" 2>&1; then
+        printf '%s\t%s\t%.1f\n' "$kind" "$r" "$(echo "$(date +%s.%N) - $start" | bc)" >> "$RAW/sph/dr2.tsv"
+      else
+        printf '%s\t%s\tfailed\n' "$kind" "$r" >> "$RAW/sph/dr2.tsv"
+      fi
+    done
+  done
+fi
 
 round_trip end
 python3 "$ROOT/bench/report.py" "$RAW" "$OUT"

@@ -50,10 +50,9 @@ fi
 # about twice the dry run's time. DEMO_WATER=0 skips it.
 if [ "${DEMO_WATER:-1}" != 0 ] && [[ "$SCENARIO" == *dr2/shear_sliding* ]]; then
   WET_OUT="$ROOT/results/dr2_shear_sliding_reservoir"
-  WET=(--set reservoir.sph.spacing=4 --set reservoir.sph.expected_speed=15 --set reservoir.sph.settle=20
-       --set "reservoir.sph.gauges=[{name: g650, x: 650}, {name: g700, x: 700}, {name: g765, x: 765}, {name: g830, x: 830}]"
-       --set "reservoir.sph.runup=[{name: far_bank, polyline: [[810, 745], [880, 860], [980, 1040]]}]"
-       --set "reservoir.sph.pressure=[{name: intake, polyline: [[708, 759], [720, 745]]}]")
+  source "$ROOT/examples/dr2/wet/water_sets.sh"
+  dr2_water_sets 4 far_bank
+  WET=("${DR2_WATER[@]}")
   echo
   echo "dsdem demo, with the reservoir: $SCENARIO"
   run_job "$WET_OUT" "${SETS[@]}" "${WET[@]}"

@@ -13,15 +13,11 @@ MODES=("$@")
 DSDEM=${DSDEM:-$ROOT/build/dsdem}
 H=${ELEMENT_SIZE:-12}
 DP=${SPACING:-2}
-# The water: the pool of the scenario (reservoir.level 837 m over x 600.8-866 m) filled below its
-# level, settled for 20 s before the run. Surface gauges over the near bank (650 m), the intake's
-# side of the river (700 m), mid-river (765 m) and the far bank (830 m); run-up on the far (left)
-# bank, the bedrock surface of dr2.geo from the river bed's left edge up; the water's force on a
-# 20 m stretch of the ground around the intake (715, 750.8).
-WET=(--set reservoir.sph.spacing="$DP" --set reservoir.sph.expected_speed=15 --set reservoir.sph.settle=20
-     --set "reservoir.sph.gauges=[{name: g650, x: 650}, {name: g700, x: 700}, {name: g765, x: 765}, {name: g830, x: 830}]"
-     --set "reservoir.sph.runup=[{name: left_bank, polyline: [[810, 745], [880, 860], [980, 1040]]}]"
-     --set "reservoir.sph.pressure=[{name: intake, polyline: [[708, 759], [720, 745]]}]")
+# The water (water_sets.sh): the pool settled for 20 s, four surface gauges, the far bank's
+# run-up (left_bank, as table.py reads it), the water's force around the intake.
+source "$HERE/water_sets.sh"
+dr2_water_sets "$DP" left_bank
+WET=("${DR2_WATER[@]}")
 mkdir -p "$OUT"
 for mode in "${MODES[@]}"; do
   for kind in ${KINDS:-dry wet}; do
