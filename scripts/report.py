@@ -466,6 +466,10 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
         parts.append(f'<p class="note">The largest amplitude came at the end of the run ({lib.fmt_num(peak_t)} s of '
                      f"{lib.fmt_num(end)} s): the wave may still have been growing; a longer run would tell.</p>")
     a = (mw.get("max_wave_amplitude") or {}).get("amplitude_m")
+    if (mw.get("max_wave_amplitude") or {}).get("at_wall") is True and isinstance(a, (int, float)) and a > 0:
+        parts.append('<p class="note">The largest amplitude stands against a wall (the water\'s edge at rest is '
+                     "vertical there): it is the wave's reflection, up to twice the incident wave, the height the "
+                     "wall sees; the travelling wave is read at the gauges and in the primary waves below.</p>")
     if isinstance(a, (int, float)) and a <= 0:
         parts.append('<p class="note">The water\'s surface never rose above the still level in the reservoir '
                      f"(largest amplitude {lib.fmt_num(a)} m): no wave was measured.</p>")

@@ -158,6 +158,9 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["max_speed"] = peak(w.max_speed(), "speed_mps", true);
   m["flow_speed"] = peak(w.flow_speed(), "speed_mps", false);
   m["max_wave_amplitude"] = peak(w.max_amplitude(), "amplitude_m", true);
+  // At a wall the highest water is the wave's reflection there (up to twice the incident
+  // wave): the height the wall sees, not the travelling wave's amplitude.
+  m["max_wave_amplitude"]["at_wall"] = w.max_amplitude().seen && w.against_wall(w.max_amplitude().x);
   Json runup = Json::object();
   for (const auto& r : w.runup()) {
     // The rise above the bank's own reading at rest: what the wave added there.

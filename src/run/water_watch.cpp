@@ -48,6 +48,18 @@ void particles_near(const sph::FluidParticles& f, std::span<const Vec2> poly, do
 
 }  // namespace
 
+WaveColumns wave_columns(std::span<const double> bottom, double x_min, double dx, double level, double min_depth) {
+  WaveColumns c;
+  const std::size_t n = bottom.size();
+  const auto dry = [&](std::size_t b) { return !std::isfinite(bottom[b]); };
+  for (std::size_t b = 0; b < n; ++b) {
+    if (!(level - bottom[b] >= min_depth)) continue;
+    c.x.push_back(x_min + (static_cast<double>(b) + 0.5) * dx);
+    c.at_wall.push_back(b == 0 || b + 1 == n || dry(b - 1) || dry(b + 1));
+  }
+  return c;
+}
+
 Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, double level, double front,
                    int direction) {
   Crest c{kNaN, kNaN};
@@ -132,12 +144,19 @@ WaterWatch::WaterWatch(const io::Scenario& sc, const MovingWaterLayout& layout, 
     const auto b = std::min(n - 1, static_cast<std::size_t>(std::max(0.0, (f.x[i] - layout.x_min) / dx)));
     bottom[b] = std::min(bottom[b], f.y[i] - 0.5 * dp_);
   }
-  for (std::size_t b = 0; b < n; ++b)
-    if (level_ - bottom[b] >= 0.25 * layout.depth) wave_x_.push_back(layout.x_min + (b + 0.5) * dx);
+  WaveColumns columns = wave_columns(bottom, layout.x_min, dx, level_, 0.25 * layout.depth);
+  wave_x_ = std::move(columns.x);
+  wave_wall_ = std::move(columns.at_wall);
   for (const auto& r : spec_.runup) runup_.push_back({r.name, {}, 0.0, {}});
   for (const auto& c : spec_.crests) crests_.push_back({c.name, {}, 0.0, {}});
   for (const auto& c : spec_.pressure) forces_.push_back({c.name, {}, 0.0, {}});
   crest_start_.assign(crests_.size(), kNaN);
+}
+
+bool WaterWatch::against_wall(double x) const {
+  for (std::size_t k = 0; k < wave_x_.size(); ++k)
+    if (std::abs(wave_x_[k] - x) <= 0.5 * dp_) return wave_wall_[k];
+  return false;
 }
 
 std::vector<io::HistoryColumn> WaterWatch::columns(const io::SphSpec& spec, const std::string& energy_unit,

@@ -30,6 +30,17 @@ struct Crest {
 Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, double level, double front,
                    int direction);
 
+// Where the wave is sought (DESIGN.md §13): columns of width dx from x_min, bottom[b] the
+// lowest still water in column b (infinite: none). The x of every column whose still water is
+// at least min_depth deep, and whether it stands against a wall: the first or last column, or
+// one beside a column with no water at rest. A crest there is the wave's reflection, up to twice
+// the incident wave, and a sloping bank's shallows end the search without one.
+struct WaveColumns {
+  std::vector<double> x;
+  std::vector<bool> at_wall;
+};
+WaveColumns wave_columns(std::span<const double> bottom, double x_min, double dx, double level, double min_depth);
+
 // The mean of the wet columns' free surface (NaN: dry; NaN when none is wet).
 double mean_surface(std::span<const double> surface);
 
@@ -63,6 +74,8 @@ class WaterWatch {
     bool seen = false;
   };
   const Peak& max_amplitude() const { return amplitude_; }
+  // Whether the wave column at x (within half a spacing) stands against a wall (wave_columns).
+  bool against_wall(double x) const;
   struct Named {
     std::string name;
     Peak peak;             // run-up elevation (m), overtopped area (m^2/m) or force magnitude (N/m)
@@ -139,6 +152,7 @@ class WaterWatch {
   long escaped_ = 0, above_top_ = 0, inside_ = 0;
   double top_ = 0.0;  // m: the top of the coupled bedrock faces
   std::vector<double> gauge_x_, wave_x_;  // the gauges; where the amplitude is sought
+  std::vector<bool> wave_wall_;           // wave_x_'s columns against a wall
   std::vector<std::vector<double>> gauge_t_, gauge_eta_;
   std::vector<double> gauge_overrun_t_;  // s, NaN until the slide's front reaches the gauge
   // A gauge's record before the slide's front reached it.

@@ -213,6 +213,16 @@ TEST_F(WaterPost, ReportSaysWhyThereIsNoEstimateAndKeepsTheDryReservoirSection) 
   ASSERT_EQ(run_dsdem("plot " + out.string() + " -q").exit_code, 0);  // once, for the three reports
   const json run = read_json(out / "summary.json");
   json s = run;
+  // The largest amplitude against a wall is said to be the reflection there (only then).
+  ASSERT_GT(s["moving_water"]["max_wave_amplitude"]["amplitude_m"].get<double>(), 0.0);
+  for (const bool at_wall : {true, false}) {
+    s["moving_water"]["max_wave_amplitude"]["at_wall"] = at_wall;
+    write_json(out / "summary.json", s);
+    ASSERT_EQ(run_dsdem("report " + out.string() + " -q --no-render").exit_code, 0);
+    const std::string w = section(read_text(out / "report.html"), "reservoir-wave");
+    EXPECT_EQ(w.find("stands against a wall") != std::string::npos, at_wall) << at_wall;
+  }
+  s = run;
   s["heller_hager"] = json::object({{"still_level_m", 2.0}, {"depth_m", 2.0}, {"slide_entered_water", false}});
   write_json(out / "summary.json", s);
   auto c = run_dsdem("report " + out.string() + " -q --no-render");

@@ -131,6 +131,9 @@ TEST(ReservoirWater, ABlockIntoAFlumeRaisesAWaveThatTheRunMeasures) {
   EXPECT_GT(a, 0.5 * a_M);
   EXPECT_LT(a, 0.78 * 2.0);
   EXPECT_GT(m["max_wave_amplitude"]["time_s"].get<double>(), s["heller_hager"]["impact_time_s"].get<double>());
+  // Flagged as against a wall exactly when it stands in the last column before the end wall
+  // (13 m; columns 0.2 m wide), never at the bank's shallows.
+  EXPECT_EQ(m["max_wave_amplitude"]["at_wall"].get<bool>(), m["max_wave_amplitude"]["x_m"].get<double>() > 12.8);
   // The wave reaches the end wall (x = 13 m) just before the end and has begun to run up it;
   // at rest the wall holds 2 m of water, a force rho g H^2 / 2 = 19.6 kN/m.
   EXPECT_GT(m["runup"]["wall"]["elevation_m"].get<double>(), still + 0.5 * a_M);

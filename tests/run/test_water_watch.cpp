@@ -15,9 +15,26 @@
 #include "run/water_watch.hpp"
 
 using dsdem::run::crest_beyond;
+using dsdem::run::wave_columns;
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}
+
+// Still water 2 m deep from a vertical wall (no water left of x = 1) to a bank that shoals to
+// the right: the search takes the columns at least 0.5 m deep; the column against the wall is
+// flagged (a crest there is the reflection), the last one before the bank's shallows is not.
+// A pool between two vertical walls (its first and last columns the water's edges) flags both.
+TEST(WaterWatch, TheWavesColumnsAgainstAWallAreFlagged) {
+  constexpr double kDry = std::numeric_limits<double>::infinity();
+  const std::vector<double> bottom{kDry, 0.0, 0.0, 0.0, 1.0, 1.7, 1.9};
+  const auto c = wave_columns(bottom, 0.0, 1.0, 2.0, 0.5);
+  ASSERT_EQ(c.x.size(), 4u);
+  EXPECT_DOUBLE_EQ(c.x.front(), 1.5);
+  EXPECT_DOUBLE_EQ(c.x.back(), 4.5);
+  EXPECT_EQ(c.at_wall, (std::vector<bool>{true, false, false, false}));
+  const auto pool = wave_columns(std::vector<double>{0.0, 0.0, 0.0}, 10.0, 0.5, 2.0, 0.5);
+  EXPECT_EQ(pool.at_wall, (std::vector<bool>{true, false, true}));
 }
 
 // A splash of 0.3 m over the slide at x = 1 and a wave of 0.1 m at x = 3: beyond a front at
