@@ -460,13 +460,14 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     if isinstance(mw.get("escaped_particles"), int) and mw["escaped_particles"] > 0:
         parts.append(f'<p class="note">{mw["escaped_particles"]} particles left the model (a gap in the solid): '
                      "the water's measurements miss them.</p>")
-    peak_t = (mw.get("max_wave_amplitude") or {}).get("time_s")
+    peak = mw.get("max_wave_amplitude") or {}
+    peak_t = peak.get("time_s")
     end = summary.get("end_time_s")
     if isinstance(peak_t, (int, float)) and isinstance(end, (int, float)) and peak_t >= 0.98 * end:
         parts.append(f'<p class="note">The largest amplitude came at the end of the run ({lib.fmt_num(peak_t)} s of '
                      f"{lib.fmt_num(end)} s): the wave may still have been growing; a longer run would tell.</p>")
-    a = (mw.get("max_wave_amplitude") or {}).get("amplitude_m")
-    if (mw.get("max_wave_amplitude") or {}).get("at_wall") is True and isinstance(a, (int, float)) and a > 0:
+    a = peak.get("amplitude_m")
+    if peak.get("at_wall") is True and isinstance(a, (int, float)) and a > 0:
         parts.append('<p class="note">The largest amplitude stands against a wall (the water\'s edge at rest is '
                      "vertical there): it is the wave's reflection, up to twice the incident wave, the height the "
                      "wall sees; the travelling wave is read at the gauges and in the primary waves below.</p>")
