@@ -13,6 +13,7 @@
 #include "law/registry.hpp"
 #include "run/stage.hpp"
 #include "run/text.hpp"
+#include "sph/kernels.hpp"
 
 namespace dsdem::run {
 
@@ -145,9 +146,13 @@ WaterEstimate estimate_water_steps(const PreparedRun& run) {
     elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
   }
   e.per_step_s = elapsed / e.steps_timed;
-  e.per_solid_step = std::ceil(run.dt / dt);
-  const double during_run = dt < run.dt ? static_cast<double>(run.estimated_steps) * e.per_solid_step
-                                        : std::ceil(run.scenario.end_time() / dt);
+  // In the run the water moves, up to the c0 / 10 its sound speed was chosen for (DESIGN.md
+  // §13), and its step shortens to cfl h / (c0 + v): counted at that speed.
+  const sph::FluidParameters& p = fluid.parameters();
+  const double dt_flow = std::min(dt, sph::stable_time_step(p.h(), p.c0, 0.1 * p.c0, 0.0, p.cfl));
+  e.per_solid_step = std::ceil(run.dt / dt_flow);
+  const double during_run = dt_flow < run.dt ? static_cast<double>(run.estimated_steps) * e.per_solid_step
+                                             : std::ceil(run.scenario.end_time() / dt_flow);
   e.steps = std::ceil(run.scenario.reservoir.sph.settle / dt) + during_run;
   return e;
 }
@@ -164,7 +169,7 @@ std::string check_report(PreparedRun& run) {
     const double water_wall = water.per_step_s * water.steps;
     wall += water_wall;
     r += fmt::format("estimate   the water: {:.3g} ms per water step (at rest, {} steps timed), about {:.3g} water steps "
-                     "with the settle's ({}) -> about {} more, {} in all\n",
+                     "with the settle's, the run's at c0 / 10 ({}) -> about {} more, {} in all\n",
                      water.per_step_s * 1e3, water.steps_timed, water.steps,
                      water.per_solid_step > 1.0 ? fmt::format("{:.0f} per solid step", water.per_solid_step)
                                                 : std::string("one over one or more solid steps"),

@@ -13,10 +13,11 @@ namespace dsdem::run {
 std::string check_report(PreparedRun& run);
 
 // The moving water's share of the run time (run.moving_water set): a few water steps at rest
-// timed (one thread, as a small pool runs), and the water steps of the settle and of the run
-// at the stable step at rest (the sound speed's): sub-steps of each solid step when that is
-// shorter than the solid's, else one over as many solid steps as fit in it. The particles'
-// speed shortens the step in the run; the count is a lower bound for a violent flow.
+// timed (one thread, as a small pool runs), and the water steps of the settle at the stable
+// step at rest and of the run at the step of water moving at c0 / 10, the speed its sound
+// speed was chosen for: sub-steps of each solid step when that is shorter than the solid's,
+// else one over as many solid steps as fit in it. A calm pool takes a few per cent fewer; a
+// violent flow (squeezes, splashes faster than c0 / 10) more.
 struct WaterEstimate {
   double per_step_s = 0.0;
   int steps_timed = 0;

@@ -456,9 +456,9 @@ TEST(ReservoirWater, WaterFasterThanATenthOfItsSoundSpeedIsWarnedOf) {
   EXPECT_NE(log.find("reservoir.sph.expected_speed:"), std::string::npos) << log;
 }
 
-// The water's steps that `check` counts before the run (the settle's and the run's, at the
-// step at rest) against the steps the run takes: the block's entry speeds the water up and
-// shortens its step, so the count is a little low.
+// The water's steps that `check` counts before the run (the settle's at the step at rest, the
+// run's at the step of water moving at c0 / 10) against the steps the run takes: the block's
+// entry moves the water slower than that, so the count is a little high (3 % here).
 TEST(ReservoirWater, CheckCountsTheWaterStepsOfTheRun) {
   const std::vector<std::string> o = {"time.end=0.6", "reservoir.sph.settle=0.3"};
   auto sc = dsdem::io::load_scenario(kFlume, o);
@@ -469,7 +469,8 @@ TEST(ReservoirWater, CheckCountsTheWaterStepsOfTheRun) {
   const ordered_json s = run_flume(dsdem::test::fresh_dir("moving_water_check_run"), o);
   const double actual = s["moving_water"]["steps"].get<double>();
   std::printf("water steps: %.0f counted before the run, %.0f taken\n", e.steps, actual);
-  EXPECT_NEAR(e.steps, actual, 0.15 * actual);
+  EXPECT_GE(e.steps, actual);
+  EXPECT_LT(e.steps, 1.06 * actual);
   EXPECT_NE(dsdem::run::check_report(prepared).find("estimate   the water:"), std::string::npos);
 }
 
