@@ -460,6 +460,15 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     if isinstance(mw.get("escaped_particles"), int) and mw["escaped_particles"] > 0:
         parts.append(f'<p class="note">{mw["escaped_particles"]} particles left the model (a gap in the solid): '
                      "the water's measurements miss them.</p>")
+    ex = mw.get("excluded") or {}
+    if isinstance(ex.get("particles"), int) and ex["particles"] > 0:
+        first = ex.get("first") or {}
+        parts.append(f'<p class="note">{ex["particles"]} water particles '
+                     f'({lib.fmt_num(100.0 * ex.get("fraction", 0.0))} % of the water) left its weakly compressible '
+                     "range (faster than its sound speed, or its density off by half: spray flung out of a squeeze) "
+                     "and were taken out of the water"
+                     + (f", the first at t = {lib.fmt_num(first['time_s'])} s" if isinstance(first.get("time_s"), (int, float))
+                        else "") + "; the log names each.</p>")
     peak = mw.get("max_wave_amplitude") or {}
     peak_t = peak.get("time_s")
     end = summary.get("end_time_s")

@@ -156,6 +156,7 @@ sph::FluidParameters fluid_parameters(const io::Scenario& sc, double depth) {
   par.h_over_dp = w.smoothing;
   par.alpha = w.viscosity;
   par.delta = w.density_diffusion;
+  par.excluded_limit = w.excluded_limit;
   par.gravity = sc.gravity;
   par.c0 = w.sound_speed > 0.0 ? w.sound_speed : sph::sound_speed_for(depth, w.expected_speed, sc.gravity.norm());
   return par;

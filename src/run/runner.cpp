@@ -115,6 +115,7 @@ class Runner {
   void run_stage(std::size_t si);
   bool step(const io::StageSpec& stage, std::size_t si);
   void write_due_outputs(std::size_t si, double t);
+  void log_excluded_water();
   bool at_rest(const io::StageSpec& stage, double t) const;
   bool checkpoint_due(Clock::time_point now) const;
   void report_progress(const io::StageSpec& stage, double t, Clock::time_point now);
@@ -154,6 +155,7 @@ class Runner {
   double wall_before_ = 0.0;
   int stopped_by_ = 0;
   bool stopped_at_step_ = false;
+  std::size_t excluded_logged_ = 0;  // water particles taken out so far whose exclusion was logged
 };
 
 Runner::Runner(PreparedRun& prepared, const RunOptions& options)
@@ -255,6 +257,7 @@ void Runner::start_moving_water() {
                sc_.reservoir.sph.settle, fluid.steps(), v, v / scale);
   }
   solver_->set_moving_water(std::move(fluid), w.edges);
+  if (!checkpoint_) log_excluded_water();  // from the settle
 }
 
 // Each stage's supports, viscous boundary and earthquake as the original run set them (at
@@ -267,6 +270,7 @@ void Runner::resume() {
   }
   solver.restore(*checkpoint_);
   checkpoint_.reset();
+  if (const sph::Fluid* fluid = solver.moving_water()) excluded_logged_ = fluid->excluded().size();  // logged before
   log_->info("restarted from {} at step {}, t = {:.6g} s, {} stage {} '{}'", options_.restart_from, solver.step_count(),
              solver.time(), resume_inside_stage_ ? "in" : "at the start of", resume_stage_ + 1,
              sc_.stages[resume_stage_].name);
@@ -342,6 +346,7 @@ void Runner::write_due_outputs(std::size_t si, double t) {
   const solver::Solver& solver = *solver_;
   if (t >= state_.next_history - 0.5 * solver.settings().dt) {
     outputs_->write_history(static_cast<int>(si));
+    log_excluded_water();
     state_.next_history += sc_.output.history_interval;
     state_.max_balance_error = std::max(state_.max_balance_error, solver.energy().balance_error());
   }
@@ -419,9 +424,37 @@ void Runner::save_checkpoint() {
   last_checkpoint_ = Clock::now();
 }
 
+// Each water particle taken out of the water since the last call (sph::Fluid::excluded), the
+// first twenty one by one.
+void Runner::log_excluded_water() {
+  const sph::Fluid* fluid = solver_->moving_water();
+  if (!fluid) return;
+  constexpr std::size_t kOneByOne = 20;
+  const auto excluded = fluid->excluded();
+  const double c0 = fluid->parameters().c0, limit = fluid->parameters().excluded_limit;
+  const double settle = sc_.reservoir.sph.settle;  // the water's clock ran through its settle before step 0
+  const auto allowed = static_cast<std::size_t>(limit * static_cast<double>(fluid->initial_size()));
+  for (; excluded_logged_ < std::min(excluded.size(), kOneByOne); ++excluded_logged_) {
+    const sph::Fluid::ExcludedParticle& x = excluded[excluded_logged_];
+    const std::string when = x.time < settle ? fmt::format("in the settle, {:.6g} s before step 0", settle - x.time)
+                                             : fmt::format("at t = {:.6g} s", x.time - settle);
+    log_->warn("water particle {} taken out of the water {} at ({:.6g}, {:.6g}) m: {:.4g} m/s (c0 = {:.4g} m/s), "
+               "density {:.5g} kg/m^3; {} of the {} reservoir.sph.excluded_limit = {:.4g} allows (summary.json "
+               "moving_water.excluded)",
+               x.id, when, x.x, x.y, x.speed, c0, x.density, excluded_logged_ + 1, allowed, limit);
+  }
+  if (excluded.size() > excluded_logged_) {
+    log_->warn("{} more water particles taken out of the water by t = {:.6g} s, {} of the {} allowed (summary.json "
+               "moving_water.excluded)",
+               excluded.size() - excluded_logged_, excluded.back().time - settle, excluded.size(), allowed);
+    excluded_logged_ = excluded.size();
+  }
+}
+
 // The diagnosis first (it must survive whatever follows), then the last state.
 void Runner::on_instability(const solver::InstabilityError& e) {
   if (tty_) fmt::print(stderr, "\n");
+  log_excluded_water();
   log_->error("run stopped: {}", e.what());
   io::write_json_file(out_ / "diagnosis.json", make_diagnosis(e, *solver_, prepared_));
   try {
@@ -451,6 +484,7 @@ RunResult Runner::finish() {
   const solver::Solver& solver = *solver_;
   if (tty_) fmt::print(stderr, "\n");
   write_last_state();
+  log_excluded_water();
   const bool completed = stopped_by_ == 0 && !stopped_at_step_;
   if (completed) {
     // The end state, for a later continuation with added stages.

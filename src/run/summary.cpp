@@ -153,6 +153,25 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   m["coupled_top_m"] = w.coupled_top();
   m["faces_without_walls"] = layout.faces_without_walls;
   m["particles_inside_solid"] = w.particles_inside_solid();
+  if (const sph::Fluid* fluid = solver.moving_water()) {
+    // The particles taken out of the water (reservoir.sph.excluded_limit): how many, and the
+    // first and the last, where and why.
+    const auto ex = fluid->excluded();
+    Json x = Json::object();
+    x["particles"] = static_cast<long>(ex.size());
+    x["fraction"] = static_cast<double>(ex.size()) / static_cast<double>(fluid->initial_size());
+    x["limit"] = fluid->parameters().excluded_limit;
+    x["energy_" + energy_unit] = fluid->excluded_energy();
+    // The run's time: the water's clock also ran through the settle before step 0 (negative there).
+    const double settle = prepared.scenario.reservoir.sph.settle;
+    auto one = [settle](const sph::Fluid::ExcludedParticle& p) {
+      return Json{{"id", p.id},          {"time_s", p.time - settle},  {"x_m", p.x}, {"y_m", p.y},
+                  {"speed_mps", p.speed}, {"density_kg_per_m3", p.density}};
+    };
+    x["first"] = ex.empty() ? Json(nullptr) : one(ex.front());
+    x["last"] = ex.empty() ? Json(nullptr) : one(ex.back());
+    m["excluded"] = x;
+  }
   m["above_freeboard_particles"] = w.above_freeboard_particles();
   m["still_level_m"] = w.still_level();
   m["max_speed"] = peak(w.max_speed(), "speed_mps", true);

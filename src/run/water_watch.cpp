@@ -216,8 +216,8 @@ void WaterWatch::observe(const sph::Fluid& fluid, double t, std::span<double> ro
   escaped_ = std::max(escaped_, out);
   above_top_ = std::max(above_top_, above);
   inside_ = std::max(inside_, particles_in_solid(f, model, 2.0 * dp_));
-  const auto e = fluid.energy();
-  const double total = e.kinetic + e.potential + e.compression;
+  // The particles taken out of the water keep their energy in its books.
+  const double total = fluid.energy().total() + fluid.excluded_energy();
   if (!energy_start_) energy_start_ = total;
   row[k++] = total - *energy_start_;
   raise(energy_gain_, total - *energy_start_, 0.0, t);

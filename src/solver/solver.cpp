@@ -492,12 +492,19 @@ void Solver::throw_water_unsound() const {
   const sph::FluidParticles& w = f.fluid();
   const std::size_t i = std::min(f.first_unsound_particle(), w.size() - 1);
   const double speed = std::hypot(w.vx[i], w.vy[i]), c0 = f.parameters().c0, rho0 = f.parameters().rho0;
+  const std::string excluded =
+      f.parameters().excluded_limit > 0.0
+          ? fmt::format(" ({} particles taken out of the water before it, the most reservoir.sph.excluded_limit = {:.4g} "
+                        "of its {} allows)",
+                        f.excluded().size(), f.parameters().excluded_limit, f.initial_size())
+          : std::string();
   throw InstabilityError(
       fmt::format("the moving water left its weakly compressible range: particle {} at ({:.6g}, {:.6g}) m moves at "
                   "{:.4g} m/s (c0 = {:.4g} m/s) with density {:.5g} kg/m^3 (rho0 = {:.5g}, at most {:.0f} % off), step "
-                  "{}, t = {:.6g} s: water squeezed faster than it can flow out (a gap closing between solids), or a "
+                  "{}, t = {:.6g} s{}: water squeezed faster than it can flow out (a gap closing between solids), or a "
                   "sound speed too low for the flow",
-                  w.id[i], w.x[i], w.y[i], speed, c0, w.rho[i], rho0, 100.0 * sph::Fluid::kSoundRange, step_ + 1, time_),
+                  w.id[i], w.x[i], w.y[i], speed, c0, w.rho[i], rho0, 100.0 * sph::Fluid::kSoundRange, step_ + 1, time_,
+                  excluded),
       "water_unsound", static_cast<Index>(w.id[i]), Vec2(w.x[i], w.y[i]), step_ + 1, time_);
 }
 

@@ -263,7 +263,8 @@ void Solver::save_contact(io::CheckpointWriter& out) const {
 void Solver::save_moving_water(io::CheckpointWriter& out) const {
   const sph::Fluid::State f = moving_->fluid.state();
   const sph::SolidCoupling::State c = moving_->coupling.state();
-  out.put("water_sph/counts", std::vector<std::int64_t>{static_cast<std::int64_t>(f.fluid.size()),
+  // The particle count the water was built with: the arrays hold it less the excluded.
+  out.put("water_sph/counts", std::vector<std::int64_t>{static_cast<std::int64_t>(moving_->fluid.initial_size()),
                                                          static_cast<std::int64_t>(f.boundary.size()),
                                                          static_cast<std::int64_t>(c.x_last.size())});
   out.put("water_sph/parameters", fluid_parameters(moving_->fluid.parameters()));
@@ -287,6 +288,14 @@ void Solver::save_moving_water(io::CheckpointWriter& out) const {
   out.put("water_sph/start_energy", std::vector<double>{e0.kinetic, e0.potential, e0.compression});
   out.put("water_sph/work", energy_.moving_water_work);
   out.put("water_sph/waiting", moving_->waiting);
+  std::vector<std::int64_t> ids;
+  std::vector<double> records;
+  for (const sph::Fluid::ExcludedParticle& x : f.excluded) {
+    ids.push_back(x.id);
+    records.insert(records.end(), {x.time, x.x, x.y, x.speed, x.density, x.energy});
+  }
+  out.put("water_sph/excluded/id", ids);
+  out.put("water_sph/excluded/records", records);
 }
 
 void Solver::restore(const io::CheckpointReader& in) {
@@ -474,7 +483,7 @@ void Solver::check_moving_water(const io::CheckpointReader& in) const {
   if (!moving_) return;
   const auto counts = in.integers("water_sph/counts");
   if (counts.size() != 3) check_size("water_sph/counts", counts.size(), 3);
-  const std::int64_t want[3] = {static_cast<std::int64_t>(moving_->fluid.fluid().size()),
+  const std::int64_t want[3] = {static_cast<std::int64_t>(moving_->fluid.initial_size()),
                                 static_cast<std::int64_t>(moving_->fluid.boundary().size()),
                                 static_cast<std::int64_t>(moving_->coupling.nodes().size())};
   const char* what[3] = {"fluid particles", "boundary particles", "coupled nodes"};
@@ -499,9 +508,22 @@ void Solver::check_moving_water(const io::CheckpointReader& in) const {
 }
 
 void Solver::restore_moving_water(const io::CheckpointReader& in) {
-  const std::size_t nf = moving_->fluid.fluid().size(), nb = moving_->fluid.boundary().size();
+  const std::size_t nb = moving_->fluid.boundary().size();
   const std::size_t nn = moving_->coupling.nodes().size();
   sph::Fluid::State f;
+  // The particles taken out of the water so far (none in a file from before they could be).
+  if (in.has("water_sph/excluded/id")) {
+    const auto ids = in.integers("water_sph/excluded/id");
+    const auto records = read_doubles(in, "water_sph/excluded/records", 6 * ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const double* r = records.data() + 6 * k;
+      f.excluded.push_back({static_cast<std::int32_t>(ids[k]), r[0], r[1], r[2], r[3], r[4], r[5]});
+    }
+  }
+  if (f.excluded.size() > moving_->fluid.initial_size())
+    throw std::runtime_error(fmt::format("checkpoint 'water_sph/excluded/id' has {} particles, the water {}",
+                                         f.excluded.size(), moving_->fluid.initial_size()));
+  const std::size_t nf = moving_->fluid.initial_size() - f.excluded.size();
   for (const auto& [name, a] : kFluidArrays) f.fluid.*a = read_doubles(in, std::string("water_sph/fluid/") + name, nf);
   {
     const auto id = in.integers("water_sph/fluid/id");

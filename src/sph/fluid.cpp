@@ -31,6 +31,10 @@ Fluid::Fluid(const FluidParameters& parameters, FluidParticles fluid, BoundaryPa
   skin_ = par_.verlet_skin * h_;
   if (f_.mass == 0.0) f_.mass = par_.mass();
   if (b_.mass == 0.0) b_.mass = par_.mass();
+  if (!(par_.excluded_limit >= 0.0 && par_.excluded_limit < 1.0))
+    throw std::invalid_argument("sph::Fluid: excluded_limit must be in [0, 1)");
+  initial_size_ = f_.size();
+  excluded_.reserve(excluded_capacity());
   scratch_.resize(f_.size());
   scratch_id_.resize(f_.size());
   double deepest = 0.0;
@@ -126,8 +130,9 @@ void Fluid::step(double dt) {
     f_.vy[i] = keep * (f_.vy[i] + half * f_.ay[i]);
   });
   if (packing_ > 0.0) pack_particles();
-  update_maxima();
   time_ += dt;
+  update_maxima();
+  if (!sound_ && par_.excluded_limit > 0.0) exclude_unsound_particles();
 }
 
 // Maxima are exact in any order; one serial pass.
@@ -142,6 +147,46 @@ void Fluid::update_maxima() {
   v_max_ = std::sqrt(v2);
   a_max_ = std::sqrt(a2);
   sound_ = sound;
+}
+
+std::size_t Fluid::excluded_capacity() const {
+  return static_cast<std::size_t>(par_.excluded_limit * static_cast<double>(initial_size_));
+}
+
+// Takes the particles out of the weakly compressible range out of the water, in index order
+// (the arrays closed up behind them), while their count stays within the limit; past it
+// none goes and the fluid stays unsound. The survivors' sums of this step had them in: the
+// next step's do not (cells and lists rebuilt).
+void Fluid::exclude_unsound_particles() {
+  const std::size_t n = f_.size();
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < n; ++i) bad += !particle_sound(i);
+  if (excluded_.size() + bad > excluded_capacity()) return;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!particle_sound(i)) {
+      const Energy e = particle_energy(i, std::pow(par_.rho0, 7.0), 7.0 / (6.0 * par_.rho0));
+      excluded_.push_back({f_.id[i], time_, f_.x[i], f_.y[i], std::hypot(f_.vx[i], f_.vy[i]), f_.rho[i], e.total()});
+      continue;
+    }
+    if (kept != i)
+      for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol})
+        (*a)[kept] = (*a)[i];
+    f_.id[kept] = f_.id[i];
+    ++kept;
+  }
+  for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol})
+    a->resize(kept);  // shrinking keeps the capacity: no allocation
+  f_.id.resize(kept);
+  resort_fluid();
+  rebuild_neighbour_lists();
+  update_maxima();
+}
+
+double Fluid::excluded_energy() const {
+  double e = 0.0;
+  for (const ExcludedParticle& x : excluded_) e += x.energy;
+  return e;
 }
 
 // Written so that a NaN, which fails every comparison, is not sound.
@@ -210,6 +255,8 @@ void Fluid::update_cells() {
 void Fluid::resort_fluid() {
   update_cells();
   const std::size_t n = f_.size();
+  scratch_.resize(n);  // within its capacity: fewer particles once some were excluded
+  scratch_id_.resize(n);
   const auto order = fluid_cells_.order();
   for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol}) {
     for (std::size_t k = 0; k < n; ++k) scratch_[k] = (*a)[static_cast<std::size_t>(order[k])];
@@ -236,7 +283,7 @@ void Fluid::update_boundary_densities(double dt) {
     // fluid's shares gathered with its continuity from the walls at the step's start;
     // summed in index order, the same bits for any thread count.
     double power = 0.0;
-    for (double w : wall_power_) power += w;
+    for (std::size_t i = 0; i < f_.size(); ++i) power += wall_power_[i];  // the arrays outlast excluded particles
     boundary_work_ -= dt * f_.mass * power;
     extrapolate_boundary_densities();
     return;
@@ -331,15 +378,21 @@ void Fluid::set_record_boundary_forces(bool on) {
   gather_boundary_forces(rec_fx_, rec_fy_);
 }
 
+Fluid::Energy Fluid::particle_energy(std::size_t i, double r7, double e0) const {
+  const double m = f_.mass, gx = par_.gravity.x(), gy = par_.gravity.y();
+  const double rho = f_.rho[i], rho2 = rho * rho;
+  return {0.5 * m * (f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i]), -m * (gx * f_.x[i] + gy * f_.y[i]),
+          m * b_tait_ * (rho2 * rho2 * rho2 / (6.0 * r7) + 1.0 / rho - e0)};
+}
+
 Fluid::Energy Fluid::energy() const {
   Energy e;
-  const double m = f_.mass, gx = par_.gravity.x(), gy = par_.gravity.y(), rho0 = par_.rho0;
-  const double r7 = std::pow(rho0, 7.0), e0 = 7.0 / (6.0 * rho0);
+  const double r7 = std::pow(par_.rho0, 7.0), e0 = 7.0 / (6.0 * par_.rho0);
   for (std::size_t i = 0; i < f_.size(); ++i) {
-    e.kinetic += 0.5 * m * (f_.vx[i] * f_.vx[i] + f_.vy[i] * f_.vy[i]);
-    e.potential -= m * (gx * f_.x[i] + gy * f_.y[i]);
-    const double rho = f_.rho[i], rho2 = rho * rho;
-    e.compression += m * b_tait_ * (rho2 * rho2 * rho2 / (6.0 * r7) + 1.0 / rho - e0);
+    const Energy p = particle_energy(i, r7, e0);
+    e.kinetic += p.kinetic;
+    e.potential += p.potential;
+    e.compression += p.compression;
   }
   return e;
 }

@@ -57,6 +57,11 @@ struct FluidParameters {
   // order), for 1.3 times the neighbours as candidates.
   double verlet_skin = 0.3;
   BoundaryCondition boundary = BoundaryCondition::ModifiedDynamic;
+  // Particles that leave the weakly compressible range (sound()) are taken out of the water,
+  // up to this fraction of the particles the fluid was built with (DualSPHysics excludes
+  // them likewise, by density and position): a particle flung out of a squeeze does not end
+  // the run, many do. 0: none; the first such particle makes the fluid unsound.
+  double excluded_limit = 0.0;
 
   double h() const { return h_over_dp * dp; }
   double mass() const { return rho0 * dp * dp; }  // kg/m: one particle's area times rho0
@@ -130,8 +135,23 @@ class Fluid {
   // Serial sums in the particles' order.
   struct Energy {
     double kinetic = 0.0, potential = 0.0, compression = 0.0;
+    double total() const { return kinetic + potential + compression; }
   };
   Energy energy() const;
+
+  // A particle taken out of the water (FluidParameters::excluded_limit): its id, when,
+  // where, its speed and density, and the energy it took with it (kinetic, potential
+  // -m g.x and compression, as energy() counts them).
+  struct ExcludedParticle {
+    std::int32_t id = 0;
+    double time = 0.0, x = 0.0, y = 0.0, speed = 0.0, density = 0.0;
+    double energy = 0.0;  // J/m
+  };
+  // In the order they were taken out; their energies summed are excluded_energy().
+  std::span<const ExcludedParticle> excluded() const { return excluded_; }
+  double excluded_energy() const;
+  // The particle count the fluid was built with (the excluded ones included).
+  std::size_t initial_size() const { return initial_size_; }
   // The work the walls' own pressure has done on the water since the fluid was built or its
   // settle() ended (J/m):
   // with the modified dynamic boundary the extrapolated wall density follows no continuity
@@ -179,10 +199,12 @@ class Fluid {
     long steps = 0;
     bool record = false;
     std::vector<double> rec_fx, rec_fy;
+    std::vector<ExcludedParticle> excluded;
   };
   State state() const;
-  // Puts a state() back into a fluid built with the same parameters, particle counts and
-  // walls (the boundary particles' edges); the next step continues bit-identically.
+  // Puts a state() back into a fluid built with the same parameters, particle counts (its
+  // particles and the excluded ones) and walls (the boundary particles' edges); the next
+  // step continues bit-identically.
   // Throws std::invalid_argument naming what differs.
   void restore(const State& s);
 
@@ -212,6 +234,10 @@ class Fluid {
   ForcePairConstants force_constants() const;
   void update_maxima();
   bool particle_sound(std::size_t i) const;
+  void exclude_unsound_particles();
+  std::size_t excluded_capacity() const;
+  // Particle i's share of energy(); r7 = rho0^7, e0 = 7 / (6 rho0).
+  Energy particle_energy(std::size_t i, double r7, double e0) const;
   void pack_particles();
   void pack_density_records();
   void pack_force_records();
@@ -266,6 +292,8 @@ class Fluid {
   std::vector<ForceRecord> force_records_;
   bool record_ = false;
   std::vector<double> rec_fx_, rec_fy_;  // recorded boundary forces (set_record_boundary_forces)
+  std::vector<ExcludedParticle> excluded_;  // reserved for the limit: no allocation in the loop
+  std::size_t initial_size_ = 0;
   std::vector<double> scratch_;          // re-sort buffer
   std::vector<std::int32_t> scratch_id_;
 };

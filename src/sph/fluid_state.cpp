@@ -21,12 +21,21 @@ void check_count(const std::vector<T>& v, std::size_t n, const char* what) {
 }  // namespace
 
 Fluid::State Fluid::state() const {
-  return {f_, b_, time_, v_max_, a_max_, damping_rate_, boundary_work_, steps_, record_, rec_fx_, rec_fy_};
+  return {f_, b_, time_, v_max_, a_max_, damping_rate_, boundary_work_, steps_, record_, rec_fx_, rec_fy_, excluded_};
 }
 
 void Fluid::restore(const State& s) {
-  const std::size_t nf = f_.size(), nb = b_.size();
+  const std::size_t nb = b_.size();
   const FluidParticles& f = s.fluid;
+  // The particles in the state and those it had excluded make the fluid this one was built as.
+  if (f.x.size() + s.excluded.size() != initial_size_)
+    throw std::invalid_argument("sph state: " + std::to_string(f.x.size()) + " fluid particles and " +
+                                std::to_string(s.excluded.size()) + " excluded, the fluid was built with " +
+                                std::to_string(initial_size_));
+  if (s.excluded.size() > excluded_capacity())
+    throw std::invalid_argument("sph state: " + std::to_string(s.excluded.size()) +
+                                " excluded particles, more than this fluid's excluded_limit allows");
+  const std::size_t nf = f.x.size();
   for (const auto* a : {&f.x, &f.y, &f.vx, &f.vy, &f.rho, &f.p, &f.vol, &f.ax, &f.ay, &f.drho, &f.gx, &f.gy})
     check_count(*a, nf, "a fluid particle array");
   check_count(f.id, nf, "the fluid particle ids");
@@ -41,7 +50,8 @@ void Fluid::restore(const State& s) {
     check_count(s.rec_fx, nb, "the recorded boundary forces (x)");
     check_count(s.rec_fy, nb, "the recorded boundary forces (y)");
   }
-  f_ = f;
+  f_ = f;  // into the arrays as built: fewer particles fit their capacity
+  excluded_.assign(s.excluded.begin(), s.excluded.end());  // keeps the reserve
   b_ = b;
   time_ = s.time;
   steps_ = s.steps;

@@ -222,6 +222,18 @@ TEST_F(WaterPost, ReportSaysWhyThereIsNoEstimateAndKeepsTheDryReservoirSection) 
     const std::string w = section(read_text(out / "report.html"), "reservoir-wave");
     EXPECT_EQ(w.find("stands against a wall") != std::string::npos, at_wall) << at_wall;
   }
+  // Particles taken out of the water are said (only when there are some).
+  ASSERT_EQ(s["moving_water"]["excluded"]["particles"].get<int>(), 0);
+  EXPECT_EQ(section(read_text(out / "report.html"), "reservoir-wave").find("taken out of the water"), std::string::npos);
+  s["moving_water"]["excluded"]["particles"] = 3;
+  s["moving_water"]["excluded"]["fraction"] = 0.0075;
+  s["moving_water"]["excluded"]["first"] = json::object({{"id", 7}, {"time_s", 1.25}});
+  write_json(out / "summary.json", s);
+  ASSERT_EQ(run_dsdem("report " + out.string() + " -q --no-render").exit_code, 0);
+  const std::string ex = section(read_text(out / "report.html"), "reservoir-wave");
+  EXPECT_NE(ex.find("3 water particles (0.75 % of the water) left its weakly compressible range"), std::string::npos)
+      << ex.substr(0, 3000);
+  EXPECT_NE(ex.find("the first at t = 1.25 s"), std::string::npos);
   s = run;
   s["heller_hager"] = json::object({{"still_level_m", 2.0}, {"depth_m", 2.0}, {"slide_entered_water", false}});
   write_json(out / "summary.json", s);

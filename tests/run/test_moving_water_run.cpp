@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "app/cli_util.hpp"
@@ -22,6 +23,7 @@
 #include "run/check.hpp"
 #include "run/runner.hpp"
 #include "run/summary.hpp"
+#include "solver/solver.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::ordered_json;
@@ -293,6 +295,47 @@ TEST(ReservoirWater, ARestartGivesTheSameRecord) {
     EXPECT_EQ(b["max_wave_amplitude_m"].dump(), a["max_wave_amplitude_m"].dump());
     EXPECT_EQ(file_text(dir / "out" / "history.csv"), file_text(whole / "out" / "history.csv"));
   }
+}
+
+// Water that leaves its weakly compressible range is taken out of the water, up to
+// reservoir.sph.excluded_limit of it: here a sound speed of 8 m/s, below the flume's splash,
+// where two particles leave it (3 of 395 allowed). Each is logged at the run's time, the summary
+// counts them, a restart between the two gives the same record, and with the limit at 0 the
+// first one stops the run, as a particle out of range did before particles could be taken out.
+TEST(ReservoirWater, WaterOutOfItsRangeIsTakenOutUpToTheLimitThenTheRunStops) {
+  const std::vector<std::string> o{"time.end=1.3", "reservoir.sph.sound_speed=8"};
+  const fs::path whole = dsdem::test::fresh_dir("moving_water_excluded");
+  const ordered_json a = run_flume(whole, o);
+  const auto& x = a["moving_water"]["excluded"];
+  std::printf("excluded: %s\n", x.dump().c_str());
+  ASSERT_EQ(x["particles"].get<int>(), 2);
+  EXPECT_DOUBLE_EQ(x["fraction"].get<double>(), 2.0 / a["moving_water"]["particles"].get<double>());
+  EXPECT_DOUBLE_EQ(x["limit"].get<double>(), 0.01);
+  EXPECT_GT(x["energy_J_per_m"].get<double>(), 0.0);
+  const double t0 = x["first"]["time_s"].get<double>(), t1 = x["last"]["time_s"].get<double>();
+  EXPECT_GT(t0, 0.9);  // after the block entered the water (t = 0.97 s), in the run's time
+  EXPECT_LT(t0, t1);
+  EXPECT_LT(t1, 1.3);
+  const std::string log = file_text(whole / "out" / "dsdem.log");
+  EXPECT_NE(log.find(fmt::format("water particle {} taken out of the water at t = ", x["first"]["id"].get<int>())),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("2 of the 3 reservoir.sph.excluded_limit = 0.01 allows"), std::string::npos) << log;
+
+  const fs::path dir = dsdem::test::fresh_dir("moving_water_excluded_restart");
+  const ordered_json stopped = run_flume(dir, o, 2560);  // t = 1.05 s, between the two
+  ASSERT_EQ(stopped["moving_water"]["excluded"]["particles"].get<int>(), 1);
+  const ordered_json b = run_flume(dir, o, 0, (dir / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(b["moving_water"].dump(), a["moving_water"].dump());
+  EXPECT_EQ(file_text(dir / "out" / "history.csv"), file_text(whole / "out" / "history.csv"));
+
+  const fs::path none = dsdem::test::fresh_dir("moving_water_excluded_none");
+  std::vector<std::string> strict = o;
+  strict.push_back("reservoir.sph.excluded_limit=0");
+  EXPECT_THROW(run_flume(none, strict), dsdem::solver::InstabilityError);
+  const ordered_json d = ordered_json::parse(file_text(none / "out" / "diagnosis.json"));
+  EXPECT_EQ(d["kind"], "water_unsound") << d.dump();
+  EXPECT_EQ(file_text(none / "out" / "dsdem.log").find("taken out of the water"), std::string::npos);
 }
 
 // The bedrock faces the water may meet: the banks up to the level plus the freeboard, also

@@ -65,3 +65,25 @@ TEST(SphNoAllocation, CoupledStepsAllocateNothing) {
   EXPECT_EQ(scope.count(), 0);
   EXPECT_GT(coupling.particle_force_sum().norm(), 0.0);
 }
+
+// A particle taken out of the water (FluidParameters::excluded_limit) allocates nothing: its
+// record goes into the room reserved for the limit, the arrays shrink within their capacity.
+TEST(SphNoAllocation, TakingAParticleOutAllocatesNothing) {
+  FluidParameters par;
+  par.dp = 0.01;
+  par.c0 = sound_speed_for(0.2, 2.0, 9.81);
+  par.excluded_limit = 0.02;
+  FluidParticles water;
+  BoundaryParticles walls;
+  fill_rectangle(water, 0.0, 0.0, 0.1, 0.2, par, 0.2);
+  add_tank_walls(walls, 0.0, 0.0, 0.3, 0.4, wall_layers(par), par, 0.2);
+  Fluid fluid(par, std::move(water), std::move(walls));
+  for (int k = 0; k < 20; ++k) fluid.step(0.5 * fluid.stable_dt());
+  Fluid::State s = fluid.state();
+  s.fluid.vx[s.fluid.size() / 2] = 2.0 * par.c0;  // thrown sideways within the water's grid
+  fluid.restore(s);
+  const test::AllocationScope scope;
+  for (int k = 0; k < 20; ++k) fluid.step(0.1 * fluid.stable_dt());
+  EXPECT_EQ(scope.count(), 0);
+  EXPECT_EQ(fluid.excluded().size(), 1u);
+}
