@@ -441,6 +441,13 @@ def water_measurements(mw: dict, level, gauges: dict[str, tuple[float, float]], 
     return body
 
 
+def first_taken_out(t: float) -> str:
+    """When the first water particle was taken out: the run's time, or in the settle before step 0."""
+    if t < 0:
+        return f", the first in the settle, {lib.fmt_num(-t)} s before step 0"
+    return f", the first at t = {lib.fmt_num(t)} s"
+
+
 def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     """A run with moving water (DESIGN.md §13): the wave it computed beside Heller & Hager's estimate."""
     mw = summary.get("moving_water")
@@ -467,8 +474,8 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
                      f'({lib.fmt_num(100.0 * ex.get("fraction", 0.0))} % of the water) left its weakly compressible '
                      "range (faster than its sound speed, or its density off by half: spray flung out of a squeeze) "
                      "and were taken out of the water"
-                     + (f", the first at t = {lib.fmt_num(first['time_s'])} s" if isinstance(first.get("time_s"), (int, float))
-                        else "") + "; the log names each.</p>")
+                     + (first_taken_out(first.get("time_s")) if isinstance(first.get("time_s"), (int, float)) else "")
+                     + "; the log names them (the first twenty one by one).</p>")
     peak = mw.get("max_wave_amplitude") or {}
     peak_t = peak.get("time_s")
     end = summary.get("end_time_s")

@@ -298,8 +298,8 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(num(b + ".excluded_limit", "", "0.01", 0, 0.5,
                   "Water particles that leave the weakly compressible range (faster than the sound speed, or "
                   "density off by half: one flung out of a squeeze) are taken out of the water, up to this fraction "
-                  "of them; one more stops the run (water_unsound). Each is logged; summary.json "
-                  "moving_water.excluded. 0: the first stops the run."));
+                  "of them; one more stops the run (water_unsound). The log names them (the first twenty one by one); "
+                  "summary.json moving_water.excluded. 0: the first stops the run."));
   s.push_back(num(b + ".density_diffusion", "", "0.1", 0, 1, "Density diffusion delta (delta-SPH)."));
   s.push_back(num(b + ".settle", "s", "0", 0, kInf,
                   "Settling of the freshly laid water before step 0, the solid held still and the water's velocity "

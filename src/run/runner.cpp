@@ -414,6 +414,7 @@ bool Runner::stopped_early(const io::StageSpec& stage) {
 // The history on disk holds exactly the rows counted in the checkpoint: a resumed run
 // keeps that many rows and appends after them. (Solver::save computes the stress it writes.)
 void Runner::save_checkpoint() {
+  log_excluded_water();  // before the checkpoint marks them as logged for a restart
   outputs_->record_counts(state_);
   state_.time = solver_->time();
   state_.wall_time_before = wall_before_ + seconds_since(wall_start_);
@@ -433,7 +434,7 @@ void Runner::log_excluded_water() {
   const auto excluded = fluid->excluded();
   const double c0 = fluid->parameters().c0, limit = fluid->parameters().excluded_limit;
   const double settle = sc_.reservoir.sph.settle;  // the water's clock ran through its settle before step 0
-  const auto allowed = static_cast<std::size_t>(limit * static_cast<double>(fluid->initial_size()));
+  const std::size_t allowed = fluid->excluded_capacity();
   for (; excluded_logged_ < std::min(excluded.size(), kOneByOne); ++excluded_logged_) {
     const sph::Fluid::ExcludedParticle& x = excluded[excluded_logged_];
     const std::string when = x.time < settle ? fmt::format("in the settle, {:.6g} s before step 0", settle - x.time)

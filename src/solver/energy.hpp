@@ -33,7 +33,10 @@ struct EnergyLedger {
   // balance closes with moving_water_work; the water's energy plus that work falls by what
   // the fluid's artificial viscosity and density diffusion dissipate.
   double fluid_kinetic = 0.0, fluid_potential = 0.0, fluid_compression = 0.0;
-  double fluid_energy() const { return fluid_kinetic + fluid_potential + fluid_compression; }
+  // The energy the particles taken out of the water took with them (sph::Fluid::excluded):
+  // still the water's.
+  double fluid_excluded = 0.0;
+  double fluid_energy() const { return fluid_kinetic + fluid_potential + fluid_compression + fluid_excluded; }
   // Velocity Verlet's kinetic offset (DESIGN.md §1, §6): with the trapezoidal work of the
   // forces the integrator conserves 1/2 m v(n-1/2).v(n+1/2) = 1/2 m v(n)^2 - dt^2/8 m |a(n)|^2,
   // not the kinetic energy at the full step. This is the change of sum dt^2/8 m |a|^2 since

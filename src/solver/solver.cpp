@@ -384,6 +384,7 @@ void Solver::update_energy() {
     energy_.fluid_kinetic = e.kinetic;
     energy_.fluid_potential = e.potential - moving_->start.potential;
     energy_.fluid_compression = e.compression - moving_->start.compression;
+    energy_.fluid_excluded = moving_->fluid.excluded_energy();
   }
   std::swap(damping_force_prev_, damping_force_);
   release_damping_buffers_if_unused();
@@ -492,11 +493,15 @@ void Solver::throw_water_unsound() const {
   const sph::FluidParticles& w = f.fluid();
   const std::size_t i = std::min(f.first_unsound_particle(), w.size() - 1);
   const double speed = std::hypot(w.vx[i], w.vy[i]), c0 = f.parameters().c0, rho0 = f.parameters().rho0;
+  // With particles taken out of range (sph::Fluid::excluded): how many went before, how many
+  // left the range at this step (all of them go or none), and what the limit allows.
   const std::string excluded =
       f.parameters().excluded_limit > 0.0
-          ? fmt::format(" ({} particles taken out of the water before it, the most reservoir.sph.excluded_limit = {:.4g} "
-                        "of its {} allows)",
-                        f.excluded().size(), f.parameters().excluded_limit, f.initial_size())
+          ? fmt::format("; {} of the water's particles out of range at this step, {} taken out before it, "
+                        "reservoir.sph.excluded_limit = {:.4g} allows {} of its {} (a particle not finite is never "
+                        "taken out)",
+                        f.unsound_count(), f.excluded().size(), f.parameters().excluded_limit, f.excluded_capacity(),
+                        f.initial_size())
           : std::string();
   throw InstabilityError(
       fmt::format("the moving water left its weakly compressible range: particle {} at ({:.6g}, {:.6g}) m moves at "

@@ -505,6 +505,18 @@ void Solver::check_moving_water(const io::CheckpointReader& in) const {
       throw std::runtime_error(fmt::format("checkpoint 'water_sph/parameters' has {} = {}, this solver's moving water "
                                            "{}: it belongs to another set-up",
                                            kFluidParameterNames[k], saved[k], now[k]));
+  // The particles the run took out of the water must fit this run's limit (a run stopped at
+  // its limit continues with a higher one).
+  if (in.has("water_sph/excluded/id")) {
+    const sph::Fluid& f = moving_->fluid;
+    const std::size_t taken = in.integers("water_sph/excluded/id").size();
+    if (taken > f.excluded_capacity())
+      throw std::runtime_error(fmt::format(
+          "checkpoint 'water_sph/excluded/id': {} water particles were taken out of the water, "
+          "reservoir.sph.excluded_limit = {:.4g} allows {} of its {}: set it to at least {:.4g} to continue",
+          taken, f.parameters().excluded_limit, f.excluded_capacity(), f.initial_size(),
+          (static_cast<double>(taken) + 0.5) / static_cast<double>(f.initial_size())));
+  }
 }
 
 void Solver::restore_moving_water(const io::CheckpointReader& in) {
@@ -578,6 +590,7 @@ void Solver::restore_moving_water(const io::CheckpointReader& in) {
   energy_.fluid_kinetic = e.kinetic;
   energy_.fluid_potential = e.potential - moving_->start.potential;
   energy_.fluid_compression = e.compression - moving_->start.compression;
+  energy_.fluid_excluded = moving_->fluid.excluded_energy();
 }
 
 }  // namespace dsdem::solver

@@ -153,15 +153,24 @@ std::size_t Fluid::excluded_capacity() const {
   return static_cast<std::size_t>(par_.excluded_limit * static_cast<double>(initial_size_));
 }
 
+std::size_t Fluid::unsound_count() const {
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < f_.size(); ++i) bad += !particle_sound(i);
+  return bad;
+}
+
 // Takes the particles out of the weakly compressible range out of the water, in index order
 // (the arrays closed up behind them), while their count stays within the limit; past it
-// none goes and the fluid stays unsound. The survivors' sums of this step had them in: the
+// none goes and the fluid stays unsound. So does a particle whose state is not finite: a
+// broken number, not water out of range. The survivors' sums of this step had them in: the
 // next step's do not (cells and lists rebuilt).
 void Fluid::exclude_unsound_particles() {
   const std::size_t n = f_.size();
-  std::size_t bad = 0;
-  for (std::size_t i = 0; i < n; ++i) bad += !particle_sound(i);
-  if (excluded_.size() + bad > excluded_capacity()) return;
+  if (excluded_.size() + unsound_count() > excluded_capacity()) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sum = f_.x[i] + f_.y[i] + f_.vx[i] + f_.vy[i] + f_.rho[i];
+    if (!particle_sound(i) && !std::isfinite(sum)) return;
+  }
   std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!particle_sound(i)) {

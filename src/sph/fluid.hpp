@@ -152,6 +152,10 @@ class Fluid {
   double excluded_energy() const;
   // The particle count the fluid was built with (the excluded ones included).
   std::size_t initial_size() const { return initial_size_; }
+  // The most particles that may be taken out: excluded_limit of initial_size(), rounded down.
+  std::size_t excluded_capacity() const;
+  // The particles out of the weakly compressible range now (0 while sound()).
+  std::size_t unsound_count() const;
   // The work the walls' own pressure has done on the water since the fluid was built or its
   // settle() ended (J/m):
   // with the modified dynamic boundary the extrapolated wall density follows no continuity
@@ -235,7 +239,6 @@ class Fluid {
   void update_maxima();
   bool particle_sound(std::size_t i) const;
   void exclude_unsound_particles();
-  std::size_t excluded_capacity() const;
   // Particle i's share of energy(); r7 = rho0^7, e0 = 7 / (6 rho0).
   Energy particle_energy(std::size_t i, double r7, double e0) const;
   void pack_particles();

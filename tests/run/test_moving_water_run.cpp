@@ -325,9 +325,34 @@ TEST(ReservoirWater, WaterOutOfItsRangeIsTakenOutUpToTheLimitThenTheRunStops) {
   const fs::path dir = dsdem::test::fresh_dir("moving_water_excluded_restart");
   const ordered_json stopped = run_flume(dir, o, 2560);  // t = 1.05 s, between the two
   ASSERT_EQ(stopped["moving_water"]["excluded"]["particles"].get<int>(), 1);
+  // A limit below what the run has taken out is refused before anything is restored, naming
+  // the least that fits.
+  std::vector<std::string> lower = o;
+  lower.push_back("reservoir.sph.excluded_limit=0");
+  try {
+    run_flume(dsdem::test::fresh_dir("moving_water_excluded_lower"), lower, 0,
+              (dir / "out" / "checkpoint.h5").string());
+    ADD_FAILURE() << "a limit below the particles taken out was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("1 water particles were taken out of the water, "
+                                         "reservoir.sph.excluded_limit = 0 allows 0 of its 395: set it to at least"),
+              std::string::npos)
+        << e.what();
+  }
   const ordered_json b = run_flume(dir, o, 0, (dir / "out" / "checkpoint.h5").string());
   EXPECT_EQ(b["moving_water"].dump(), a["moving_water"].dump());
   EXPECT_EQ(file_text(dir / "out" / "history.csv"), file_text(whole / "out" / "history.csv"));
+
+  // Room for one: the second stops the run, which says how many went and what the limit allows.
+  const fs::path one = dsdem::test::fresh_dir("moving_water_excluded_one");
+  std::vector<std::string> tight = o;
+  tight.push_back("reservoir.sph.excluded_limit=0.003");
+  EXPECT_THROW(run_flume(one, tight), dsdem::solver::InstabilityError);
+  const std::string why = ordered_json::parse(file_text(one / "out" / "diagnosis.json")).dump();
+  EXPECT_NE(why.find("1 of the water's particles out of range at this step, 1 taken out before it, "
+                     "reservoir.sph.excluded_limit = 0.003 allows 1 of its 395"),
+            std::string::npos)
+      << why;
 
   const fs::path none = dsdem::test::fresh_dir("moving_water_excluded_none");
   std::vector<std::string> strict = o;
