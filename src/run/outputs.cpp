@@ -74,7 +74,7 @@ io::PvdSeries open_series(const fs::path& out, const std::string& name, const Ru
 }  // namespace
 
 RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, const fs::path& out, bool write_fields,
-                       const RunnerState* resume_from)
+                       const RunnerState* resume_from, const RunnerState* measured_from)
     : prepared_(prepared),
       model_(prepared.model),
       solver_(solver),
@@ -94,14 +94,14 @@ RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, cons
   fields_.emplace(open_series(out, "fields.pvd", resume_from, resume_from ? resume_from->fields_frames : 0));
   if (prepared.shore) {
     slide_watch_.emplace(*prepared.shore);
-    if (resume_from) slide_watch_->restore(resume_from->slide_impact);
+    if (measured_from) slide_watch_->restore(measured_from->slide_impact);
   }
   if (prepared.moving_water && solver.moving_water()) {
     water_watch_.emplace(prepared.scenario, *prepared.moving_water, prepared.model,
                          prepared.shore ? wave_direction(*prepared.shore) : 0);
     water_columns_ = WaterWatch::columns(prepared.scenario.reservoir.sph, energy_unit_, force_unit_).size();
     water_frames_.emplace(open_series(out, "water.pvd", resume_from, resume_from ? resume_from->water_frames : 0));
-    if (resume_from) water_watch_->restore(resume_from->water_watch);
+    if (measured_from) water_watch_->restore(measured_from->water_watch);
   }
   if (has_joints_) cracks_.emplace(open_series(out, "cracks.pvd", resume_from, resume_from ? resume_from->cracks_frames : 0));
   if (model_.contact.enabled && model_.contact.output)

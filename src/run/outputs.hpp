@@ -29,9 +29,12 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
 class RunOutputs {
  public:
   // Opens history.csv and the frame series in `out`. With `resume_from` (a restart in the
-  // checkpoint's own folder) the files keep the rows and frames up to the checkpoint.
+  // checkpoint's own folder) the files keep the rows and frames up to the checkpoint. With
+  // `measured_from` (any restart) the run's measurements carry on from the checkpoint: the
+  // slide's entry into the water and the water's records (its still level, peaks, gauges),
+  // which a restart in another folder needs as much (the wave is measured from that level).
   RunOutputs(const PreparedRun& prepared, solver::Solver& solver, const std::filesystem::path& out,
-             bool write_fields, const RunnerState* resume_from);
+             bool write_fields, const RunnerState* resume_from, const RunnerState* measured_from);
 
   void write_history(int stage_index);
   // A field frame (with the fragment of each triangle), a crack frame and a contact frame.

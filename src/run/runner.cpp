@@ -229,7 +229,8 @@ void Runner::start_solver() {
   solver_->set_stress_on_demand(true);
   if (prepared_.moving_water) start_moving_water();
   try {
-    outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr);
+    outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr,
+                     checkpoint_ ? &state_ : nullptr);
   } catch (const io::HistoryResumeError& e) {  // the restart does not fit, as a checkpoint of another model
     throw io::ScenarioError({fmt::format("--restart {}: {}", options_.restart_from, e.what())});
   }

@@ -290,10 +290,31 @@ TEST(ReservoirWater, ARestartGivesTheSameRecord) {
     // gives to continue.
     EXPECT_EQ(stopped["overrides"], ordered_json::array({"time.end=1.1"}));
     EXPECT_NE(file_text(dir / "out" / "dsdem.log").find("flume.yaml --set 'time.end=1.1' --restart "), std::string::npos);
+    const fs::path elsewhere = dsdem::test::fresh_dir("moving_water_restart_elsewhere");
+    fs::create_directories(elsewhere);
+    fs::copy_file(dir / "out" / "checkpoint.h5", elsewhere / "checkpoint.h5");  // the run in place overwrites it
     const ordered_json b = run_flume(dir, shorter, 0, (dir / "out" / "checkpoint.h5").string());
     EXPECT_EQ(b["moving_water"].dump(), a["moving_water"].dump()) << "stopped at step " << stop;
     EXPECT_EQ(b["max_wave_amplitude_m"].dump(), a["max_wave_amplitude_m"].dump());
     EXPECT_EQ(file_text(dir / "out" / "history.csv"), file_text(whole / "out" / "history.csv"));
+    // In another folder the files start at the checkpoint (a first row at its time), and the
+    // measurements carry on: the wave is measured from the still level found before the slide
+    // entered, the slide's entry and the banks' readings at rest are the whole run's, and every
+    // later history row is the whole run's.
+    const ordered_json c = run_flume(elsewhere, shorter, 0, (elsewhere / "checkpoint.h5").string());
+    const auto &mc = c["moving_water"], &ma = a["moving_water"];
+    EXPECT_EQ(mc["still_level_m"].dump(), ma["still_level_m"].dump());
+    EXPECT_EQ(mc["max_wave_amplitude"].dump(), ma["max_wave_amplitude"].dump());
+    EXPECT_EQ(mc["runup"].dump(), ma["runup"].dump());
+    EXPECT_EQ(mc["force_on_curves"].dump(), ma["force_on_curves"].dump());
+    EXPECT_EQ(mc["slide_kinetic_energy_at_impact_J_per_m"].dump(), ma["slide_kinetic_energy_at_impact_J_per_m"].dump());
+    EXPECT_EQ(c["heller_hager"].dump(), a["heller_hager"].dump());
+    const std::string tail = file_text(elsewhere / "out" / "history.csv");
+    const std::size_t second_row = tail.find('\n', tail.find('\n') + 1) + 1;  // after the header and the first row
+    const std::string rows = tail.substr(second_row);
+    ASSERT_GT(rows.size(), 100u);
+    EXPECT_NE(file_text(whole / "out" / "history.csv").find(rows), std::string::npos)
+        << "rows of the restart elsewhere that the whole run does not have";
   }
 }
 
