@@ -13,17 +13,28 @@
 using namespace dsdem;
 using namespace dsdem::sph;
 
-TEST(SphNoAllocation, StepsAllocateNothing) {
+namespace {
+
+// A water column 0.1 x 0.2 m in a tank 0.3 m long, released and stepped 20 times (warm-up).
+// Walls up to 0.4 m: the grid spans them, so the splash stays inside it.
+Fluid collapsing_column(double excluded_limit) {
   FluidParameters par;
   par.dp = 0.01;
   par.c0 = sound_speed_for(0.2, 2.0, 9.81);
+  par.excluded_limit = excluded_limit;
   FluidParticles water;
   BoundaryParticles walls;
   fill_rectangle(water, 0.0, 0.0, 0.1, 0.2, par, 0.2);
-  // Walls up to 0.4 m: the grid spans them, so the splash stays inside it.
   add_tank_walls(walls, 0.0, 0.0, 0.3, 0.4, wall_layers(par), par, 0.2);
   Fluid fluid(par, std::move(water), std::move(walls));
   for (int k = 0; k < 20; ++k) fluid.step(0.5 * fluid.stable_dt());
+  return fluid;
+}
+
+}  // namespace
+
+TEST(SphNoAllocation, StepsAllocateNothing) {
+  Fluid fluid = collapsing_column(0.0);
   std::vector<double> fx(fluid.boundary().size()), fy(fluid.boundary().size());
   const test::AllocationScope scope;
   for (int k = 0; k < 100; ++k) fluid.step(0.5 * fluid.stable_dt());
@@ -69,18 +80,9 @@ TEST(SphNoAllocation, CoupledStepsAllocateNothing) {
 // A particle taken out of the water (FluidParameters::excluded_limit) allocates nothing: its
 // record goes into the room reserved for the limit, the arrays shrink within their capacity.
 TEST(SphNoAllocation, TakingAParticleOutAllocatesNothing) {
-  FluidParameters par;
-  par.dp = 0.01;
-  par.c0 = sound_speed_for(0.2, 2.0, 9.81);
-  par.excluded_limit = 0.02;
-  FluidParticles water;
-  BoundaryParticles walls;
-  fill_rectangle(water, 0.0, 0.0, 0.1, 0.2, par, 0.2);
-  add_tank_walls(walls, 0.0, 0.0, 0.3, 0.4, wall_layers(par), par, 0.2);
-  Fluid fluid(par, std::move(water), std::move(walls));
-  for (int k = 0; k < 20; ++k) fluid.step(0.5 * fluid.stable_dt());
+  Fluid fluid = collapsing_column(0.02);
   Fluid::State s = fluid.state();
-  s.fluid.vx[s.fluid.size() / 2] = 2.0 * par.c0;  // thrown sideways within the water's grid
+  s.fluid.vx[s.fluid.size() / 2] = 2.0 * fluid.parameters().c0;  // thrown sideways within the water's grid
   fluid.restore(s);
   const test::AllocationScope scope;
   for (int k = 0; k < 20; ++k) fluid.step(0.1 * fluid.stable_dt());
