@@ -1,6 +1,7 @@
 #include "sph/fluid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -153,6 +154,10 @@ std::size_t Fluid::excluded_capacity() const {
   return static_cast<std::size_t>(par_.excluded_limit * static_cast<double>(initial_size_));
 }
 
+std::array<std::vector<double>*, 12> Fluid::particle_arrays() {
+  return {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol};
+}
+
 std::size_t Fluid::unsound_count() const {
   std::size_t bad = 0;
   for (std::size_t i = 0; i < f_.size(); ++i) bad += !particle_sound(i);
@@ -179,12 +184,12 @@ void Fluid::exclude_unsound_particles() {
       continue;
     }
     if (kept != i)
-      for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol})
+      for (auto* a : particle_arrays())
         (*a)[kept] = (*a)[i];
     f_.id[kept] = f_.id[i];
     ++kept;
   }
-  for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol})
+  for (auto* a : particle_arrays())
     a->resize(kept);  // shrinking keeps the capacity: no allocation
   f_.id.resize(kept);
   resort_fluid();
@@ -267,7 +272,7 @@ void Fluid::resort_fluid() {
   scratch_.resize(n);  // within its capacity: fewer particles once some were excluded
   scratch_id_.resize(n);
   const auto order = fluid_cells_.order();
-  for (auto* a : {&f_.x, &f_.y, &f_.vx, &f_.vy, &f_.rho, &f_.p, &f_.ax, &f_.ay, &f_.drho, &f_.gx, &f_.gy, &f_.vol}) {
+  for (auto* a : particle_arrays()) {
     for (std::size_t k = 0; k < n; ++k) scratch_[k] = (*a)[static_cast<std::size_t>(order[k])];
     a->swap(scratch_);
   }

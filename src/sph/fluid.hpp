@@ -13,6 +13,7 @@
 // a Verlet list (support plus a skin) in ascending index and summed in a fixed order
 // (pair_lanes.hpp), and over the walls: the same bits for any thread count and whenever the
 // lists were built. Nothing allocates in the time loop once the grid stopped growing.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -239,6 +240,9 @@ class Fluid {
   void update_maxima();
   bool particle_sound(std::size_t i) const;
   void exclude_unsound_particles();
+  // Every per-particle array of doubles of f_ (the ids aside): what a re-sort permutes and an
+  // exclusion closes up.
+  std::array<std::vector<double>*, 12> particle_arrays();
   // Particle i's share of energy(); r7 = rho0^7, e0 = 7 / (6 rho0).
   Energy particle_energy(std::size_t i, double r7, double e0) const;
   void pack_particles();
