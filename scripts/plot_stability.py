@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
-"""Plots of `dsdem stability OUT`: OUT/fs_displacement.png and OUT/mechanism*.png.
+"""Plots of `dsdem stability OUT`: OUT/fs_displacement.png, OUT/stability_trials.png and
+OUT/mechanism*.png.
 
     plot_stability.py OUT
 
 fs_displacement.png: the largest displacement since the settled state at the end of each
-trial against the trial's F (stood: filled, failed: open), one curve per variant, the
-factor of safety marked. mechanism[_pseudo_static].png: the lowest F that failed, the
+trial against the trial's F (stood: filled, failed: open, undecided: a cross), one curve per
+variant, the factor of safety marked. stability_trials.png: each static and pseudo-static
+trial's unbalanced force ratio and monitored displacement against its steps (OUT/trials.csv),
+coloured by F; solid: stood, dashed: failed, dotted: undecided. mechanism[_pseudo_static].png: the lowest F that failed, the
 mesh coloured by the displacement since the settled state, broken joints in black (needs
 meshio; skipped without it).
 """
@@ -29,16 +32,21 @@ def plot_fs(out: Path, s: dict) -> None:
     keys = {"static": "factor_of_safety", "pseudo_static": "factor_of_safety_pseudo_static",
             "dynamic": "factor_of_safety_dynamic"}
     for variant in ("static", "pseudo_static", "dynamic"):
-        tr = sorted((t for t in s["trials"] if t["variant"] == variant), key=lambda t: t["F"])
+        tr = sorted((t for t in s["trials"] if t["variant"] == variant and not t.get("budget_check")),
+                    key=lambda t: t["F"])
         if not tr:
             continue
         F = np.array([t["F"] for t in tr])
         d = np.maximum(np.array([t["max_displacement_m"] for t in tr]), 1e-12)
-        ok = np.array([t["result"] != "failed" for t in tr])
+        ok = np.array([t["result"] in ("equilibrium", "survived") for t in tr])
+        failed = np.array([t["result"] == "failed" for t in tr])
+        undecided = ~ok & ~failed
         c = colours[variant]
         ax.plot(F, d, "-", color=c, lw=1, label=variant.replace("_", "-"))
         ax.plot(F[ok], d[ok], "o", color=c, label=f"{variant.replace('_', '-')}: stands")
-        ax.plot(F[~ok], d[~ok], "o", mfc="none", color=c, label=f"{variant.replace('_', '-')}: fails")
+        ax.plot(F[failed], d[failed], "o", mfc="none", color=c, label=f"{variant.replace('_', '-')}: fails")
+        if undecided.any():
+            ax.plot(F[undecided], d[undecided], "x", color=c, label=f"{variant.replace('_', '-')}: undecided")
         if keys[variant] in s:
             fs = s[keys[variant]]
             ax.axvline(fs, color=c, ls="--", lw=1)
@@ -51,6 +59,48 @@ def plot_fs(out: Path, s: dict) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     fig.savefig(out / "fs_displacement.png", dpi=120)
+    plt.close(fig)
+
+
+def plot_trials(out: Path, s: dict) -> None:
+    """Convergence of every trial: unbalanced force ratio and monitored displacement against steps."""
+    path = out / "trials.csv"
+    if not path.is_file():
+        return
+    data = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    if data.size == 0:
+        return
+    data = np.atleast_1d(data)
+    variants = [v for v in ("static", "pseudo_static") if (data["variant"] == v).any()]
+    fig, axes = plt.subplots(len(variants), 2, figsize=(12, 4.2 * len(variants)), layout="constrained",
+                             squeeze=False)
+    styles = {"equilibrium": "-", "failed": "--", "undecided": ":"}
+    ratio = s.get("settings", {}).get("equilibrium_ratio", 1e-5)
+    for row, variant in zip(axes, variants):
+        sel = data[data["variant"] == variant]
+        ranks = {F: i for i, F in enumerate(sorted(set(sel["F"].tolist())))}  # colour by rank: close F apart
+        cmap = matplotlib.colormaps["viridis"]
+
+        def norm(F, n=max(1, len(ranks) - 1)):
+            return ranks[F] / n
+        for k in np.unique(sel["trial"]):
+            t = sel[sel["trial"] == k]
+            label = f"F = {t['F'][0]:.4f} ({t['result'][0]}{', budget check' if t['budget_check'][0] else ''})"
+            kw = dict(color=cmap(norm(t["F"][0])), ls=styles.get(t["result"][0], "-"), lw=1.2 if t["budget_check"][0] else 1.0)
+            row[0].plot(t["step"], np.maximum(t["unbalanced_ratio"], 1e-12), label=label, **kw)
+            row[1].plot(t["step"], np.maximum(t["displacement_m"], 1e-12), **kw)
+        row[0].axhline(ratio, color="k", lw=0.8, ls="--")
+        row[0].set_yscale("log")
+        row[1].set_yscale("log")
+        row[0].set_ylabel("unbalanced force ratio")
+        row[1].set_ylabel("monitored displacement since settled [m]")
+        for ax in row:
+            ax.set_xlabel("steps of the trial")
+            ax.grid(True, which="both", alpha=0.3)
+        row[0].set_title(f"{variant.replace('_', '-')}: unbalanced force ratio (equilibrium below the dashed line)")
+        row[1].set_title(f"{variant.replace('_', '-')}: displacement (solid stood, dashed failed, dotted undecided)")
+        row[0].legend(fontsize=7, loc="upper right", ncol=2)
+    fig.savefig(out / "stability_trials.png", dpi=110)
     plt.close(fig)
 
 
@@ -102,6 +152,7 @@ def main() -> int:
         print(f"error: {out / 'summary.json'}: {e}", file=sys.stderr)
         return 2
     plot_fs(out, s)
+    plot_trials(out, s)
     for suffix in ("", "_pseudo_static"):
         plot_mechanism(out, suffix, s)
     return 0

@@ -227,8 +227,32 @@ def stability_section(out: Path, summary: dict) -> str:
         rows.append(("factor of safety (pseudo-static)", "", summary["factor_of_safety_pseudo_static"]))
     if "factor_of_safety_dynamic" in summary:
         rows.append(("factor of safety (dynamic: survives the earthquake)", "", summary["factor_of_safety_dynamic"]))
+    for variant, b in (summary.get("brackets") or {}).items():
+        name = variant.replace("_", "-")
+        rows.append((f"{name}: highest F that stood", "", b.get("stood")))
+        rows.append((f"{name}: lowest F that failed", "", b.get("failed")))
+        if b.get("undecided"):
+            rows.append((f"{name}: undecided between them (FS may lie up to the lowest F that failed)", "",
+                         ", ".join(f"{F:.4f}" for F in b["undecided"])))
+        c = b.get("budget_check")
+        if isinstance(c, dict):
+            held = "held" if c.get("stood_held") and c.get("failed_held", True) else "DID NOT HOLD"
+            rows.append((f"{name}: bracketing verdicts watched twice as long", "", held))
+    st = summary.get("settings") or {}
+    if "window_steps" in st:
+        rows.append(("trials: observation window", "steps", st["window_steps"]))
+        rows.append(("trials: slope period (window)", "s", st.get("period_s")))
+        rows.append(("trials: step budget", "steps", st.get("max_steps")))
     body = kv_table(rows)
+    trials = summary.get("trials") or []
+    if trials:
+        trs = [[f"<td>{esc(t.get('variant', '').replace('_', '-'))}{' (budget check)' if t.get('budget_check') else ''}</td>",
+                _num(t.get("F")), f"<td>{esc(t.get('result'))}</td>", f"<td>{esc(t.get('reason'))}</td>",
+                _num(t.get("steps")), _num(t.get("max_displacement_m")), _num(t.get("unbalanced_ratio"))]
+               for t in trials]
+        body += _table(["trial", "F", "result", "why", "steps", "max displacement (m)", "unbalanced ratio"], trs)
     for name, cap in (("fs_displacement.png", "Largest displacement against the strength-reduction factor F"),
+                      ("stability_trials.png", "Each trial's unbalanced force ratio and monitored displacement"),
                       ("mechanism.png", "The mechanism at the lowest F that failed (static)"),
                       ("mechanism_pseudo_static.png", "The mechanism at the lowest F that failed (pseudo-static)")):
         p = out / name

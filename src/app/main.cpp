@@ -165,7 +165,7 @@ struct StabilityArgs {
   std::string scenario_path, out_dir = "out";
   std::vector<std::string> sets;
   int threads = 0;
-  bool quiet = false, no_plots = false, dynamic = false;
+  bool quiet = false, no_plots = false, dynamic = false, check_budget = false;
   std::optional<double> kh, kv, tolerance;
   std::vector<double> bounds;
 };
@@ -176,31 +176,39 @@ void add_stability_command(CLI::App& app, StabilityArgs& a) {
       "Factor of safety by strength reduction (DESIGN.md §12): c/F, tan(phi)/F and ft/F for every joint, "
       "Mohr-Coulomb material and contact friction; bisection on F.\n"
       "The scenario's static stages (before its first earthquake stage) settle the slope at full strength with "
-      "elastic joints; each trial F starts from that state with reduced strengths and failure allowed, under "
-      "mass damping (stability.damping or the stage's alpha). A trial STANDS when the largest unbalanced nodal "
-      "force |m a + alpha m v| falls below stability.equilibrium_ratio (1e-5) times the mean nodal weight; it "
-      "FAILS when a monitored point (stability.monitor, else any node) moves stability.failure_displacement "
-      "(default: the mean element size of the discrete zone) from the settled state, when no equilibrium comes within "
-      "stability.max_steps, or when the run goes unstable. FS is the largest F that stood, to "
+      "elastic joints; each trial F starts from that state with reduced strengths and failure allowed, solved "
+      "quasi-statically (local non-viscous damping 0.8 and adaptive mass damping; stability.damping fixes the "
+      "mass damping instead), never with the scenario's damping. A trial STANDS when the largest unbalanced "
+      "nodal force falls below stability.equilibrium_ratio (1e-5) times the mean nodal weight; it FAILS when a "
+      "monitored point (stability.monitor, else any node) moves stability.failure_displacement (default: the "
+      "mean element size of the discrete zone) from the settled state, when the monitored mass keeps moving over "
+      "a doubling of the trial (its velocity not falling, its unbalanced force not halving), or when the run "
+      "goes unstable; it is UNDECIDED when neither comes within stability.max_steps. FS is the largest F that "
+      "stood, to "
       "stability.tolerance (0.005). With kh/kv also the pseudo-static FS: body force |g| (kh, kv) m, kh > 0 "
       "toward +x (give the sign of the free face), kv > 0 upward.\n"
       "With --dynamic also the dynamic FS: the scenario's earthquake stages at strengths 1/F from the settled "
       "state; a trial fails when a monitored point moves failure_displacement during them.\n"
-      "Writes OUT/summary.json (factor_of_safety[, factor_of_safety_pseudo_static, factor_of_safety_dynamic], the trials), "
-      "OUT/fs_displacement.png, OUT/mechanism*.vtu (the lowest F that failed) and mechanism*.png, OUT/stability.log.");
+      "Writes OUT/summary.json (factor_of_safety[, factor_of_safety_pseudo_static, factor_of_safety_dynamic], the "
+      "brackets, the trials), OUT/trials.csv and stability_trials.png (each trial's unbalanced force ratio and "
+      "displacement), OUT/fs_displacement.png, OUT/mechanism*.vtu (the lowest F that failed) and mechanism*.png, OUT/stability.log.");
   a.cmd->add_option("scenario", a.scenario_path, "Scenario YAML file")->required();
   a.cmd->add_option("-o,--output", a.out_dir, "Output directory")->capture_default_str();
   a.cmd->add_option("--threads", a.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   a.cmd->add_option("--set", a.sets, "Override a scenario value: key.path=value (repeatable)");
   a.cmd->add_option("--kh", a.kh, "Pseudo-static horizontal coefficient (stability.kh), > 0 toward +x");
   a.cmd->add_option("--kv", a.kv, "Pseudo-static vertical coefficient (stability.kv), > 0 upward");
+  a.cmd->add_flag("--check-budget", a.check_budget,
+                  "Rerun the two trials that bracket the FS watched twice as long (stability.check_budget) and say "
+                  "whether their verdicts held");
   a.cmd->add_flag("--dynamic", a.dynamic,
                   "Also the dynamic FS (stability.dynamic): the earthquake stages at strengths 1/F from the settled "
                   "state; a trial fails when a monitored point moves failure_displacement");
   a.cmd->add_option("--bounds", a.bounds, "F_low F_high (stability.bounds)")->expected(2);
   a.cmd->add_option("--tolerance", a.tolerance, "Bisection tolerance on F (stability.tolerance)");
   a.cmd->add_flag("-q,--quiet", a.quiet, "No progress on the terminal (OUT/stability.log still gets it)");
-  a.cmd->add_flag("--no-plots", a.no_plots, "Do not make fs_displacement.png and the mechanism picture");
+  a.cmd->add_flag("--no-plots", a.no_plots,
+                  "Do not make fs_displacement.png, stability_trials.png and the mechanism picture");
 }
 
 int stability_command(StabilityArgs& a) {
@@ -212,6 +220,7 @@ int stability_command(StabilityArgs& a) {
   if (a.kv) sets.push_back("stability.kv=" + num(*a.kv));
   if (a.tolerance) sets.push_back("stability.tolerance=" + num(*a.tolerance));
   if (a.dynamic) sets.push_back("stability.dynamic=true");
+  if (a.check_budget) sets.push_back("stability.check_budget=true");
   if (a.bounds.size() == 2) sets.push_back(fmt::format("stability.bounds=[{}, {}]", num(a.bounds[0]), num(a.bounds[1])));
   const auto sc = dsdem::io::load_scenario(a.scenario_path, sets);
   if (a.threads > 0) omp_set_num_threads(a.threads);

@@ -86,6 +86,9 @@ struct RegionSpec {
 struct DampingSpec {
   double alpha = 0.0;  // 1/s
   double beta = 0.0;   // s
+  // Local non-viscous damping (docs/theory.md §9): the quasi-static trials of `dsdem
+  // stability` set it; no scenario key does, since it has no place in a dynamic stage.
+  double local = 0.0;
 };
 
 // A law's parameters as the scenario gives them, by their declared names (law::ParamDecl),
@@ -255,7 +258,10 @@ struct StabilitySpec {
   double equilibrium_ratio = 1e-5;   // largest unbalanced nodal force / mean gravity force
   long max_steps = 0;                // per trial; 0: automatic (see run/stability.hpp)
   double failure_displacement = 0.0; // m; 0: the mean element size
-  std::optional<double> damping_alpha;  // 1/s, trials and settling; absent: the static stage's
+  double local_damping = 0.8;        // the trials' local non-viscous damping coefficient
+  // 1/s: the trials' mass damping, fixed; absent: adaptive (docs/theory.md §9)
+  std::optional<double> damping_alpha;
+  bool check_budget = false;         // rerun the bracketing trials watched twice as long
   bool keep_tension = false;         // ft is not divided by F
   bool dynamic = false;              // also the dynamic FS: the earthquake stages at strengths 1/F
   std::vector<GaugeSpec> monitor;    // monitored points; none: every node

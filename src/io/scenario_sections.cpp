@@ -557,7 +557,9 @@ void read_stability(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   st.equilibrium_ratio = r.number(s, p, "equilibrium_ratio").value_or(1e-5);
   st.max_steps = static_cast<long>(r.integer(s, p, "max_steps").value_or(0));
   st.failure_displacement = r.number(s, p, "failure_displacement").value_or(0.0);
+  st.local_damping = r.number(s, p, "local_damping").value_or(0.8);
   st.damping_alpha = r.number(s, p, "damping");
+  st.check_budget = r.boolean(s, p, "check_budget").value_or(false);
   st.keep_tension = r.boolean(s, p, "keep_tension").value_or(false);
   st.dynamic = r.boolean(s, p, "dynamic").value_or(false);
   if (YAML::Node ms = r.section(s, p, "monitor", YAML::NodeType::Sequence); ms.IsDefined()) {

@@ -400,17 +400,27 @@ void add_stability(std::vector<KeySpec>& s) {
                   "Equilibrium: the largest unbalanced nodal force (without the damping force) over the mean "
                   "gravity force of the nodes is below this (FLAC's default).", true, true));
   s.push_back(num("stability.max_steps", "", "auto", 0, kInf,
-                  "Step budget of one trial; a trial that reaches no equilibrium within it failed (auto: 40 / alpha "
-                  "of simulated time, in which mass damping takes an underdamped mode's amplitude down e^20 times; "
-                  "at least 10000). The trials closest to the factor of safety creep: the budget decides them, so "
-                  "a mesh study keeps max_steps x dt the same."));
+                  "Step budget of one trial: it bounds the cost only. A trial that neither comes to equilibrium "
+                  "nor fails within it is reported undecided (auto: 64 observation windows, see "
+                  "docs/user-guide.md \"Factor of safety\")."));
   s.push_back(num("stability.failure_displacement", "m", "mean element size", 0, kInf,
                   "A trial failed once a monitored point (or any node without monitor) has moved this far from "
                   "the settled state: the strength-reduced slope slides instead of settling (default: the mean "
                   "element size of the discrete zone, of the whole mesh without one).", true));
-  s.push_back(num("stability.damping", "1/s", "the static stage's alpha", 0, kInf,
-                  "Mass-proportional damping alpha of the trials (about critical for the slope's first mode).",
-                  true));
+  s.push_back(num("stability.local_damping", "", "0.8", 0, 1,
+                  "Coefficient of the trials' local non-viscous damping (Cundall; FLAC's and UDEC's 0.8): each "
+                  "velocity component is opposed by this fraction of the node's unbalanced force. It brings a "
+                  "slope that can stand to rest without holding back one that cannot.", true, true));
+  s.push_back(num("stability.damping", "1/s", "adaptive", 0, kInf,
+                  "Mass-proportional damping alpha of the trials and the settling, fixed, with the local damping. "
+                  "Default: adaptive (Underwood's dynamic relaxation): critical for the slowest mode the motion "
+                  "shows, none once the slope softens along its motion; it brings a standing slope to rest "
+                  "several times faster than the local damping alone. The factor of safety does not depend on "
+                  "it; a large fixed alpha makes the trials near it creep, cost more and end undecided sooner."));
+  s.push_back(of("stability.check_budget", KeyType::Boolean, "false",
+                 "After the bisection, run the two trials that bracket the factor of safety again, each watched "
+                 "twice as long before it is judged and with twice the budget, and say whether their verdicts "
+                 "held (summary.json budget_check)."));
   s.push_back(of("stability.keep_tension", KeyType::Boolean, "false", "Do not divide the tensile strengths by F."));
   s.push_back(of("stability.dynamic", KeyType::Boolean, "false",
                  "Also the dynamic factor of safety: from the static settled state, the scenario's earthquake stages "

@@ -30,13 +30,24 @@ namespace dsdem::run {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double unbalanced_force_ratio(const Model& model, double alpha, double gravity) {
+const char* trial_result_name(TrialResult r) {
+  switch (r) {
+    case TrialResult::Equilibrium: return "equilibrium";
+    case TrialResult::Failed: return "failed";
+    case TrialResult::Undecided: return "undecided";
+    case TrialResult::Survived: return "survived";
+  }
+  return "?";
+}
+
+double unbalanced_force_ratio(const Model& model, std::span<const Vec2> damping_forces, double gravity) {
   const Nodes& n = model.nodes;
+  const bool damped = damping_forces.size() == n.size();
   double max_f2 = 0.0, sum_w = 0.0;
   std::size_t count = 0;
   for (std::size_t i = 0; i < n.size(); ++i) {
     if (!(n.m[i] > 0.0)) continue;
-    const Vec2 f = n.m[i] * (n.a[i] + alpha * n.v[i]);
+    const Vec2 f = damped ? Vec2(n.m[i] * n.a[i] - damping_forces[i]) : Vec2(n.m[i] * n.a[i]);
     max_f2 = std::max(max_f2, f.squaredNorm());
     sum_w += n.m[i] * gravity;
     ++count;
@@ -47,8 +58,17 @@ double unbalanced_force_ratio(const Model& model, double alpha, double gravity) 
 
 namespace {
 
-constexpr long kCheckEvery = 50;      // steps between equilibrium / failure checks
-constexpr long kMinAutoSteps = 10000;  // floor of the automatic step budget
+constexpr long kCheckEvery = 50;       // steps between equilibrium / failure checks
+constexpr long kMinWindow = 250;        // least observation window, steps
+constexpr long kFirstJudgement = 4;     // windows before the first judgement of motion
+constexpr long kAutoBudgetWindows = 64; // the automatic budget, windows (five judgements)
+constexpr double kMovingFloor = 1e-4;   // of failure_displacement: the least motion that counts
+
+// When a trial's motion is judged and how long it may run, steps.
+struct Watch {
+  long first_judgement = 0;  // then at every doubling
+  long budget = 0;
+};
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -61,6 +81,15 @@ struct Variant {
   long broken_settled = 0;
   double lowest_failed = 0.0;  // lowest F that failed so far (its mechanism is on disk)
 };
+
+// The trial stage's damping: the quasi-static solver (docs/theory.md §9).
+io::DampingSpec quasi_static_damping(const io::StabilitySpec& spec) {
+  io::DampingSpec d;
+  d.alpha = spec.damping_alpha.value_or(0.0);
+  d.beta = 0.0;
+  d.local = spec.local_damping;
+  return d;
+}
 
 class StabilityRunner {
  public:
@@ -76,20 +105,28 @@ class StabilityRunner {
   io::Scenario scenario_with(const Vec2& gravity) const;
   solver::Solver& new_solver();
   bool stopped() const { return options_.stop_signal && *options_.stop_signal; }
+  // A check's unbalanced force ratio; then the adaptive mass damping for the next check
+  // interval from the motion since the last check (docs/theory.md §9).
+  double check_and_adapt(solver::Solver& s);
+  void start_watching();  // the motion is measured from the current state
   // Runs to equilibrium with the current solver: true when reached within max_steps.
-  bool run_to_equilibrium(double alpha, long max_steps, long& steps, double& ratio);
+  bool run_to_equilibrium(long max_steps, long& steps, double& ratio);
+  // The observation window from the settled static state (its period), and the watch.
+  void choose_window(const std::vector<Vec2>& u_before_settling);
   void settle_static(Variant& v);
   void settle_pseudo_static(const Variant& from, Variant& v);
   void keep_settled(Variant& v);
   solver::Solver& start_trial(const Variant& v, double F);
-  StabilityTrial trial(Variant& v, double F);
+  StabilityTrial trial(Variant& v, double F, const Watch& watch, bool budget_check = false);
   // The dynamic variant's trial: the earthquake stages at strengths 1/F from the settled state.
   StabilityTrial dynamic_trial(Variant& v, double F);
   void record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0);
   double max_displacement(const Variant& v) const;
   void write_mechanism(const Variant& v, double F);
   double bisect(Variant& v);
+  void check_budget(Variant& v, StabilityBracket& b);
   void write_summary(StabilityResult& r);
+  void write_trial_histories() const;
   double settled_stage_end() const {  // s: the end of the static stages
     double t = 0.0;
     for (std::size_t si = 0; si <= last_static_; ++si) t += sc_.stages[si].duration;
@@ -109,8 +146,14 @@ class StabilityRunner {
   std::vector<solver::Gauge> monitors_;
   std::size_t last_static_ = 0;  // index of the last static stage
   bool has_quake_ = false;       // the scenario has earthquake stages (after last_static_)
-  double alpha_ = 0.0;           // trial damping, 1/s
-  long max_steps_ = 0;
+  long max_steps_ = 0;           // budget of the settling's equilibrium run and of each trial
+  double period_ = 0.0;          // s: the slope's fundamental period (the window's)
+  std::string period_source_;    // how it was estimated
+  long window_ = 0;              // observation window, steps
+  Watch watch_;                  // the trials'
+  std::vector<StabilityBracket> brackets_;
+  // The adaptive damping's last check: displacements and unbalanced forces; scratch.
+  std::vector<Vec2> u_last_, f_last_, f_now_, du_, df_;
   double failure_displacement_ = 0.0;
   double g_ = 9.81;
   double settled_time_ = 0.0;
@@ -159,13 +202,6 @@ void StabilityRunner::check_setup() {
   if (spec_.dynamic && !has_quake_)
     throw io::ScenarioError({spec_.where.describe(
         "stability.dynamic needs an earthquake stage (stages[].earthquake: true) after the static ones")});
-  const io::StageSpec& st = sc_.stages[last_static_];
-  alpha_ = spec_.damping_alpha.value_or(st.damping.alpha);
-  if (!(alpha_ > 0.0))
-    throw io::ScenarioError({spec_.where.describe(fmt::format(
-        "stage '{}' has no mass damping (alpha = 0), so a trial would never come to rest: give stability.damping "
-        "(1/s, about critical for the slope's first mode: 4 pi / T1)",
-        st.name))});
   if (!(g_ > 0.0)) throw io::ScenarioError({fmt::format("{}: gravity: the factor of safety needs gravity", sc_.file)});
   // Default failure displacement: the mean element size of the breakable zone A (where
   // the slide is), of the whole mesh without one.
@@ -183,10 +219,9 @@ void StabilityRunner::check_setup() {
   const double mean_size = n_a > 0 ? size_a / static_cast<double>(n_a)
                                    : size_all / static_cast<double>(std::max<std::size_t>(1, tri.size()));
   failure_displacement_ = spec_.failure_displacement > 0.0 ? spec_.failure_displacement : mean_size;
-  // Automatic budget: 40/alpha of simulated time takes an underdamped mode's amplitude
-  // down by e^-20 (mass damping: exp(-alpha t / 2)).
-  max_steps_ = spec_.max_steps > 0 ? spec_.max_steps
-                                   : std::max<long>(kMinAutoSteps, static_cast<long>(std::ceil(40.0 / (alpha_ * prepared_.dt))));
+  // The settling's equilibrium run: the trials' budget or, before the window is known, a
+  // generous one (a settled slope is near equilibrium already).
+  max_steps_ = spec_.max_steps > 0 ? spec_.max_steps : 1000000;
   if (spec_.kh || spec_.kv) {
     if (sc_.gravity.x() != 0.0)
       throw io::ScenarioError({spec_.where.describe("kh and kv need gravity along -y (gravity: [0, -g])")});
@@ -214,7 +249,7 @@ io::StageSpec StabilityRunner::trial_stage() const {
   io::StageSpec st = sc_.stages[last_static_];
   st.failure = true;
   st.earthquake = false;
-  st.damping.alpha = alpha_;
+  st.damping = quasi_static_damping(spec_);
   return st;
 }
 
@@ -232,24 +267,91 @@ solver::Solver& StabilityRunner::new_solver() {
   return *solver_;
 }
 
-bool StabilityRunner::run_to_equilibrium(double alpha, long max_steps, long& steps, double& ratio) {
+void StabilityRunner::start_watching() {
+  const Nodes& n = model_.nodes;
+  const std::size_t nn = n.size();
+  u_last_ = n.u;
+  f_last_.assign(nn, Vec2::Zero());
+  const auto fd = solver_->damping_forces();
+  for (std::size_t i = 0; i < nn; ++i)
+    f_last_[i] = fd.size() == nn ? Vec2(n.m[i] * n.a[i] - fd[i]) : Vec2(n.m[i] * n.a[i]);
+  f_now_.resize(nn);
+  du_.resize(nn);
+  df_.resize(nn);
+  solver_->set_mass_damping(spec_.damping_alpha.value_or(0.0));
+}
+
+// Underwood's adaptive dynamic relaxation on top of the local damping: mass damping
+// critical for the slowest mode the motion shows, 2 omega, from Rayleigh's quotient of the
+// interval's displacement and force increments; none once the slope softens along its
+// motion, so a failing mass is never held back.
+double StabilityRunner::check_and_adapt(solver::Solver& s) {
+  const Nodes& n = model_.nodes;
+  const std::size_t nn = n.size();
+  const auto fd = s.damping_forces();
+  for (std::size_t i = 0; i < nn; ++i) {
+    f_now_[i] = fd.size() == nn ? Vec2(n.m[i] * n.a[i] - fd[i]) : Vec2(n.m[i] * n.a[i]);
+    du_[i] = n.u[i] - u_last_[i];
+    df_[i] = f_now_[i] - f_last_[i];
+  }
+  const double ratio = unbalanced_force_ratio(model_, fd, g_);
+  if (!spec_.damping_alpha) {
+    const double w2 = rayleigh_omega2(n, du_, df_);
+    s.set_mass_damping(w2 > 0.0 ? 2.0 * std::sqrt(w2) : 0.0);
+  }
+  std::copy(n.u.begin(), n.u.end(), u_last_.begin());
+  std::copy(f_now_.begin(), f_now_.end(), f_last_.begin());
+  return ratio;
+}
+
+bool StabilityRunner::run_to_equilibrium(long max_steps, long& steps, double& ratio) {
   solver::Solver& s = *solver_;
+  start_watching();
   for (steps = 0; steps < max_steps && !stopped();) {
     s.step();
     ++steps;
     if (steps % kCheckEvery == 0) {
-      ratio = unbalanced_force_ratio(model_, alpha, g_);
+      ratio = check_and_adapt(s);
       if (ratio < spec_.equilibrium_ratio) return true;
     }
   }
-  ratio = unbalanced_force_ratio(model_, alpha, g_);
+  ratio = unbalanced_force_ratio(model_, s.damping_forces(), g_);
   return ratio < spec_.equilibrium_ratio;
+}
+
+// The window is about the slope's fundamental period: Rayleigh's quotient on the
+// displacement of settling under gravity, or a shear column's 4 H / vs over the mesh's
+// height with the slowest material when the settling moved nothing measurable.
+void StabilityRunner::choose_window(const std::vector<Vec2>& u_before_settling) {
+  std::vector<Vec2> du(model_.nodes.size());
+  for (std::size_t i = 0; i < du.size(); ++i) du[i] = model_.nodes.u[i] - u_before_settling[i];
+  period_ = rayleigh_period(model_.nodes, du, sc_.gravity);
+  period_source_ = "Rayleigh's quotient on the settling displacement";
+  if (!(period_ > 0.0)) {
+    double y_min = 1e300, y_max = -1e300, vs = 1e300;
+    for (std::size_t i = 0; i < model_.nodes.size(); ++i) {
+      y_min = std::min(y_min, model_.nodes.X[i].y());
+      y_max = std::max(y_max, model_.nodes.X[i].y());
+    }
+    for (const auto& m : model_.materials)
+      if (m.rho > 0.0 && m.E > 0.0) vs = std::min(vs, m.cs());
+    period_ = shear_column_period(y_max - y_min, vs);
+    period_source_ = "4 H / vs of the mesh's height and its slowest material";
+  }
+  const double dt = solver_->dt();
+  window_ = std::max<long>(kMinWindow, static_cast<long>(std::ceil(period_ / dt)));
+  // Judgements at 4, 8, 16, ... windows fall on check steps whose halves and quarters are too.
+  const long unit = 4 * kCheckEvery;
+  watch_.first_judgement = (kFirstJudgement * window_ + unit - 1) / unit * unit;
+  watch_.budget = spec_.max_steps > 0 ? spec_.max_steps : watch_.first_judgement * (kAutoBudgetWindows / kFirstJudgement);
+  max_steps_ = watch_.budget;
 }
 
 // The scenario's static stages at full strength, joints elastic, then equilibrium.
 void StabilityRunner::settle_static(Variant& v) {
   const auto t0 = Clock::now();
   law::apply_reduction(full_, 1.0, {}, model_);
+  const std::vector<Vec2> u_before = model_.nodes.u;
   solver::Solver& s = new_solver();
   const io::Scenario sc = scenario_with(v.gravity);
   double stage_end = 0.0;
@@ -273,16 +375,17 @@ void StabilityRunner::settle_static(Variant& v) {
   }
   io::StageSpec st = sc_.stages[last_static_];
   st.failure = false;
-  st.damping.alpha = alpha_;
+  st.damping = quasi_static_damping(spec_);
   apply_stage(s, st, sc, prepared_.dt, s.time(), &prepared_);
   long more = 0;
   double ratio = 0.0;
-  const bool eq = run_to_equilibrium(alpha_, max_steps_, more, ratio);
+  const bool eq = run_to_equilibrium(max_steps_, more, ratio);
   log(fmt::format("settled ({}): the static stages to t = {:.4g} s and {} steps more{}: unbalanced force ratio {:.2e}, "
                   "{} steps, {}",
                   v.name, stage_end, more, eq ? "" : " (no equilibrium within the step budget)", ratio, steps + more,
                   human_time(seconds_since(t0))));
   keep_settled(v);
+  choose_window(u_before);
 }
 
 // From the static settled state: the pseudo-static body force on, full strength, elastic joints.
@@ -292,13 +395,13 @@ void StabilityRunner::settle_pseudo_static(const Variant& from, Variant& v) {
   solver::Solver& s = new_solver();
   io::StageSpec st = sc_.stages[last_static_];
   st.failure = false;
-  st.damping.alpha = alpha_;
+  st.damping = quasi_static_damping(spec_);
   apply_stage(s, st, scenario_with(v.gravity), prepared_.dt, settled_time_, &prepared_);
   s.initialise();
   s.restore(io::CheckpointReader(from.settled));
   long steps = 0;
   double ratio = 0.0;
-  const bool eq = run_to_equilibrium(alpha_, max_steps_, steps, ratio);
+  const bool eq = run_to_equilibrium(max_steps_, steps, ratio);
   log(fmt::format("settled ({}, body force ({:.4g}, {:.4g}) m/s^2): {} steps{}, unbalanced force ratio {:.2e}, {}",
                   v.name, v.gravity.x(), v.gravity.y(), steps, eq ? "" : " (no equilibrium within the step budget)",
                   ratio, human_time(seconds_since(t0))));
@@ -344,39 +447,60 @@ solver::Solver& StabilityRunner::start_trial(const Variant& v, double F) {
   return s;
 }
 
-StabilityTrial StabilityRunner::trial(Variant& v, double F) {
+StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, bool budget_check) {
   const auto t0 = Clock::now();
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
+  t.budget_check = budget_check;
+  t.history.reserve(static_cast<std::size_t>(watch.budget / kCheckEvery + 1));
   solver::Solver& s = start_trial(v, F);
+  start_watching();
+  const double floor = kMovingFloor * failure_displacement_;
+  long next_judgement = watch.first_judgement;
   bool decided = false;
   try {
-    while (t.steps < max_steps_ && !stopped()) {
+    while (t.steps < watch.budget && !stopped()) {
       s.step();
       ++t.steps;
       if (t.steps % kCheckEvery != 0) continue;
       t.max_displacement = max_displacement(v);
+      t.unbalanced_ratio = check_and_adapt(s);
+      t.history.push_back({t.steps, t.unbalanced_ratio, t.max_displacement});
       if (t.max_displacement > failure_displacement_) {
+        t.result = TrialResult::Failed;
         t.reason = fmt::format("moved {:.3g} m (> {:.3g} m)", t.max_displacement, failure_displacement_);
         decided = true;
         break;
       }
-      t.unbalanced_ratio = unbalanced_force_ratio(model_, alpha_, g_);
       if (t.unbalanced_ratio < spec_.equilibrium_ratio) {
-        t.stands = true;
+        t.result = TrialResult::Equilibrium;
         t.reason = "equilibrium";
         decided = true;
         break;
       }
+      if (t.steps == next_judgement) {
+        const MotionTrend m = motion_trend(t.history, kCheckEvery, floor);
+        if (m.keeps_moving) {
+          t.result = TrialResult::Failed;
+          t.reason = fmt::format(
+              "keeps moving: {:.3g} m in its last {} steps, velocity x{:.3g} and unbalanced force ratio x{:.3g} "
+              "over the half before",
+              m.moved_late, t.steps / 2, m.velocity_early > 0.0 ? m.velocity_late / m.velocity_early : 0.0,
+              m.ratio_early > 0.0 ? m.ratio_late / m.ratio_early : 0.0);
+          decided = true;
+          break;
+        }
+        next_judgement *= 2;
+      }
     }
     if (!decided) {
-      t.max_displacement = max_displacement(v);
-      t.unbalanced_ratio = unbalanced_force_ratio(model_, alpha_, g_);
-      t.reason = fmt::format("no equilibrium in {} steps", t.steps);
+      t.result = TrialResult::Undecided;
+      t.reason = fmt::format("neither equilibrium nor failure in {} steps (stability.max_steps)", t.steps);
     }
   } catch (const solver::InstabilityError& e) {
     t.max_displacement = max_displacement(v);
+    t.result = TrialResult::Failed;
     t.reason = fmt::format("went unstable: {}", e.what());
   }
   t.broken_joints = s.broken_joints() - v.broken_settled;
@@ -388,13 +512,16 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F) {
 void StabilityRunner::record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0) {
   const double F = t.F;
   t.wall_time_s = seconds_since(t0);
-  if (!t.stands && (v.lowest_failed == 0.0 || F < v.lowest_failed)) {
+  if (t.result == TrialResult::Failed && !t.budget_check && (v.lowest_failed == 0.0 || F < v.lowest_failed)) {
     v.lowest_failed = F;
     write_mechanism(v, F);
   }
-  log(fmt::format("[{}] trial {}: F = {:.4f} {}  ({}; max displacement {:.3g} m, broken joints {}, {} steps, "
+  const char* verdict = t.result == TrialResult::Failed ? "FAILS" : t.result == TrialResult::Undecided ? "UNDECIDED"
+                                                                                                      : "stands";
+  log(fmt::format("[{}] {} {}: F = {:.4f} {}  ({}; max displacement {:.3g} m, broken joints {}, {} steps, "
                   "unbalanced ratio {:.1e}, {})",
-                  v.name, trials_.size() + 1, F, t.stands ? "stands" : "FAILS", t.reason, t.max_displacement,
+                  v.name, t.budget_check ? "budget check" : "trial", trials_.size() + 1, F, verdict, t.reason,
+                  t.max_displacement,
                   t.broken_joints, t.steps, t.unbalanced_ratio, human_time(t.wall_time_s)));
   trials_.push_back(t);
 }
@@ -408,11 +535,11 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
   t.variant = v.name;
   t.F = F;
   solver::Solver& s = start_trial(v, F);  // the settled supports: the earthquake stages start from them
-  t.stands = true;
+  t.result = TrialResult::Survived;
   t.reason = "survived the earthquake stages";
   try {
     double stage_end = s.time();
-    for (std::size_t si = last_static_ + 1; si < sc_.stages.size() && t.stands && !stopped(); ++si) {
+    for (std::size_t si = last_static_ + 1; si < sc_.stages.size() && t.stands() && !stopped(); ++si) {
       apply_stage(s, sc_.stages[si], sc_, prepared_.dt, s.time(), &prepared_);
       stage_end += sc_.stages[si].duration;
       while (s.time() < stage_end - 0.5 * s.settings().dt && !stopped()) {
@@ -421,7 +548,7 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
         if (t.steps % kCheckEvery != 0) continue;
         t.max_displacement = std::max(t.max_displacement, max_displacement(v));
         if (t.max_displacement > failure_displacement_) {
-          t.stands = false;
+          t.result = TrialResult::Failed;
           t.reason = fmt::format("moved {:.3g} m (> {:.3g} m) at t = {:.3g} s in stage '{}'", t.max_displacement,
                                  failure_displacement_, s.time(), sc_.stages[si].name);
           break;
@@ -430,11 +557,11 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
     }
     t.max_displacement = std::max(t.max_displacement, max_displacement(v));
   } catch (const solver::InstabilityError& e) {
-    t.stands = false;
+    t.result = TrialResult::Failed;
     t.max_displacement = max_displacement(v);
     t.reason = fmt::format("went unstable: {}", e.what());
   }
-  t.unbalanced_ratio = unbalanced_force_ratio(model_, 0.0, g_);
+  t.unbalanced_ratio = unbalanced_force_ratio(model_, s.damping_forces(), g_);
   t.broken_joints = s.broken_joints() - v.broken_settled;
   record(v, t, t0);
   return t;
@@ -456,27 +583,72 @@ void StabilityRunner::write_mechanism(const Variant& v, double F) {
 }
 
 double StabilityRunner::bisect(Variant& v) {
-  auto trial = [&](Variant& var, double F) { return var.name == "dynamic" ? dynamic_trial(var, F) : this->trial(var, F); };
+  const bool dynamic = v.name == "dynamic";
+  auto trial = [&](double F) { return dynamic ? dynamic_trial(v, F) : this->trial(v, F, watch_); };
+  const std::string budget_hint =
+      "raise stability.max_steps (the trial is still moving) or move the bounds away from the factor of safety";
   double lo = spec_.F_low, hi = spec_.F_high;
-  const StabilityTrial at_lo = trial(v, lo);
+  const StabilityTrial at_lo = trial(lo);
   if (stopped()) return lo;
-  if (!at_lo.stands)
+  if (at_lo.result == TrialResult::Failed)
     throw io::ScenarioError({spec_.where_bounds.describe(fmt::format(
         "the slope ({}) already fails at F_low = {} ({}): lower the bounds", v.name, lo, at_lo.reason))});
-  const StabilityTrial at_hi = trial(v, hi);
+  if (at_lo.result == TrialResult::Undecided)
+    throw io::ScenarioError({spec_.where_bounds.describe(
+        fmt::format("the slope ({}) is undecided at F_low = {} ({}): {}", v.name, lo, at_lo.reason, budget_hint))});
+  const StabilityTrial at_hi = trial(hi);
   if (stopped()) return lo;
-  if (at_hi.stands)
+  if (at_hi.stands())
     throw io::ScenarioError({spec_.where_bounds.describe(fmt::format(
         "the slope ({}) still stands at F_high = {}: raise the bounds", v.name, hi))});
+  if (at_hi.result == TrialResult::Undecided)
+    throw io::ScenarioError({spec_.where_bounds.describe(
+        fmt::format("the slope ({}) is undecided at F_high = {} ({}): {}", v.name, hi, at_hi.reason, budget_hint))});
+  StabilityBracket b;
+  b.variant = v.name;
+  b.failed = hi;
   while (hi - lo > spec_.tolerance * (1.0 + 1e-12) && !stopped()) {
     const double mid = 0.5 * (lo + hi);
-    if (trial(v, mid).stands)
+    const StabilityTrial t = trial(mid);
+    if (t.stands()) {
       lo = mid;
-    else
-      hi = mid;
+      continue;
+    }
+    hi = mid;  // an undecided trial bounds the bracket as a failed one would
+    if (t.result == TrialResult::Failed) b.failed = mid;
   }
-  log(fmt::format("[{}] factor of safety {:.4f} (stands at {:.4f}, fails at {:.4f})", v.name, lo, lo, hi));
+  b.stood = lo;
+  for (const auto& t : trials_)
+    if (t.variant == v.name && !t.budget_check && t.result == TrialResult::Undecided && t.F > lo &&
+        (!b.failed || t.F < *b.failed))
+      b.undecided.push_back(t.F);
+  std::sort(b.undecided.begin(), b.undecided.end());
+  log(fmt::format("[{}] factor of safety {:.4f} (stands at {:.4f}, fails at {}{})", v.name, lo, lo,
+                  b.failed ? fmt::format("{:.4f}", *b.failed) : std::string("-"),
+                  b.undecided.empty() ? std::string()
+                                      : fmt::format("; undecided at {} between them: the factor of safety may be up to "
+                                                    "the lowest F that failed",
+                                                    b.undecided.size())));
+  if (spec_.check_budget && !dynamic && !stopped()) check_budget(v, b);
+  brackets_.push_back(b);
   return lo;
+}
+
+// The two trials that bracket the factor of safety again, watched twice as long before
+// their motion is judged and with twice the budget: a verdict the longer watch does not
+// keep says the window decided it, not the slope.
+void StabilityRunner::check_budget(Variant& v, StabilityBracket& b) {
+  const Watch twice{2 * watch_.first_judgement, 2 * watch_.budget};
+  const StabilityTrial a = trial(v, b.stood, twice, true);
+  b.stood_held = a.stands();
+  if (b.failed && !stopped()) {
+    const StabilityTrial f = trial(v, *b.failed, twice, true);
+    b.failed_held = f.result == TrialResult::Failed;
+  }
+  log(fmt::format("[{}] budget check (watched twice as long): F = {:.4f} {}{}", v.name, b.stood,
+                  *b.stood_held ? "still stands" : "NO LONGER STANDS",
+                  b.failed_held ? fmt::format(", F = {:.4f} {}", *b.failed, *b.failed_held ? "still fails" : "NO LONGER FAILS")
+                                : std::string()));
 }
 
 void StabilityRunner::write_summary(StabilityResult& r) {
@@ -495,8 +667,18 @@ void StabilityRunner::write_summary(StabilityResult& r) {
   m["tolerance"] = spec_.tolerance;
   m["equilibrium_ratio"] = spec_.equilibrium_ratio;
   m["failure_displacement_m"] = failure_displacement_;
-  m["max_steps"] = max_steps_;
-  m["damping_alpha_per_s"] = alpha_;
+  m["solver"] = "dynamic relaxation with local non-viscous damping (docs/theory.md §9)";
+  m["local_damping"] = spec_.local_damping;
+  if (spec_.damping_alpha)
+    m["damping_alpha_per_s"] = *spec_.damping_alpha;
+  else
+    m["damping_alpha_per_s"] = "adaptive";
+  m["period_s"] = period_;
+  m["period_from"] = period_source_;
+  m["window_steps"] = window_;
+  m["first_judgement_steps"] = watch_.first_judgement;
+  m["max_steps"] = watch_.budget;
+  m["check_budget"] = spec_.check_budget;
   m["keep_tension"] = spec_.keep_tension;
   m["dynamic"] = spec_.dynamic;
   if (spec_.kh) m["kh"] = *spec_.kh;
@@ -505,11 +687,28 @@ void StabilityRunner::write_summary(StabilityResult& r) {
   for (const auto& g : spec_.monitor) mon.push_back({{"name", g.name}, {"at_m", {g.at.x(), g.at.y()}}});
   m["monitor"] = mon;
   s["settings"] = m;
+  nlohmann::ordered_json br = nlohmann::ordered_json::object();
+  for (const auto& b : r.brackets) {
+    nlohmann::ordered_json j;
+    j["stood"] = b.stood;
+    j["failed"] = b.failed ? nlohmann::ordered_json(*b.failed) : nlohmann::ordered_json(nullptr);
+    j["undecided"] = b.undecided;
+    j["decided"] = b.undecided.empty();
+    if (b.stood_held) {
+      nlohmann::ordered_json c;
+      c["stood_held"] = *b.stood_held;
+      if (b.failed_held) c["failed_held"] = *b.failed_held;
+      j["budget_check"] = c;
+    }
+    br[b.variant] = j;
+  }
+  s["brackets"] = br;
   nlohmann::ordered_json tr = nlohmann::ordered_json::array();
   for (const auto& t : r.trials)
     tr.push_back({{"variant", t.variant},
                   {"F", t.F},
-                  {"result", !t.stands ? "failed" : t.variant == "dynamic" ? "survived" : "equilibrium"},
+                  {"result", trial_result_name(t.result)},
+                  {"budget_check", t.budget_check},
                   {"reason", t.reason},
                   {"max_displacement_m", t.max_displacement},
                   {"broken_joints", t.broken_joints},
@@ -517,10 +716,23 @@ void StabilityRunner::write_summary(StabilityResult& r) {
                   {"unbalanced_ratio", t.unbalanced_ratio},
                   {"wall_time_s", t.wall_time_s}});
   s["trials"] = tr;
+  s["trial_histories"] = "trials.csv";
   s["threads"] = threads_;
   s["wall_time_s"] = r.wall_time_s;
   r.summary_path = (out_ / "summary.json").string();
   io::write_json_file(out_ / "summary.json", s);
+}
+
+// trials.csv: each static and pseudo-static trial's checks, for the convergence plot.
+void StabilityRunner::write_trial_histories() const {
+  std::string text = "trial,variant,F,result,budget_check,step,unbalanced_ratio,displacement_m\n";
+  for (std::size_t k = 0; k < trials_.size(); ++k) {
+    const auto& t = trials_[k];
+    for (const auto& h : t.history)
+      text += fmt::format("{},{},{:.6g},{},{},{},{:.6e},{:.6e}\n", k + 1, t.variant, t.F, trial_result_name(t.result),
+                          t.budget_check ? 1 : 0, h.step, h.ratio, h.displacement);
+  }
+  io::write_file_atomically(out_ / "trials.csv", text);
 }
 
 StabilityResult StabilityRunner::run() {
@@ -537,13 +749,18 @@ StabilityResult StabilityRunner::run() {
   log(fmt::format("dsdem {} ({}), {} threads: factor of safety of {} ({} nodes, {} triangles, {} joints)",
                   DSDEM_VERSION, DSDEM_GIT_COMMIT, threads_, sc_.file, model_.nodes.size(), model_.triangles.size(),
                   model_.joints.size()));
-  log(fmt::format("trials: damping alpha {} 1/s, at most {} steps (dt {:.3g} s), equilibrium at unbalanced force "
-                  "ratio < {:.1e}, failure past {:.3g} m of displacement{}",
-                  alpha_, max_steps_, prepared_.dt, spec_.equilibrium_ratio, failure_displacement_,
-                  monitors_.empty() ? " (any node)" : " (monitored points)"));
   StabilityResult r;
   Variant stat{"static", sc_.gravity, {}, {}, 0, 0.0};
   settle_static(stat);
+  log(fmt::format("trials: local damping {}{}; equilibrium at unbalanced force ratio < {:.1e}; failure past {:.3g} m "
+                  "of displacement{} or motion that keeps on over a doubling of the trial, judged from {} steps "
+                  "(4 windows of {} steps: the period {:.3g} s from {}, dt {:.3g} s) on; at most {} steps",
+                  spec_.local_damping,
+                  spec_.damping_alpha ? fmt::format(" and mass damping {} 1/s", *spec_.damping_alpha)
+                                      : std::string(" and adaptive mass damping"),
+                  spec_.equilibrium_ratio, failure_displacement_,
+                  monitors_.empty() ? " (any node)" : " (monitored points)", watch_.first_judgement, window_, period_,
+                  period_source_, solver_->dt(), watch_.budget));
   if (!stopped()) r.factor_of_safety = bisect(stat);
   if ((spec_.kh || spec_.kv) && !stopped()) {
     const Vec2 g = sc_.gravity + g_ * Vec2(spec_.kh.value_or(0.0), spec_.kv.value_or(0.0));
@@ -561,6 +778,7 @@ StabilityResult StabilityRunner::run() {
   }
   law::apply_reduction(full_, 1.0, {}, model_);
   r.trials = trials_;
+  r.brackets = brackets_;
   r.wall_time_s = seconds_since(wall_start_);
   if (stopped()) {
     r.stopped_by_signal = static_cast<int>(*options_.stop_signal);
@@ -568,6 +786,7 @@ StabilityResult StabilityRunner::run() {
     return r;
   }
   write_summary(r);
+  write_trial_histories();
   log(fmt::format("done in {}: factor of safety {:.4f}{}", human_time(r.wall_time_s), r.factor_of_safety,
                   r.factor_of_safety_pseudo_static
                       ? fmt::format(", pseudo-static {:.4f}", *r.factor_of_safety_pseudo_static)

@@ -11,6 +11,7 @@ void apply_stage(solver::Solver& solver, const io::StageSpec& stage, const io::S
   s.gravity = sc.gravity;
   s.alpha = stage.damping.alpha;
   s.beta = stage.damping.beta;
+  s.local_damping = stage.damping.local;
   s.dt = dt;
   s.failure = stage.failure;
   solver.set_settings(s);

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "exec/deterministic_sums.hpp"
+#include "solver/local_damping.hpp"
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -70,12 +71,18 @@ void Solver::set_settings(const StepSettings& s) {
   settings_ = s;
   time_step_.set_fixed(s.dt);
   settings_.dt = time_step_.dt();
-  if (s.alpha > 0.0 || s.beta > 0.0) allocate_damping_buffers();
+  if (damping_on()) allocate_damping_buffers();
   // A damped (static) stage brings the moving water to rest with the solid: its particles
   // carry the same mass-proportional damping, so the water follows the banks as they settle.
   if (moving_) moving_->fluid.set_settling_damping(settings_.alpha);
   // The element buffer only feeds this step's scatter: it can go as soon as beta is 0.
   if (!(s.beta > 0.0)) scatter_.keep_shared_damping(false);
+}
+
+void Solver::set_mass_damping(double alpha) {
+  settings_.alpha = alpha;
+  if (damping_on()) allocate_damping_buffers();
+  if (moving_) moving_->fluid.set_settling_damping(alpha);
 }
 
 void Solver::set_time_step_rule(double safety, double fixed_limit) {
@@ -96,7 +103,7 @@ void Solver::allocate_damping_buffers() {
 void Solver::release_damping_buffers_if_unused() {
   // After an undamped step the previous damping forces are all +0, so the damping-work
   // term 0.5 (f_prev + f) . du is +0 at every node and leaves the energy ledger unchanged.
-  if (settings_.alpha > 0.0 || settings_.beta > 0.0 || !damped()) return;
+  if (damping_on() || !damped()) return;
   std::vector<Vec2>().swap(damping_force_);
   std::vector<Vec2>().swap(damping_force_prev_);
   std::vector<Vec2>().swap(u_prev_);
@@ -320,8 +327,17 @@ void Solver::add_boundary_forces() {
 
 void Solver::add_damping_forces() {
   const double alpha = settings_.alpha;
-  if (alpha <= 0.0) return;
+  const double local = settings_.local_damping;
   const auto& n = model_.nodes;
+  if (local > 0.0) {
+    // On the force without the damping so far (the stiffness part is in the sum already).
+    forces_.add_per_node(team_, [&](std::size_t i) {
+      const Vec2 fd = local_damping_force(Vec2(forces_.at(i) - damping_force_[i]), n.v[i], local);
+      damping_force_[i] += fd;  // booked with drift_work in update_energy()
+      return fd;
+    });
+  }
+  if (alpha <= 0.0) return;
   forces_.add_per_node(team_, [&](std::size_t i) {
     const Vec2 fd = -alpha * n.m[i] * n.v[i];
     damping_force_[i] += fd;  // booked with drift_work in update_energy()

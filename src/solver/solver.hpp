@@ -49,6 +49,9 @@ struct StepSettings {
   // time-step control decides (the fixed step, or its rule).
   double dt = 0.0;
   bool failure = true; // joints may damage and break (false in a gravity stage)
+  // Cundall's local non-viscous damping coefficient (docs/theory.md §9), 0: none. The
+  // quasi-static solver of strength reduction; a dynamic stage never takes it.
+  double local_damping = 0.0;
 };
 
 class Solver {
@@ -59,6 +62,9 @@ class Solver {
   // time loop); an undamped run never holds them.
   void set_settings(const StepSettings& s);
   const StepSettings& settings() const { return settings_; }
+  // The Rayleigh mass coefficient alone, 1/s, from the next step on (the quasi-static
+  // trials adapt it to the response, docs/theory.md §9); the rest of the settings stay.
+  void set_mass_damping(double alpha);
   double dt() const { return settings_.dt; }
   // Replaces the prescribed motions (a new stage); keeps the state.
   void set_constraints(std::vector<PrescribedDof> dofs);
@@ -123,6 +129,9 @@ class Solver {
   // Reaction force on a group's constrained nodes (sum), N.
   Vec2 reaction_on(const std::vector<Index>& nodes) const;
   long broken_joints() const { return broken_joints_; }
+  // The damping force (Rayleigh and local) each node took in the last step, N; empty when
+  // the step was undamped. The unbalanced force of a node is m a less this.
+  std::span<const Vec2> damping_forces() const { return damping_force_prev_; }
   long active_contacts() const { return contact_stats_.active_contacts; }
   // Each thread's node chunks in this step's node loops; empty: equal shares.
   std::span<const std::size_t> node_chunks() const { return team_.node_chunks(); }
@@ -173,7 +182,7 @@ class Solver {
   void add_contact_forces();           // 5: spheropolygons of zones A and C (§4)
   void add_moving_water_forces();      // 5b: SPH water on the exposed edges (§13)
   void add_boundary_forces();          // 6: viscous-spring boundary and seismic input (§5)
-  void add_damping_forces();           // 7: Rayleigh mass part (the stiffness part is in 3)
+  void add_damping_forces();           // 7: local and Rayleigh mass parts (the stiffness part is in 3)
   void apply_constraints();            // reactions at prescribed dofs
   void finish_velocities();            // 8: a = f/m, velocity Verlet's second half
   // The energy ledger but its Verlet kinetic offset, which energy() settles.
@@ -207,6 +216,7 @@ class Solver {
   // Damping buffers held: set_settings allocates them for a damped stage; update_energy
   // frees them after the first undamped step (its previous damping forces are then zero).
   bool damped() const { return !damping_force_.empty(); }
+  bool damping_on() const { return settings_.alpha > 0.0 || settings_.beta > 0.0 || settings_.local_damping > 0.0; }
   void allocate_damping_buffers();
   void release_damping_buffers_if_unused();
 

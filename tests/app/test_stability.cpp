@@ -126,11 +126,18 @@ TEST(Stability, BoundsThatBracketNothingAreAnErrorNamingTheKey) {
   EXPECT_EQ(c.exit_code, 2) << c.output;
   EXPECT_NE(c.output.find("stability.bounds"), std::string::npos) << c.output;
   EXPECT_NE(c.output.find("still stands at F_high = 0.6: raise the bounds"), std::string::npos) << c.output;
-  // Fails at both (a step budget too short for any equilibrium).
+  // Fails at both.
+  c = run_dsdem("stability " + example("plane_failure/dry.yaml") + " --bounds 1.5 2 -q --no-plots -o " + out.string());
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("already fails at F_low = 1.5"), std::string::npos) << c.output;
+  // A budget too short to decide anything: undecided, not failed, and the key to raise named.
   c = run_dsdem("stability " + example("plane_failure/dry.yaml") +
                 " --bounds 1.5 2 --set stability.max_steps=100 -q --no-plots -o " + out.string());
   EXPECT_EQ(c.exit_code, 2) << c.output;
-  EXPECT_NE(c.output.find("already fails at F_low = 1.5"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("is undecided at F_low = 1.5 (neither equilibrium nor failure in 100 steps"),
+            std::string::npos)
+      << c.output;
+  EXPECT_NE(c.output.find("raise stability.max_steps"), std::string::npos) << c.output;
   fs::remove_all(out);
 }
 
