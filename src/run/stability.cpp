@@ -60,8 +60,8 @@ namespace {
 
 constexpr long kCheckEvery = 50;       // steps between equilibrium / failure checks
 constexpr long kMinWindow = 250;        // least observation window, steps
-constexpr long kFirstJudgement = 4;     // windows before the first judgement of motion
-constexpr long kAutoBudgetWindows = 64; // the automatic budget, windows (five judgements)
+constexpr long kFirstJudgement = 8;     // windows before the first judgement of motion
+constexpr long kAutoBudgetWindows = 128; // the automatic budget, windows (five judgements)
 constexpr double kMovingFloor = 1e-4;   // of failure_displacement: the least motion that counts
 
 // When a trial's motion is judged and how long it may run, steps.
@@ -80,6 +80,10 @@ struct Variant {
   std::vector<Vec2> u_settled;
   long broken_settled = 0;
   double lowest_failed = 0.0;  // lowest F that failed so far (its mechanism is on disk)
+  // The state the next trial starts from: the settled state, then the equilibrium of the
+  // largest F that stood (strengths only fall along the path, docs/theory.md §9).
+  fs::path start;
+  int stood = 0;            // trials that stood (their equilibria are numbered by it)
 };
 
 // The trial stage's damping: the quasi-static solver (docs/theory.md §9).
@@ -116,8 +120,10 @@ class StabilityRunner {
   void settle_static(Variant& v);
   void settle_pseudo_static(const Variant& from, Variant& v);
   void keep_settled(Variant& v);
-  solver::Solver& start_trial(const Variant& v, double F);
-  StabilityTrial trial(Variant& v, double F, const Watch& watch, bool budget_check = false);
+  solver::Solver& start_trial(const Variant& v, double F, const fs::path& from);
+  // A static or pseudo-static trial from the state `from` (the variant's start when empty).
+  StabilityTrial trial(Variant& v, double F, const Watch& watch, bool budget_check = false,
+                       const fs::path& from = {});
   // The dynamic variant's trial: the earthquake stages at strengths 1/F from the settled state.
   StabilityTrial dynamic_trial(Variant& v, double F);
   void record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0);
@@ -340,7 +346,7 @@ void StabilityRunner::choose_window(const std::vector<Vec2>& u_before_settling) 
   }
   const double dt = solver_->dt();
   window_ = std::max<long>(kMinWindow, static_cast<long>(std::ceil(period_ / dt)));
-  // Judgements at 4, 8, 16, ... windows fall on check steps whose halves and quarters are too.
+  // Judgements at 8, 16, 32, ... windows fall on check steps whose halves and quarters are too.
   const long unit = 4 * kCheckEvery;
   watch_.first_judgement = (kFirstJudgement * window_ + unit - 1) / unit * unit;
   watch_.budget = spec_.max_steps > 0 ? spec_.max_steps : watch_.first_judgement * (kAutoBudgetWindows / kFirstJudgement);
@@ -413,6 +419,7 @@ void StabilityRunner::keep_settled(Variant& v) {
   io::CheckpointWriter w(v.settled);
   solver_->save(w);
   w.commit();
+  v.start = v.settled;
   v.u_settled = model_.nodes.u;
   v.broken_settled = solver_->broken_joints();
   settled_time_ = solver_->time();
@@ -432,8 +439,8 @@ double StabilityRunner::max_displacement(const Variant& v) const {
 }
 
 // A trial's start: the strengths divided by F (checked), a new solver on the last static
-// stage's supports with failure on, restored to the variant's settled state.
-solver::Solver& StabilityRunner::start_trial(const Variant& v, double F) {
+// stage's supports with failure on, restored to the state `from`.
+solver::Solver& StabilityRunner::start_trial(const Variant& v, double F, const fs::path& from) {
   law::ReductionOptions ro;
   ro.keep_tension = spec_.keep_tension;
   law::apply_reduction(full_, F, ro, model_);
@@ -443,18 +450,20 @@ solver::Solver& StabilityRunner::start_trial(const Variant& v, double F) {
   solver::Solver& s = new_solver();
   apply_stage(s, trial_stage(), scenario_with(v.gravity), prepared_.dt, settled_time_, &prepared_);
   s.initialise();
-  s.restore(io::CheckpointReader(v.settled));
+  s.restore(io::CheckpointReader(from));
   return s;
 }
 
-StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, bool budget_check) {
+StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, bool budget_check,
+                                      const fs::path& from) {
   const auto t0 = Clock::now();
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
   t.budget_check = budget_check;
+  t.start_state = (from.empty() ? v.start : from).string();
   t.history.reserve(static_cast<std::size_t>(watch.budget / kCheckEvery + 1));
-  solver::Solver& s = start_trial(v, F);
+  solver::Solver& s = start_trial(v, F, t.start_state);
   start_watching();
   const double floor = kMovingFloor * failure_displacement_;
   long next_judgement = watch.first_judgement;
@@ -504,6 +513,13 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, 
     t.reason = fmt::format("went unstable: {}", e.what());
   }
   t.broken_joints = s.broken_joints() - v.broken_settled;
+  if (t.result == TrialResult::Equilibrium && !budget_check) {
+    // The next trials (all at larger F) start from this equilibrium.
+    v.start = scratch_ / fmt::format("stood_{}_{}.h5", v.name, ++v.stood);
+    io::CheckpointWriter w(v.start);
+    s.save(w);
+    w.commit();
+  }
   record(v, t, t0);
   return t;
 }
@@ -534,7 +550,7 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
-  solver::Solver& s = start_trial(v, F);  // the settled supports: the earthquake stages start from them
+  solver::Solver& s = start_trial(v, F, v.settled);  // the settled supports: the earthquake stages start from them
   t.result = TrialResult::Survived;
   t.reason = "survived the earthquake stages";
   try {
@@ -639,10 +655,16 @@ double StabilityRunner::bisect(Variant& v) {
 // keep says the window decided it, not the slope.
 void StabilityRunner::check_budget(Variant& v, StabilityBracket& b) {
   const Watch twice{2 * watch_.first_judgement, 2 * watch_.budget};
-  const StabilityTrial a = trial(v, b.stood, twice, true);
+  // Each from the state it started from the first time.
+  auto start_of = [&](double F, bool stood) {
+    for (const auto& t : trials_)
+      if (t.variant == v.name && !t.budget_check && t.F == F && t.stands() == stood) return fs::path(t.start_state);
+    return v.settled;
+  };
+  const StabilityTrial a = trial(v, b.stood, twice, true, start_of(b.stood, true));
   b.stood_held = a.stands();
   if (b.failed && !stopped()) {
-    const StabilityTrial f = trial(v, *b.failed, twice, true);
+    const StabilityTrial f = trial(v, *b.failed, twice, true, start_of(*b.failed, false));
     b.failed_held = f.result == TrialResult::Failed;
   }
   log(fmt::format("[{}] budget check (watched twice as long): F = {:.4f} {}{}", v.name, b.stood,
@@ -754,7 +776,7 @@ StabilityResult StabilityRunner::run() {
   settle_static(stat);
   log(fmt::format("trials: local damping {}{}; equilibrium at unbalanced force ratio < {:.1e}; failure past {:.3g} m "
                   "of displacement{} or motion that keeps on over a doubling of the trial, judged from {} steps "
-                  "(4 windows of {} steps: the period {:.3g} s from {}, dt {:.3g} s) on; at most {} steps",
+                  "(8 windows of {} steps: the period {:.3g} s from {}, dt {:.3g} s) on; at most {} steps",
                   spec_.local_damping,
                   spec_.damping_alpha ? fmt::format(" and mass damping {} 1/s", *spec_.damping_alpha)
                                       : std::string(" and adaptive mass damping"),
@@ -772,6 +794,7 @@ StabilityResult StabilityRunner::run() {
     Variant dyn = stat;
     dyn.name = "dynamic";
     dyn.lowest_failed = 0.0;
+    dyn.start = dyn.settled;  // each dynamic trial from the static settled state
     log(fmt::format("[dynamic] each trial runs the earthquake stages ({} s) from the static settled state",
                     sc_.end_time() - settled_stage_end()));
     r.factor_of_safety_dynamic = bisect(dyn);

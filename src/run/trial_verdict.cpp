@@ -5,6 +5,11 @@
 
 namespace dsdem::run {
 
+namespace {
+constexpr double kAccelerating = 1.25;  // velocity ratio over the doubling
+constexpr double kSteady = 0.9;         // velocity and force ratios of a steady creep
+}  // namespace
+
 MotionTrend motion_trend(std::span<const TrialSample> samples, long every, double floor) {
   MotionTrend t;
   const std::size_t n_idx = samples.size();  // samples[k] is step (k + 1) every
@@ -22,7 +27,11 @@ MotionTrend motion_trend(std::span<const TrialSample> samples, long every, doubl
   for (std::size_t k = half; k < n_idx; ++k) late += samples[k].ratio;
   t.ratio_early = early / static_cast<double>(half - quarter);
   t.ratio_late = late / static_cast<double>(n_idx - half);
-  t.keeps_moving = t.moved_late > floor && t.velocity_late >= t.velocity_early && t.ratio_late >= 0.5 * t.ratio_early;
+  // Accelerating whatever its unbalanced force does, or creeping steadily with the force
+  // that drives it undiminished (a terminal velocity under heavy mass damping).
+  const bool accelerating = t.velocity_late >= kAccelerating * t.velocity_early;
+  const bool creeping = t.velocity_late >= kSteady * t.velocity_early && t.ratio_late >= kSteady * t.ratio_early;
+  t.keeps_moving = t.moved_late > floor && (accelerating || creeping);
   return t;
 }
 

@@ -4,11 +4,12 @@
 //
 //   stands     the unbalanced force ratio falls below the equilibrium ratio (FLAC's 1e-5);
 //   fails      a monitored point moves failure_displacement, or the monitored mass keeps
-//              moving: at a judgement step n, its velocity over (n/2, n] is not below that
-//              over (n/4, n/2], its unbalanced force ratio has not fallen to half, and it
-//              moved more than 1e-4 failure_displacement over (n/2, n];
+//              moving: at a judgement step n it moved more than 1e-4 failure_displacement
+//              over (n/2, n], and its velocity over (n/2, n] is 1.25 times that over
+//              (n/4, n/2] or more (accelerating), or at least 0.9 times it with its mean
+//              unbalanced force ratio at least 0.9 times too (creeping steadily);
 //   undecided  neither within the budget.
-// Judgement steps are 4 W, 8 W, 16 W, ... for the observation window W (about the slope's
+// Judgement steps are 8 W, 16 W, 32 W, ... for the observation window W (about the slope's
 // fundamental period in steps): a standing slope's motion decays over a doubling of its
 // history, a failing one's does not, whatever the damping that slows it.
 #include <cstddef>
