@@ -220,3 +220,40 @@ TEST(Stability, DoublingTheBudgetKeepsTheVerdicts) {
   EXPECT_TRUE(once["brackets"]["static"]["budget_check"]["stood_held"].get<bool>());
   EXPECT_TRUE(once["brackets"]["static"]["budget_check"]["failed_held"].get<bool>());
 }
+
+// A trial that neither comes to rest nor fails within its budget is undecided, not failed:
+// it bounds the bracket from above, the summary lists it and the FS is the largest F that
+// stood (dry.yaml with a 20000-step budget: 1.0 stands, 2.0 and 1.5 fail, 1.25 is undecided).
+TEST(Stability, AnUndecidedTrialIsReportedAndBoundsTheBracket) {
+  const fs::path out = fresh_dir("stab_undecided");
+  const auto c = run_dsdem("stability " + example("plane_failure/dry.yaml") +
+                           " --bounds 1 2 --tolerance 0.3 --set stability.max_steps=20000 -q --no-plots --threads 1 -o " +
+                           out.string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_TRUE(s.is_object());
+  ASSERT_EQ(s["trials"].size(), 4u);
+  EXPECT_EQ(s["trials"][3]["F"].get<double>(), 1.25);
+  EXPECT_EQ(s["trials"][3]["result"], "undecided");
+  EXPECT_NE(s["trials"][3]["reason"].get<std::string>().find("neither equilibrium nor failure in 20000 steps"),
+            std::string::npos);
+  const auto& b = s["brackets"]["static"];
+  EXPECT_EQ(b["stood"].get<double>(), 1.0);
+  EXPECT_EQ(b["failed"].get<double>(), 1.5);
+  ASSERT_EQ(b["undecided"].size(), 1u);
+  EXPECT_EQ(b["undecided"][0].get<double>(), 1.25);
+  EXPECT_FALSE(b["decided"].get<bool>());
+  EXPECT_EQ(s["factor_of_safety"].get<double>(), 1.0);
+  // Every check of every trial is in trials.csv, with its unbalanced force ratio and displacement.
+  std::ifstream csv(out / "trials.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "trial,variant,F,result,budget_check,step,unbalanced_ratio,displacement_m");
+  long rows = 0;
+  for (std::string line; std::getline(csv, line);) ++rows;
+  long steps = 0;
+  for (const auto& t : s["trials"]) steps += t["steps"].get<long>() / 50;
+  EXPECT_EQ(rows, steps);
+  fs::remove_all(out);
+}
