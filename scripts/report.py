@@ -247,7 +247,8 @@ def stability_section(out: Path, summary: dict) -> str:
     trials = summary.get("trials") or []
     if trials:
         trs = [[f"<td>{esc(t.get('variant', '').replace('_', '-'))}{' (budget check)' if t.get('budget_check') else ''}</td>",
-                _num(t.get("F")), f"<td>{esc(t.get('result'))}</td>", f"<td>{esc(t.get('reason'))}</td>",
+                _num(t.get("F")), f"<td>{esc(t.get('result'))}</td>",
+                f"<td>{esc(t.get('reason'))}{(' (' + esc(t['note']) + ')') if t.get('note') else ''}</td>",
                 _num(t.get("steps")), _num(t.get("max_displacement_m")), _num(t.get("unbalanced_ratio"))]
                for t in trials]
         body += _table(["trial", "F", "result", "why", "steps", "max displacement (m)", "unbalanced ratio"], trs)

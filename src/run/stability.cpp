@@ -63,6 +63,7 @@ constexpr long kMinWindow = 250;        // least observation window, steps
 constexpr long kFirstJudgement = 8;     // windows before the first judgement of motion
 constexpr long kAutoBudgetWindows = 128; // the automatic budget, windows (five judgements)
 constexpr double kMovingFloor = 1e-4;   // of failure_displacement: the least motion that counts
+constexpr double kSlidAndStopped = 0.1; // of failure_displacement: a standing trial that moved this far is noted
 
 // When a trial's motion is judged and how long it may run, steps.
 struct Watch {
@@ -80,10 +81,6 @@ struct Variant {
   std::vector<Vec2> u_settled;
   long broken_settled = 0;
   double lowest_failed = 0.0;  // lowest F that failed so far (its mechanism is on disk)
-  // The state the next trial starts from: the settled state, then the equilibrium of the
-  // largest F that stood (strengths only fall along the path, docs/theory.md §9).
-  fs::path start;
-  int stood = 0;            // trials that stood (their equilibria are numbered by it)
 };
 
 // The trial stage's damping: the quasi-static solver (docs/theory.md §9).
@@ -120,10 +117,8 @@ class StabilityRunner {
   void settle_static(Variant& v);
   void settle_pseudo_static(const Variant& from, Variant& v);
   void keep_settled(Variant& v);
-  solver::Solver& start_trial(const Variant& v, double F, const fs::path& from);
-  // A static or pseudo-static trial from the state `from` (the variant's start when empty).
-  StabilityTrial trial(Variant& v, double F, const Watch& watch, bool budget_check = false,
-                       const fs::path& from = {});
+  solver::Solver& start_trial(const Variant& v, double F);
+  StabilityTrial trial(Variant& v, double F, const Watch& watch, bool budget_check = false);
   // The dynamic variant's trial: the earthquake stages at strengths 1/F from the settled state.
   StabilityTrial dynamic_trial(Variant& v, double F);
   void record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0);
@@ -419,7 +414,6 @@ void StabilityRunner::keep_settled(Variant& v) {
   io::CheckpointWriter w(v.settled);
   solver_->save(w);
   w.commit();
-  v.start = v.settled;
   v.u_settled = model_.nodes.u;
   v.broken_settled = solver_->broken_joints();
   settled_time_ = solver_->time();
@@ -439,8 +433,10 @@ double StabilityRunner::max_displacement(const Variant& v) const {
 }
 
 // A trial's start: the strengths divided by F (checked), a new solver on the last static
-// stage's supports with failure on, restored to the state `from`.
-solver::Solver& StabilityRunner::start_trial(const Variant& v, double F, const fs::path& from) {
+// stage's supports with failure on, restored to the variant's settled state: every trial
+// starts from it, so none inherits another's motion (a slope that slid and stopped again
+// would stand at the next F on a shape no longer its own).
+solver::Solver& StabilityRunner::start_trial(const Variant& v, double F) {
   law::ReductionOptions ro;
   ro.keep_tension = spec_.keep_tension;
   law::apply_reduction(full_, F, ro, model_);
@@ -450,20 +446,18 @@ solver::Solver& StabilityRunner::start_trial(const Variant& v, double F, const f
   solver::Solver& s = new_solver();
   apply_stage(s, trial_stage(), scenario_with(v.gravity), prepared_.dt, settled_time_, &prepared_);
   s.initialise();
-  s.restore(io::CheckpointReader(from));
+  s.restore(io::CheckpointReader(v.settled));
   return s;
 }
 
-StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, bool budget_check,
-                                      const fs::path& from) {
+StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, bool budget_check) {
   const auto t0 = Clock::now();
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
   t.budget_check = budget_check;
-  t.start_state = (from.empty() ? v.start : from).string();
   t.history.reserve(static_cast<std::size_t>(watch.budget / kCheckEvery + 1));
-  solver::Solver& s = start_trial(v, F, t.start_state);
+  solver::Solver& s = start_trial(v, F);
   start_watching();
   const double floor = kMovingFloor * failure_displacement_;
   long next_judgement = watch.first_judgement;
@@ -513,13 +507,6 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, 
     t.reason = fmt::format("went unstable: {}", e.what());
   }
   t.broken_joints = s.broken_joints() - v.broken_settled;
-  if (t.result == TrialResult::Equilibrium && !budget_check) {
-    // The next trials (all at larger F) start from this equilibrium.
-    v.start = scratch_ / fmt::format("stood_{}_{}.h5", v.name, ++v.stood);
-    io::CheckpointWriter w(v.start);
-    s.save(w);
-    w.commit();
-  }
   record(v, t, t0);
   return t;
 }
@@ -528,6 +515,12 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, 
 void StabilityRunner::record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0) {
   const double F = t.F;
   t.wall_time_s = seconds_since(t0);
+  // A jointed mass may slide, break joints and come to rest again on them: it stands by
+  // equilibrium, but an engineer may call that movement failure.
+  if (t.stands() && t.broken_joints > 0 && t.max_displacement > kSlidAndStopped * failure_displacement_)
+    t.note = fmt::format("stood again after moving {:.3g} m and breaking {} joints: if that is failure, give "
+                         "stability.failure_displacement below it",
+                         t.max_displacement, t.broken_joints);
   if (t.result == TrialResult::Failed && !t.budget_check && (v.lowest_failed == 0.0 || F < v.lowest_failed)) {
     v.lowest_failed = F;
     write_mechanism(v, F);
@@ -539,6 +532,7 @@ void StabilityRunner::record(Variant& v, StabilityTrial& t, std::chrono::steady_
                   v.name, t.budget_check ? "budget check" : "trial", trials_.size() + 1, F, verdict, t.reason,
                   t.max_displacement,
                   t.broken_joints, t.steps, t.unbalanced_ratio, human_time(t.wall_time_s)));
+  if (!t.note.empty()) log(fmt::format("[{}]   note: F = {:.4f} {}", v.name, F, t.note));
   trials_.push_back(t);
 }
 
@@ -550,7 +544,7 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
-  solver::Solver& s = start_trial(v, F, v.settled);  // the settled supports: the earthquake stages start from them
+  solver::Solver& s = start_trial(v, F);  // the settled supports: the earthquake stages start from them
   t.result = TrialResult::Survived;
   t.reason = "survived the earthquake stages";
   try {
@@ -655,16 +649,10 @@ double StabilityRunner::bisect(Variant& v) {
 // keep says the window decided it, not the slope.
 void StabilityRunner::check_budget(Variant& v, StabilityBracket& b) {
   const Watch twice{2 * watch_.first_judgement, 2 * watch_.budget};
-  // Each from the state it started from the first time.
-  auto start_of = [&](double F, bool stood) {
-    for (const auto& t : trials_)
-      if (t.variant == v.name && !t.budget_check && t.F == F && t.stands() == stood) return fs::path(t.start_state);
-    return v.settled;
-  };
-  const StabilityTrial a = trial(v, b.stood, twice, true, start_of(b.stood, true));
+  const StabilityTrial a = trial(v, b.stood, twice, true);
   b.stood_held = a.stands();
   if (b.failed && !stopped()) {
-    const StabilityTrial f = trial(v, *b.failed, twice, true, start_of(*b.failed, false));
+    const StabilityTrial f = trial(v, *b.failed, twice, true);
     b.failed_held = f.result == TrialResult::Failed;
   }
   log(fmt::format("[{}] budget check (watched twice as long): F = {:.4f} {}{}", v.name, b.stood,
@@ -732,6 +720,7 @@ void StabilityRunner::write_summary(StabilityResult& r) {
                   {"result", trial_result_name(t.result)},
                   {"budget_check", t.budget_check},
                   {"reason", t.reason},
+                  {"note", t.note},
                   {"max_displacement_m", t.max_displacement},
                   {"broken_joints", t.broken_joints},
                   {"steps", t.steps},
@@ -794,7 +783,6 @@ StabilityResult StabilityRunner::run() {
     Variant dyn = stat;
     dyn.name = "dynamic";
     dyn.lowest_failed = 0.0;
-    dyn.start = dyn.settled;  // each dynamic trial from the static settled state
     log(fmt::format("[dynamic] each trial runs the earthquake stages ({} s) from the static settled state",
                     sc_.end_time() - settled_stage_end()));
     r.factor_of_safety_dynamic = bisect(dyn);

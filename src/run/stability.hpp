@@ -8,8 +8,7 @@
 //    settled would let the dynamic overshoot of switching gravity on break what statics
 //    would not. The settled state is kept (a checkpoint in a scratch folder) and every
 //    trial starts from it.
-// 2. Trial at F: from the settled state, or the equilibrium of the largest F that stood so
-//    far (the strengths only fall along the path), strengths reduced by F (law/strength_reduction.hpp),
+// 2. Trial at F: the settled state, strengths reduced by F (law/strength_reduction.hpp),
 //    the last static stage's supports with failure allowed, solved by dynamic relaxation
 //    with local non-viscous damping (stability.local_damping, 0.8) and adaptive mass
 //    damping (stability.damping: a fixed alpha instead), not the scenario's Rayleigh
@@ -58,13 +57,13 @@ struct StabilityTrial {
   bool stands() const { return result == TrialResult::Equilibrium || result == TrialResult::Survived; }
   bool budget_check = false;       // a rerun of stability.check_budget, watched twice as long
   std::string reason;              // how the trial ended
+  std::string note;                // a standing trial that slid and stopped again, said so
   double max_displacement = 0.0;   // largest displacement since the settled state, m (monitored points or all nodes)
   long broken_joints = 0;          // joints broken in the trial
   long steps = 0;
   double unbalanced_ratio = 0.0;   // at the end of the trial
   double wall_time_s = 0.0;
   std::vector<TrialSample> history;  // every 50 steps (static and pseudo-static trials)
-  std::string start_state;           // the checkpoint it started from (scratch; not written out)
 };
 
 // What bisection left between the largest F that stood and the lowest that failed.

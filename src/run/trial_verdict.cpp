@@ -31,7 +31,8 @@ MotionTrend motion_trend(std::span<const TrialSample> samples, long every, doubl
   // that drives it undiminished (a terminal velocity under heavy mass damping).
   const bool accelerating = t.velocity_late >= kAccelerating * t.velocity_early;
   const bool creeping = t.velocity_late >= kSteady * t.velocity_early && t.ratio_late >= kSteady * t.ratio_early;
-  t.keeps_moving = t.moved_late > floor && (accelerating || creeping);
+  // A mass that came back over (n/4, n/2] (its displacement fell) is swinging, not failing.
+  t.keeps_moving = t.moved_late > floor && t.velocity_early > 0.0 && (accelerating || creeping);
   return t;
 }
 

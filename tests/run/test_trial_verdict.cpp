@@ -53,6 +53,13 @@ TEST(TrialVerdict, AMassComingToRestDoesNot) {
   // Motion too small to count (below the floor): not a failure.
   t = run::motion_trend(history(n, [](double s) { return 1e-12 * s; }, [](double) { return 1e-3; }), 50, 1e-6);
   EXPECT_FALSE(t.keeps_moving);
+  // Swinging back over (n/4, n/2] then forward again: not a failure, however far.
+  t = run::motion_trend(history(n, [&](double s) { return 0.3 + 0.2 * std::cos(2.0 * std::numbers::pi * s / n); },
+                                [](double) { return 1e-3; }),
+                        50, 1e-6);
+  EXPECT_LT(t.velocity_early, 0.0);
+  EXPECT_NEAR(t.moved_late, 0.4, 1e-9);
+  EXPECT_FALSE(t.keeps_moving);
   // Not a judgement step (samples not a multiple of 4): no verdict.
   auto h = history(n, [](double s) { return 1e-6 * s; }, [](double) { return 1e-3; });
   h.pop_back();
