@@ -182,7 +182,7 @@ void add_stability_command(CLI::App& app, StabilityArgs& a) {
       "nodal force falls below stability.equilibrium_ratio (1e-5) times the mean nodal weight; it FAILS when a "
       "monitored point (stability.monitor, else any node) moves stability.failure_displacement (default: the "
       "mean element size of the discrete zone) from the settled state, when the monitored mass keeps moving over "
-      "a doubling of the trial (its velocity not falling, its unbalanced force not halving), or when the run "
+      "a doubling of the trial (accelerating, or creeping with its unbalanced force undiminished), or when the run "
       "goes unstable; it is UNDECIDED when neither comes within stability.max_steps. FS is the largest F that "
       "stood, to "
       "stability.tolerance (0.005). With kh/kv also the pseudo-static FS: body force |g| (kh, kv) m, kh > 0 "
