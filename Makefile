@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build demo test bench clean
+.PHONY: all deps build app demo test bench clean
 
 all: build
 
@@ -16,7 +16,12 @@ $(BUILD)/CMakeCache.txt:
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+# The demo needs the command-line program only: the tests and benchmarks are built by
+# `make test` / `make bench` when asked for.
+app: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target dsdem
+
+demo: app
 	@bash scripts/demo.sh $(BUILD)
 
 test: build

@@ -66,8 +66,9 @@ int run_this_ranks_members(const EnsembleArgs& a, const ensemble::EnsembleSpec& 
 }  // namespace
 
 void add_ensemble_command(CLI::App& app, EnsembleArgs& a) {
-  a.cmd = app.add_subcommand(
-      "ensemble",
+  a.cmd = app.add_subcommand("ensemble", "Many runs of a scenario with sampled values, on one machine or over MPI");
+  // The long help under `dsdem ensemble --help`; the top-level list keeps one line per command.
+  a.cmd->footer(
       "Many runs of a scenario with sampled values (DESIGN.md §14, docs/ensemble-reference.md): the members run as "
       "`dsdem run` processes, --jobs at a time (under `mpirun -n K` dealt to the K ranks, gathered on rank 0), in "
       "OUT/members/NNNN; a rerun skips members already complete and reruns those that were killed. Writes "

@@ -171,9 +171,10 @@ struct StabilityArgs {
 };
 
 void add_stability_command(CLI::App& app, StabilityArgs& a) {
-  a.cmd = app.add_subcommand(
-      "stability",
-      "Factor of safety by strength reduction (DESIGN.md §12): c/F, tan(phi)/F and ft/F for every joint, "
+  a.cmd = app.add_subcommand("stability", "Factor of safety by strength reduction (static, pseudo-static, dynamic)");
+  // The long help under `dsdem stability --help`; the top-level list keeps one line per command.
+  a.cmd->footer(
+      "Factor of safety by strength reduction (docs/theory.md §9): c/F, tan(phi)/F and ft/F for every joint, "
       "Mohr-Coulomb material and contact friction; bisection on F.\n"
       "The scenario's static stages (before its first earthquake stage) settle the slope at full strength with "
       "elastic joints; each trial F starts from that state with reduced strengths and failure allowed, solved "
