@@ -401,7 +401,8 @@ void add_stability(std::vector<KeySpec>& s) {
                   "gravity force of the nodes is below this (FLAC's default).", true, true));
   s.push_back(num("stability.max_steps", "", "auto", 0, kInf,
                   "Step budget of one trial: it bounds the cost only. A trial that neither comes to equilibrium "
-                  "nor fails within it is reported undecided (auto: 128 observation windows, see "
+                  "nor fails within it is reported undecided (auto: 128 observation windows, more with a fixed "
+                  "damping above critical, see "
                   "docs/user-guide.md \"Factor of safety\")."));
   s.push_back(num("stability.failure_displacement", "m", "mean element size", 0, kInf,
                   "A trial failed once a monitored point (or any node without monitor) has moved this far from "

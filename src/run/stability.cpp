@@ -344,7 +344,14 @@ void StabilityRunner::choose_window(const std::vector<Vec2>& u_before_settling) 
   // Judgements at 8, 16, 32, ... windows fall on check steps whose halves and quarters are too.
   const long unit = 4 * kCheckEvery;
   watch_.first_judgement = (kFirstJudgement * window_ + unit - 1) / unit * unit;
-  watch_.budget = spec_.max_steps > 0 ? spec_.max_steps : watch_.first_judgement * (kAutoBudgetWindows / kFirstJudgement);
+  // A fixed mass damping above critical for the fundamental mode (4 pi / T1) slows the
+  // relaxation by alpha over critical: the automatic budget grows with it.
+  const double overdamping = spec_.damping_alpha ? std::max(1.0, *spec_.damping_alpha * period_ / (4.0 * kPi)) : 1.0;
+  watch_.budget = spec_.max_steps > 0
+                      ? spec_.max_steps
+                      : static_cast<long>(std::ceil(overdamping * static_cast<double>(watch_.first_judgement) *
+                                                    (kAutoBudgetWindows / kFirstJudgement) / kCheckEvery)) *
+                            kCheckEvery;
   max_steps_ = watch_.budget;
 }
 
