@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/boundary_spec.hpp"
+#include "common/materials.hpp"
 #include "mesh/model_builder.hpp"
 #include "mesh/structured.hpp"
 #include "solver/constraints.hpp"
@@ -16,22 +18,9 @@ using namespace dsdem;
 
 namespace {
 
-Material rock() {
-  Material m;
-  m.name = "rock";
-  m.E = 1e9;
-  m.nu = 0.25;
-  m.rho = 2500;
-  return m;
-}
+Material rock() { return test::elastic_material("rock", 1e9, 0.25, 2500); }
 
-io::BoundarySpec bc(const std::string& group, io::BoundaryType type, int direction = 0) {
-  io::BoundarySpec b;
-  b.group = group;
-  b.type = type;
-  b.direction = direction;
-  return b;
-}
+using test::boundary_spec;
 
 }  // namespace
 
@@ -58,7 +47,8 @@ TEST(LocalDamping, BringsAGravityColumnToRestAndBooksItsWork) {
   solver::Solver s(model);
   s.set_constraints(solver::build_constraints(
       model,
-      {bc("left", io::BoundaryType::Roller, 0), bc("right", io::BoundaryType::Roller, 0), bc("bottom", io::BoundaryType::Fixed)},
+      {boundary_spec("left", io::BoundaryType::Roller, 0), boundary_spec("right", io::BoundaryType::Roller, 0),
+       boundary_spec("bottom", io::BoundaryType::Fixed)},
       0.0));
   solver::StepSettings st;
   st.gravity = Vec2(0, -g);
