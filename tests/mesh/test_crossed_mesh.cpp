@@ -8,9 +8,11 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
+#include "app/cli_util.hpp"
 #include "common/remove_at_exit.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "mesh/msh_format.hpp"
@@ -264,4 +266,23 @@ TEST(CrossedMesh, EntitiesInTwoSurfaceGroupsKeepBothAndOrphansAreRefused) {
   mesh::mesh_geo(data("orphan.geo"), 0.5, orphan, true);
   const std::string msg = error_of([&] { mesh::read_msh(orphan, true); });
   EXPECT_NE(msg.find("no physical surface group"), std::string::npos) << msg;
+}
+
+// The homogeneous slope's slope.geo (h = 0.5 m), crossed, passes dsdem check with its regions,
+// boundaries and gauges; the check names the crossed mesh and its triangle count.
+TEST(CrossedMesh, HomogeneousSlopeCrossedPassesCheck) {
+  const std::string scenario = test::example("homogeneous_slope/scenario.yaml") + " --set mesh.file=slope.geo";
+  const auto triangles = [](const std::string& out) {
+    std::smatch m;
+    return std::regex_search(out, m, std::regex(R"((\d+) nodes, (\d+) triangles)")) ? std::stol(m[2]) : -1L;
+  };
+  const auto plain = test::run_dsdem("check " + scenario);
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("(crossed)"), std::string::npos) << plain.output;
+  const auto c = test::run_dsdem("check " + scenario + " --set mesh.crossed=true");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.output.find("triangles (crossed)"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("scenario OK"), std::string::npos) << c.output;
+  EXPECT_GE(triangles(c.output), 2.5 * static_cast<double>(triangles(plain.output))) << c.output;
+  EXPECT_LE(triangles(c.output), 3.5 * static_cast<double>(triangles(plain.output))) << c.output;
 }
