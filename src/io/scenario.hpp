@@ -275,6 +275,7 @@ struct Scenario {
   std::string title;
   std::string mesh_file;  // absolute or relative to directory
   std::optional<double> element_size;
+  bool crossed_mesh = false;  // mesh.crossed: quadrilaterals split in four at their diagonals' crossing
   bool spatial_triangle_order = true;  // mesh.triangle_order: spatial (Hilbert) or file
   static const char* triangle_order_name(bool spatial) { return spatial ? "spatial" : "file"; }
   bool plane_stress = false;

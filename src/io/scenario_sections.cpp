@@ -178,6 +178,7 @@ void read_mesh(SchemaReader& r, YAML::Node& root, Scenario& sc) {
     sc.mesh_file = r.string(mesh, p, "file").value_or("");
     sc.where_mesh = location(r, mesh["file"].IsDefined() ? mesh["file"] : mesh, "mesh.file");
     sc.element_size = r.number(mesh, p, "element_size");
+    sc.crossed_mesh = r.boolean(mesh, p, "crossed").value_or(false);
     sc.spatial_triangle_order = r.string(mesh, p, "triangle_order").value_or("spatial") == Scenario::triangle_order_name(true);
     sc.plane_stress = r.string(mesh, p, "plane").value_or("strain") == "stress";
     sc.thickness = r.number(mesh, p, "thickness").value_or(1.0);

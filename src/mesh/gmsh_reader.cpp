@@ -13,25 +13,29 @@
 
 namespace dsdem::mesh {
 
-RawMesh read_msh(const std::string& path) {
+RawMesh read_msh(const std::string& path, bool crossed) {
   if (const std::string problem = io::input_file_problem(path); !problem.empty())  // only regular files
     throw std::runtime_error(fmt::format("mesh: {}", problem));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw std::runtime_error(fmt::format("{}: cannot read the mesh file", path));
-  return to_raw_mesh(parse_msh(text, path));
+  return to_raw_mesh(parse_msh(text, path), crossed);
 }
 
-void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh) {
+void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed) {
   if (const std::string problem = io::input_file_problem(geo_path); !problem.empty())
     throw std::runtime_error(fmt::format("geometry: {}", problem));
   std::string gmsh_exe = DSDEM_GMSH_EXECUTABLE;
   if (gmsh_exe.empty() || gmsh_exe.find("NOTFOUND") != std::string::npos) gmsh_exe = "gmsh";
   const std::string log = out_msh + ".gmsh.log";
   // -clmax caps the size; Mesh.MeshSizeFromPoints stays on so .geo-local sizes still refine.
-  const std::string cmd = fmt::format("\"{}\" -2 -format msh41 -clmax {:.17g} -o \"{}\" \"{}\" > \"{}\" 2>&1",
-                                      gmsh_exe, element_size, out_msh, geo_path, log);
+  // Crossed (docs/theory.md §2): triangles at twice every size (the factor applies after
+  // -clmax and to the .geo's own sizes), each split into three quadrilaterals of about the size.
+  const std::string crossed_options =
+      crossed ? " -setnumber Mesh.MeshSizeFactor 2 -setnumber Mesh.SubdivisionAlgorithm 1" : "";
+  const std::string cmd = fmt::format("\"{}\" -2 -format msh41 -clmax {:.17g}{} -o \"{}\" \"{}\" > \"{}\" 2>&1",
+                                      gmsh_exe, element_size, crossed_options, out_msh, geo_path, log);
   const int rc = std::system(cmd.c_str());
   if (rc != 0 || !io::input_file_problem(out_msh).empty()) {
     std::string tail;

@@ -10,13 +10,18 @@ namespace dsdem::mesh {
 
 // Reads a Gmsh .msh file: nodes, 3-node triangles, 2-node lines and points with their
 // physical groups, in the order the Gmsh API gave them. Triangles are made
-// counter-clockwise. Throws std::runtime_error naming the file (and line) for malformed
-// or unreadable files, higher-order or unsupported elements, triangles outside every
-// physical surface, degenerate or inverted (folded) elements.
-RawMesh read_msh(const std::string& path);
+// counter-clockwise. With `crossed`, every 4-node quadrilateral becomes four triangles
+// around the crossing of its diagonals (to_raw_mesh). Throws std::runtime_error naming
+// the file (and line) for malformed or unreadable files, higher-order or unsupported
+// elements (quadrilaterals without `crossed`), triangles outside every physical surface,
+// degenerate or inverted (folded) elements.
+RawMesh read_msh(const std::string& path, bool crossed = false);
 
 // Meshes a .geo with `gmsh -2` at the given maximum element size (m) into out_msh.
-// Throws with gmsh's own message on failure.
-void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh);
+// With `crossed`, an all-quadrilateral mesh for read_msh(..., true): Gmsh meshes
+// triangles at twice every size (Mesh.MeshSizeFactor 2, so .geo-local sizes scale too)
+// and splits each into three quadrilaterals (Mesh.SubdivisionAlgorithm 1), whose edges
+// along the curves are then about element_size. Throws with gmsh's own message on failure.
+void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed = false);
 
 }  // namespace dsdem::mesh

@@ -25,16 +25,16 @@ RawMesh read_mesh_file(const io::Scenario& sc, const std::string& work_dir) {
     std::filesystem::create_directories(work_dir);
     const std::string msh = (std::filesystem::path(work_dir) / (std::filesystem::path(path).stem().string() + ".msh")).string();
     try {
-      mesh_geo(path, *sc.element_size, msh);
+      mesh_geo(path, *sc.element_size, msh, sc.crossed_mesh);
     } catch (const std::exception& e) {
       throw io::ScenarioError({sc.where_mesh.describe(e.what())});
     }
-    RawMesh m = read_msh(msh);
+    RawMesh m = read_msh(msh, sc.crossed_mesh);
     m.source = path;
     return m;
   }
   try {
-    return read_msh(path);
+    return read_msh(path, sc.crossed_mesh);
   } catch (const std::exception& e) {
     throw io::ScenarioError({sc.where_mesh.describe(e.what())});
   }

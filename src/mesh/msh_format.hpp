@@ -19,6 +19,7 @@ namespace dsdem::mesh {
 // Gmsh element type numbers dsdem uses.
 constexpr int kMshLine2 = 1;
 constexpr int kMshTriangle3 = 2;
+constexpr int kMshQuad4 = 3;  // only with crossed: split in four triangles (to_raw_mesh)
 constexpr int kMshPoint = 15;
 
 struct MshElementType {
@@ -60,8 +61,12 @@ struct MshFile {
 MshFile parse_msh(std::string_view text, const std::string& path);
 
 // Nodes, counter-clockwise triangles and physical groups in the order the Gmsh API gave
-// them. Throws std::runtime_error "PATH:LINE: ..." for unsupported element types,
-// degenerate or folded triangles and triangles outside every physical surface.
-RawMesh to_raw_mesh(const MshFile& file);
+// them. With `crossed`, every 4-node quadrilateral becomes four triangles around a new
+// node where its diagonals cross (docs/theory.md §2), in its surface's groups; the new
+// nodes follow the file's, one per quadrilateral in element order. Throws
+// std::runtime_error "PATH:LINE: ..." for unsupported element types (quadrilaterals
+// without `crossed`), degenerate or folded elements, quadrilaterals that are not
+// strictly convex and triangles outside every physical surface.
+RawMesh to_raw_mesh(const MshFile& file, bool crossed = false);
 
 }  // namespace dsdem::mesh

@@ -39,8 +39,9 @@ std::string model_report(const PreparedRun& run) {
   const io::Scenario& sc = run.scenario;
   std::string r;
   r += fmt::format("scenario   {}{}\n", sc.file, sc.title.empty() ? "" : "  (" + sc.title + ")");
-  r += fmt::format("mesh       {}: {} nodes, {} triangles, {}\n", sc.resolve(sc.mesh_file), m.nodes.size(),
-                   m.triangles.size(), sc.plane_stress ? fmt::format("plane stress, t = {} m", sc.thickness) : "plane strain");
+  r += fmt::format("mesh       {}: {} nodes, {} triangles{}, {}\n", sc.resolve(sc.mesh_file), m.nodes.size(),
+                   m.triangles.size(), sc.crossed_mesh ? " (crossed)" : "",
+                   sc.plane_stress ? fmt::format("plane stress, t = {} m", sc.thickness) : "plane strain");
   for (std::size_t g = 0; g < m.groups.size(); ++g) {
     const Group& grp = m.groups[g];
     if (grp.kind == GroupKind::Surface) {
