@@ -13,33 +13,14 @@
 #include <sstream>
 
 #include "app/cli_util.hpp"
-#include "common/remove_at_exit.hpp"
 #include "mesh/gmsh_reader.hpp"
+#include "mesh/mesh_test_util.hpp"
 #include "mesh/msh_format.hpp"
 
 using namespace dsdem;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string data(const std::string& name) { return std::string(DSDEM_TEST_DATA_DIR) + "/mesh/" + name; }
-
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("dsdem_test_crossed_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  static const bool registered = (test::remove_at_exit(d), true);
-  (void)registered;
-  return d;
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 double area2(const RawMesh& m, const std::array<Index, 3>& t) {
@@ -170,7 +151,7 @@ TEST(CrossedMesh, ClockwiseQuadrilateralGivesCounterClockwiseTriangles) {
 }
 
 TEST(CrossedMesh, QuadrilateralsWithoutCrossedAreRefusedNamingTheKey) {
-  const std::string msg = error_of([] { parse(one_quad_msh(kTrapezoid, {1, 2, 3, 4}), false); });
+  const std::string msg = test::error_of([] { parse(one_quad_msh(kTrapezoid, {1, 2, 3, 4}), false); });
   EXPECT_NE(msg.find("q.msh:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("3-node triangles"), std::string::npos) << msg;
   EXPECT_NE(msg.find("mesh.crossed: true"), std::string::npos) << msg;
@@ -179,29 +160,29 @@ TEST(CrossedMesh, QuadrilateralsWithoutCrossedAreRefusedNamingTheKey) {
 TEST(CrossedMesh, NonConvexOrDegenerateQuadrilateralIsAnError) {
   // A dart: the corner (2, 0.5) points inwards, the diagonals do not cross inside.
   const std::array<Vec2, 4> dart{Vec2(0, 0), Vec2(4, 0), Vec2(2, 0.5), Vec2(2, 2)};
-  std::string msg = error_of([&] { parse(one_quad_msh(dart, {1, 2, 3, 4}), true); });
+  std::string msg = test::error_of([&] { parse(one_quad_msh(dart, {1, 2, 3, 4}), true); });
   EXPECT_NE(msg.find("not strictly convex"), std::string::npos) << msg;
   // Three corners in a line: a triangle, not a quadrilateral.
   const std::array<Vec2, 4> flat{Vec2(0, 0), Vec2(2, 0), Vec2(4, 0), Vec2(2, 2)};
-  msg = error_of([&] { parse(one_quad_msh(flat, {1, 2, 3, 4}), true); });
+  msg = test::error_of([&] { parse(one_quad_msh(flat, {1, 2, 3, 4}), true); });
   EXPECT_NE(msg.find("not strictly convex"), std::string::npos) << msg;
   const std::array<Vec2, 4> line{Vec2(0, 0), Vec2(1, 0), Vec2(2, 0), Vec2(3, 0)};
-  msg = error_of([&] { parse(one_quad_msh(line, {1, 2, 3, 4}), true); });
+  msg = test::error_of([&] { parse(one_quad_msh(line, {1, 2, 3, 4}), true); });
   EXPECT_NE(msg.find("degenerate"), std::string::npos) << msg;
 }
 
 TEST(CrossedMesh, TrianglesOfAMshAreKeptAsTheyAre) {
-  const RawMesh plain = mesh::read_msh(data("square_msh22.msh"));
-  const RawMesh crossed = mesh::read_msh(data("square_msh22.msh"), true);
+  const RawMesh plain = mesh::read_msh(test::mesh_data("square_msh22.msh"));
+  const RawMesh crossed = mesh::read_msh(test::mesh_data("square_msh22.msh"), true);
   EXPECT_EQ(crossed.nodes, plain.nodes);
   EXPECT_EQ(crossed.triangles, plain.triangles);
 }
 
 TEST(CrossedMesh, GeoMeshedCrossedHasOnlyQuadrilateralsSplitInFourWithItsGroups) {
-  const std::string plain_msh = (temp_dir() / "square.msh").string();
-  const std::string crossed_msh = (temp_dir() / "square_crossed.msh").string();
-  mesh::mesh_geo(data("square.geo"), 0.2, plain_msh);
-  mesh::mesh_geo(data("square.geo"), 0.2, crossed_msh, true);
+  const std::string plain_msh = (test::mesh_temp_dir() / "square_plain.msh").string();
+  const std::string crossed_msh = (test::mesh_temp_dir() / "square_crossed.msh").string();
+  mesh::mesh_geo(test::mesh_data("square.geo"), 0.2, plain_msh);
+  mesh::mesh_geo(test::mesh_data("square.geo"), 0.2, crossed_msh, true);
   const mesh::MshFile f = parse_file(crossed_msh);
   const auto types = surface_element_types(f);
   ASSERT_EQ(types.size(), 1u);  // quadrilaterals only
@@ -248,13 +229,13 @@ TEST(CrossedMesh, GeoMeshedCrossedHasOnlyQuadrilateralsSplitInFourWithItsGroups)
   EXPECT_GE(m.triangles.size(), 3 * plain.triangles.size());
 
   // Gmsh's quadrilateral mesh without mesh.crossed: refused, naming the key.
-  const std::string msg = error_of([&] { mesh::read_msh(crossed_msh); });
+  const std::string msg = test::error_of([&] { mesh::read_msh(crossed_msh); });
   EXPECT_NE(msg.find("mesh.crossed: true"), std::string::npos) << msg;
 }
 
 TEST(CrossedMesh, EntitiesInTwoSurfaceGroupsKeepBothAndOrphansAreRefused) {
-  const std::string msh = (temp_dir() / "two_groups.msh").string();
-  mesh::mesh_geo(data("two_groups.geo"), 0.5, msh, true);
+  const std::string msh = (test::mesh_temp_dir() / "two_groups_crossed.msh").string();
+  mesh::mesh_geo(test::mesh_data("two_groups.geo"), 0.5, msh, true);
   const RawMesh m = mesh::read_msh(msh, true);
   EXPECT_EQ(m.find("a")->triangles.size(), m.triangles.size());
   EXPECT_EQ(m.find("b")->triangles.size(), m.triangles.size());
@@ -262,9 +243,9 @@ TEST(CrossedMesh, EntitiesInTwoSurfaceGroupsKeepBothAndOrphansAreRefused) {
   expect_curve_edges_on_triangles(m, "c2");
   EXPECT_EQ(m.find("p")->nodes.size(), 1u);
 
-  const std::string orphan = (temp_dir() / "orphan.msh").string();
-  mesh::mesh_geo(data("orphan.geo"), 0.5, orphan, true);
-  const std::string msg = error_of([&] { mesh::read_msh(orphan, true); });
+  const std::string orphan = (test::mesh_temp_dir() / "orphan_crossed.msh").string();
+  mesh::mesh_geo(test::mesh_data("orphan.geo"), 0.5, orphan, true);
+  const std::string msg = test::error_of([&] { mesh::read_msh(orphan, true); });
   EXPECT_NE(msg.find("no physical surface group"), std::string::npos) << msg;
 }
 

@@ -4,29 +4,16 @@
 #include <filesystem>
 #include <fstream>
 
-#include "common/remove_at_exit.hpp"
 #include "mesh/gmsh_reader.hpp"
+#include "mesh/mesh_test_util.hpp"
 
 using namespace dsdem;
 namespace fs = std::filesystem;
 
 namespace {
-std::string data(const std::string& name) { return std::string(DSDEM_TEST_DATA_DIR) + "/mesh/" + name; }
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("dsdem_test_mesh_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  static const bool registered = (test::remove_at_exit(d), true);
-  (void)registered;
-  return d;
-}
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string data(const std::string& name) { return test::mesh_data(name); }
+fs::path temp_dir() { return test::mesh_temp_dir(); }
+using test::error_of;
 }  // namespace
 
 TEST(GmshReader, MeshesGeoAndReadsGroups) {
