@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "law/laws.hpp"
+
 namespace dsdem::fem {
 
 std::string validate(const MohrCoulombParameters& p, bool plane_stress) {
@@ -18,7 +20,7 @@ std::string validate(const MohrCoulombParameters& p, bool plane_stress) {
   if (p.c == 0.0 && p.phi == 0.0) err << "c and phi are both 0: the material has no strength; ";
   if (!(p.ft >= 0.0)) err << "ft must be >= 0 (got " << p.ft << "); ";
   if (phi_ok && p.phi > 0.0 && p.c >= 0.0 && std::isfinite(p.ft)) {
-    const double apex = p.c / std::tan(p.phi);
+    const double apex = law::envelope_apex(p.c, p.phi);
     if (p.ft > apex)
       err << "ft must not exceed c / tan(phi) = " << apex << " Pa, the apex of the Mohr-Coulomb cone (got " << p.ft
           << "); ";
@@ -68,7 +70,7 @@ MohrCoulombModel make_mohr_coulomb(const MohrCoulombParameters& p, const Elastic
   mc.m = (1.0 + ss) / (1.0 - ss);
   mc.sc = 2.0 * p.c * std::cos(p.phi) / (1.0 - sp);
   mc.mc_scale = 0.5 * (1.0 - sp);
-  mc.apex = p.phi > 0.0 ? p.c / std::tan(p.phi) : std::numeric_limits<double>::infinity();
+  mc.apex = law::envelope_apex(p.c, p.phi);
   mc.cutoff = p.ft < mc.apex;
   mc.ft = mc.cutoff ? p.ft : std::numeric_limits<double>::infinity();
   mc.inv_2mu = 1.0 / (2.0 * elastic.mu);

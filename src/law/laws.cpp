@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "law/laws.hpp"
+#include "law/strength_reduction.hpp"
 
 namespace dsdem::law {
 
@@ -33,12 +34,58 @@ std::vector<ParamDecl> elastic_params() {
           param("rho", "kg/m^3", "required", 0, kInf, "Density.", true)};
 }
 
+// psi <= phi: with a larger dilation angle the plastic flow would create energy.
+std::vector<ParamProblem> check_dilation(const LawDecl& law, std::span<const double> v) {
+  std::vector<ParamProblem> out;
+  const double phi = law.value(v, "friction_angle"), psi = law.value(v, "dilation_angle");
+  if (psi > phi)
+    out.push_back({"dilation_angle", fmt::format("{} deg exceeds friction_angle {} deg: the plastic flow would "
+                                                 "create energy (psi <= phi)", psi, phi)});
+  return out;
+}
+
+// Strength reduction of the envelope (docs/theory.md §9): c / F, tan(phi) / F and
+// tan(psi) / F, so that psi' <= phi' as before.
+std::vector<double> reduce_envelope(const LawDecl& law, std::span<const double> full, double F) {
+  std::vector<double> v(full.begin(), full.end());
+  const auto at = [&](std::string_view name) { return static_cast<std::size_t>(law.param_index(name)); };
+  v[at("cohesion")] = full[at("cohesion")] / F;
+  v[at("friction_angle")] = degrees(reduced_angle(radians(full[at("friction_angle")]), F));
+  v[at("dilation_angle")] = degrees(reduced_angle(radians(full[at("dilation_angle")]), F));
+  return v;
+}
+
+// A plane-strain plastic law on a Mohr-Coulomb envelope (DESIGN.md §12): the elastic
+// constants, the envelope's c and phi with the flow's dilation angle psi <= phi, the
+// plastic point's state (law::plastic_state) and the envelope's strength reduction. Plane
+// strain only: the out-of-plane stress is a stress the return moves (plane stress,
+// sigma_zz = 0, would be a constraint on the return instead).
+LawDecl plastic_law(std::string_view name, std::string doc) {
+  LawDecl d;
+  d.category = Category::Material;
+  d.name = name;
+  d.doc = std::move(doc);
+  d.plane_stress = false;
+  d.params = elastic_params();
+  d.params.push_back(param("cohesion", "Pa", "required", 0, kInf, "Cohesion c of the Mohr-Coulomb envelope."));
+  d.params.push_back(param("friction_angle", "deg", "required", 0, 90, "Friction angle phi of the envelope.", false, true));
+  d.params.push_back(param("dilation_angle", "deg", "0", 0, 90,
+                           "Dilation angle psi of the plastic flow (non-associated; at most friction_angle).", false,
+                           true));
+  for (const StateVariable& v : plastic_state::kVariables) d.state.push_back({v.name, v.unit, v.doc});
+  d.check = check_dilation;
+  d.reduce = [](const LawDecl& law, std::span<const double> full, double F, const ReductionOptions&) {
+    return reduce_envelope(law, full, F);
+  };
+  return d;
+}
+
 }  // namespace
 
 LawDecl linear_elastic_decl() {
   LawDecl d;
   d.category = Category::Material;
-  d.name = "linear_elastic";
+  d.name = linear_elastic::kName;
   d.doc = "St Venant-Kirchhoff elasticity on the Green strain (DESIGN.md §2).";
   d.params = elastic_params();
   return d;
@@ -46,47 +93,36 @@ LawDecl linear_elastic_decl() {
 
 // Mohr-Coulomb plasticity with a tension cut-off, non-associated (DESIGN.md §12).
 LawDecl mohr_coulomb_decl() {
-  LawDecl d;
-  d.category = Category::Material;
-  d.name = "mohr_coulomb";
-  d.doc = "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (DESIGN.md §12); "
-          "plane strain only.";
-  // The out-of-plane stress is a principal stress the return mapping moves: plane
-  // stress (sigma_zz = 0) would be a constraint on the return instead.
-  d.plane_stress = false;
-  d.params = elastic_params();
-  d.params.push_back(param("cohesion", "Pa", "required", 0, kInf, "Cohesion c of the Mohr-Coulomb envelope."));
-  d.params.push_back(param("friction_angle", "deg", "required", 0, 90, "Friction angle phi of the envelope.", false, true));
-  d.params.push_back(param("dilation_angle", "deg", "0", 0, 90,
-                           "Dilation angle psi of the plastic flow (non-associated; at most friction_angle).", false, true));
+  LawDecl d = plastic_law(mohr_coulomb::kName,
+                          "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (DESIGN.md "
+                          "§12); plane strain only.");
   ParamDecl ft = param("tensile_strength", "Pa", "c / tan(phi)", 0, kInf,
                        "Tension cut-off on the largest principal stress (default: the apex of the envelope, no "
                        "cut-off; none when phi = 0).");
   // The apex of the envelope: the cut-off then removes nothing (infinite for phi = 0).
   ft.rule = [](const LawDecl& law, std::span<const double> v) {
-    const double phi = law.value(v, "friction_angle") * 3.14159265358979323846 / 180.0;
-    return phi > 0.0 ? law.value(v, "cohesion") / std::tan(phi) : kInf;
+    return envelope_apex(law.value(v, "cohesion"), radians(law.value(v, "friction_angle")));
   };
   d.params.push_back(std::move(ft));
-  d.state = {{"plastic_strain_xx", "", "Plastic strain xx (additive part of the Green strain)."},
-             {"plastic_strain_yy", "", "Plastic strain yy."},
-             {"plastic_strain_xy", "", "Plastic engineering shear strain (2 E_xy)."},
-             {"plastic_strain_zz", "", "Plastic strain zz (out of plane; in plane strain the total stays zero)."},
-             {"plastic_dissipation", "J/m^3", "Plastic work per unit reference volume, accumulated (never negative)."}};
   d.check = [](const LawDecl& law, std::span<const double> v) {
-    std::vector<ParamProblem> out;
-    const double phi = law.value(v, "friction_angle"), psi = law.value(v, "dilation_angle");
-    if (psi > phi)
-      out.push_back({"dilation_angle", fmt::format("{} deg exceeds friction_angle {} deg: the plastic flow would "
-                                                   "create energy (psi <= phi)", psi, phi)});
-    if (phi > 0.0) {
-      const double apex = law.value(v, "cohesion") / std::tan(phi * 3.14159265358979323846 / 180.0);
-      if (law.value(v, "tensile_strength") > apex)
-        out.push_back({"tensile_strength", fmt::format("{} Pa is above the apex c / tan(phi) = {} Pa of the "
-                                                       "Mohr-Coulomb envelope, where no tension is left to cut off",
-                                                       law.value(v, "tensile_strength"), apex)});
-    }
+    std::vector<ParamProblem> out = check_dilation(law, v);
+    const double apex = envelope_apex(law.value(v, "cohesion"), radians(law.value(v, "friction_angle")));
+    if (law.value(v, "tensile_strength") > apex)
+      out.push_back({"tensile_strength", fmt::format("{} Pa is above the apex c / tan(phi) = {} Pa of the "
+                                                     "Mohr-Coulomb envelope, where no tension is left to cut off",
+                                                     law.value(v, "tensile_strength"), apex)});
     return out;
+  };
+  // The envelope's, and ft / F unless tension is kept, capped at the apex c / tan(phi),
+  // which does not move with F (a cut-off above it would mean none).
+  d.reduce = [](const LawDecl& law, std::span<const double> full, double F, const ReductionOptions& o) {
+    namespace mc = mohr_coulomb;
+    std::vector<double> v = reduce_envelope(law, full, F);
+    const double ft = full[mc::tensile_strength];
+    if (!o.keep_tension && std::isfinite(ft)) v[mc::tensile_strength] = ft / F;
+    v[mc::tensile_strength] =
+        std::min(v[mc::tensile_strength], envelope_apex(full[mc::cohesion], radians(full[mc::friction_angle])));
+    return v;
   };
   return d;
 }

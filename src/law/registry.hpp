@@ -44,6 +44,17 @@ struct StateDecl {
   std::string unit;  // SI unit text, "" when dimensionless
   std::string doc;
 };
+// A state variable as a constant table holds it (a kernel's header may share the table).
+struct StateVariable {
+  const char* name;
+  const char* unit;
+  const char* doc;
+};
+
+// How strength reduction treats tension (docs/theory.md §9).
+struct ReductionOptions {
+  bool keep_tension = false;  // tensile strengths are not divided by F
+};
 
 // A problem found by a law's cross-check of its parameter values.
 struct ParamProblem {
@@ -65,6 +76,11 @@ struct LawDecl {
   // Checks that involve several parameters (e.g. dilation <= friction angle), run on the
   // values in declaration order once all are read; empty when there are none.
   std::function<std::vector<ParamProblem>(const LawDecl&, std::span<const double>)> check;
+  // Strength reduction by a trial factor F (docs/theory.md §9): the parameter values with
+  // each of the law's strengths divided by F, from the full values (declaration order);
+  // the stiffnesses stay. Empty for a law without a strength, which stays as it is.
+  std::function<std::vector<double>(const LawDecl&, std::span<const double> full, double F, const ReductionOptions&)>
+      reduce;
 
   // Index of a parameter in declaration order, or -1.
   int param_index(std::string_view param) const;

@@ -1,8 +1,7 @@
 #include "law/strength_reduction.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <limits>
-#include <numbers>
 
 #include "law/laws.hpp"
 
@@ -27,20 +26,10 @@ JointProperties reduce_joint(const JointProperties& p, double F, const Reduction
 }
 
 Material reduce_material(const Material& m, double F, const ReductionOptions& o) {
-  if (m.model != "mohr_coulomb") return m;
-  namespace mc = mohr_coulomb;
+  const LawDecl* law = material_laws().find(m.model);
+  if (!law || !law->reduce || m.params.size() != law->params.size()) return m;
   Material r = m;
-  if (r.params.size() != mc::kParams) return r;  // made in code without parameters: nothing to reduce
-  constexpr double deg = std::numbers::pi / 180.0;
-  auto& v = r.params;
-  const double phi = m.params[mc::friction_angle] * deg;
-  v[mc::cohesion] = m.params[mc::cohesion] / F;
-  v[mc::friction_angle] = reduced_angle(phi, F) / deg;
-  v[mc::dilation_angle] = reduced_angle(m.params[mc::dilation_angle] * deg, F) / deg;
-  const double ft = m.params[mc::tensile_strength];
-  if (!o.keep_tension && std::isfinite(ft)) v[mc::tensile_strength] = ft / F;
-  // The apex c/tan(phi) does not change with F; a cut-off above it means none.
-  if (phi > 0.0) v[mc::tensile_strength] = std::min(v[mc::tensile_strength], m.params[mc::cohesion] / std::tan(phi));
+  r.params = law->reduce(*law, m.params, F, o);
   return r;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // Strength reduction by a trial factor F (DESIGN.md §12; Dawson, Roth & Drescher 1999):
-// c/F, tan(phi)/F and (unless tension is kept) ft/F for every joint law, every
-// Mohr-Coulomb material and the contacts' Coulomb friction. Pure functions: the full
-// strengths in, the reduced ones out; the stiffnesses are never touched.
+// c/F, tan(phi)/F and (unless tension is kept) ft/F for every joint law, every material
+// whose law has a strength (the law reduces its own parameters: LawDecl::reduce) and the
+// contacts' Coulomb friction. Pure functions: the full strengths in, the reduced ones out;
+// the stiffnesses are never touched.
 //
 // Fracture energies: the softening lengths are kept (wn = 2 GI/ft and the shear
 // wsII = 2 GII/c of a joint in compression, DESIGN.md §3), so GI and GII scale like the
@@ -12,15 +13,12 @@
 // brittleness wn/wt kept) as F grows.
 #include <vector>
 
+#include "law/registry.hpp"
 #include "model/contact_properties.hpp"
 #include "model/joints.hpp"
 #include "model/model.hpp"
 
 namespace dsdem::law {
-
-struct ReductionOptions {
-  bool keep_tension = false;  // ft is not divided by F
-};
 
 // tan(phi') = tan(phi) / F, phi in radians.
 double reduced_angle(double phi, double F);
@@ -29,10 +27,10 @@ double reduced_angle(double phi, double F);
 // 0.99 c'/tan(phi') so that the shear strength at the tension cut-off c' - ft' tan(phi')
 // stays positive (eq. 8, validate()).
 JointProperties reduce_joint(const JointProperties& p, double F, const ReductionOptions& o = {});
-// One material: a Mohr-Coulomb one (law/laws.hpp, mohr_coulomb::Param; angles in
-// degrees) gets c/F, phi' and psi' = atan(tan(psi)/F) (so psi' <= phi' as before) and
-// ft/F capped at the envelope's apex c'/tan(phi') = c/tan(phi); elastic ones are returned
-// as they are.
+// One material: its law's reduction of its parameters (LawDecl::reduce; Mohr-Coulomb:
+// c/F, phi' and psi' = atan(tan(psi)/F), so psi' <= phi' as before, and ft/F capped at the
+// envelope's apex c/tan(phi), law/laws.cpp). A law without a strength (linear elastic), or
+// a material made in code without its parameters, is returned as it is.
 Material reduce_material(const Material& m, double F, const ReductionOptions& o = {});
 // Contact friction mu/F: a broken joint's strength is its contacts' friction.
 ContactProperties reduce_contact(const ContactProperties& p, double F);

@@ -57,8 +57,8 @@ std::string model_report(const PreparedRun& run) {
   for (const auto& mat : m.materials) {
     r += fmt::format("material   {:<12} E = {:.4g} Pa, nu = {}, rho = {} kg/m^3, cp = {:.5g} m/s, cs = {:.5g} m/s\n",
                      mat.name, mat.E, mat.nu, mat.rho, mat.cp(), mat.cs());
-    // The law's own parameters, by their declared names and units (law/registry.hpp).
-    if (const law::LawDecl* decl = law::material_laws().find(mat.model); decl && mat.model != law::kDefaultMaterialLaw) {
+    // The law's own parameters past E, nu, rho, by their declared names and units (law/registry.hpp).
+    if (const law::LawDecl* decl = law::material_laws().find(mat.model); decl && decl->params.size() > 3) {
       std::string params;
       for (std::size_t k = 3; k < decl->params.size() && k < mat.params.size(); ++k)
         params += fmt::format("{}{} = {:.4g}{}{}", params.empty() ? "" : ", ", decl->params[k].name, mat.params[k],

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 #include "exec/deterministic_sums.hpp"
@@ -23,15 +22,13 @@ void Solver::setup_plasticity() {
                                               "{} and {} (build it through the model builder)",
                                               mat.name, mat.params.size(), mat.state_columns.size(), +mc::kParams,
                                               +mc::kStates));
-    constexpr double deg = std::numbers::pi / 180.0;
     fem::MohrCoulombParameters p;
     p.c = mat.params[mc::cohesion];
-    p.phi = mat.params[mc::friction_angle] * deg;
-    p.psi = mat.params[mc::dilation_angle] * deg;
+    p.phi = law::radians(mat.params[mc::friction_angle]);
+    p.psi = law::radians(mat.params[mc::dilation_angle]);
     // The declared default is the envelope's apex c / tan(phi): no cut-off of its own.
     const double ft = mat.params[mc::tensile_strength];
-    const double apex = p.phi > 0.0 ? p.c / std::tan(p.phi) : std::numeric_limits<double>::infinity();
-    p.ft = std::isfinite(ft) && ft < apex ? ft : std::numeric_limits<double>::infinity();
+    p.ft = std::isfinite(ft) && ft < law::envelope_apex(p.c, p.phi) ? ft : std::numeric_limits<double>::infinity();
     if (const std::string why = fem::validate(p, mat.plane_stress || model_.plane_stress); !why.empty())
       throw std::invalid_argument(fmt::format("material '{}': {}", mat.name, why));
     PlasticMaterial& pm = plastic_[m];

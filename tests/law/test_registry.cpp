@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -169,4 +170,18 @@ TEST(LawRegistry, MohrCoulombDeclaration) {
   EXPECT_EQ(problems[0].param, "dilation_angle");
   EXPECT_EQ(problems[1].param, "tensile_strength");
   EXPECT_THROW(mc.value(ok, "friction"), std::logic_error);
+}
+
+// The envelope's apex and the angle conversions several declarations and kernels share.
+TEST(LawRegistry, EnvelopeApexAndAngles) {
+  EXPECT_DOUBLE_EQ(law::envelope_apex(1e5, law::radians(30)), 1e5 / std::tan(30.0 * 3.14159265358979323846 / 180.0));
+  EXPECT_EQ(law::envelope_apex(1e5, 0.0), std::numeric_limits<double>::infinity());
+  for (double deg : {0.0, 12.5, 30.0, 89.9}) EXPECT_NEAR(law::degrees(law::radians(deg)), deg, 1e-13);
+}
+
+// Every law with a strength reduces itself (strength reduction asks the declaration); a
+// law without one has no reduction.
+TEST(LawRegistry, LawsWithAStrengthReduceThemselves) {
+  EXPECT_FALSE(law::material_laws().get("linear_elastic").reduce);
+  EXPECT_TRUE(law::material_laws().get("mohr_coulomb").reduce);
 }
