@@ -1,33 +1,21 @@
 #include "fem/mohr_coulomb.hpp"
 
 #include <sstream>
-
-#include "law/laws.hpp"
+#include <stdexcept>
 
 namespace dsdem::fem {
 
 std::string validate(const MohrCoulombParameters& p, bool plane_stress) {
   std::ostringstream err;
-  if (plane_stress)
-    err << "plane stress is not supported (plane strain only: the return mapping keeps sigma_zz as a principal "
-           "stress); ";
-  if (!(p.c >= 0.0) || !std::isfinite(p.c)) err << "c must be >= 0 (got " << p.c << "); ";
-  const bool phi_ok = p.phi >= 0.0 && p.phi < 0.5 * kPi;
-  if (!phi_ok) err << "phi must be in [0, 90) deg (got " << p.phi * 180.0 / kPi << " deg); ";
-  if (!(p.psi >= 0.0) || !(p.psi <= p.phi))
-    err << "psi must be in [0, phi] (got psi = " << p.psi * 180.0 / kPi << " deg, phi = " << p.phi * 180.0 / kPi
-        << " deg); ";
-  if (p.c == 0.0 && p.phi == 0.0) err << "c and phi are both 0: the material has no strength; ";
+  check_envelope(err, p.c, p.phi, p.psi, plane_stress);
   if (!(p.ft >= 0.0)) err << "ft must be >= 0 (got " << p.ft << "); ";
-  if (phi_ok && p.phi > 0.0 && p.c >= 0.0 && std::isfinite(p.ft)) {
+  if (p.phi > 0.0 && p.phi < 0.5 * kPi && p.c >= 0.0 && std::isfinite(p.ft)) {
     const double apex = law::envelope_apex(p.c, p.phi);
     if (p.ft > apex)
       err << "ft must not exceed c / tan(phi) = " << apex << " Pa, the apex of the Mohr-Coulomb cone (got " << p.ft
           << "); ";
   }
-  std::string s = err.str();
-  if (!s.empty()) s = "mohr_coulomb: " + s.substr(0, s.size() - 2);
-  return s;
+  return validation_text(law::mohr_coulomb::kName, err);
 }
 
 const char* to_string(MohrCoulombRegion r) {
@@ -73,8 +61,7 @@ MohrCoulombModel make_mohr_coulomb(const MohrCoulombParameters& p, const Elastic
   mc.apex = law::envelope_apex(p.c, p.phi);
   mc.cutoff = p.ft < mc.apex;
   mc.ft = mc.cutoff ? p.ft : std::numeric_limits<double>::infinity();
-  mc.inv_2mu = 1.0 / (2.0 * elastic.mu);
-  mc.inv_vol = elastic.lambda / (2.0 * elastic.mu * (3.0 * elastic.lambda + 2.0 * elastic.mu));
+  mc.compliance = compliance(elastic);
   // Shear planes of the sector s1 >= s2 >= s3 and of its two neighbours (the edges), with
   // the potential g = m s_max - s_min (Clausen et al. 2007, with tension positive).
   const double k = mc.k, m = mc.m;
@@ -301,23 +288,13 @@ void rotate_back(const PrincipalTrial& trial, const P3& s, Vec3& S, double& S_zz
   S_zz = s[trial.zpos];
 }
 
-// end.ep = start.ep + D^-1 (S_trial - S), engineering shear (`end` may be `start`).
-void add_plastic_strain(const MohrCoulombModel& mc, const Vec3& S_trial, double S_trial_zz, const Vec3& S,
-                        double S_zz, const MohrCoulombState& start, MohrCoulombState& end) {
-  const double dxx = S_trial[0] - S[0], dyy = S_trial[1] - S[1], dxy = S_trial[2] - S[2], dzz = S_trial_zz - S_zz;
-  const double vol = mc.inv_vol * (dxx + dyy + dzz);
-  end.ep_xx = start.ep_xx + (mc.inv_2mu * dxx - vol);
-  end.ep_yy = start.ep_yy + (mc.inv_2mu * dyy - vol);
-  end.ep_xy = start.ep_xy + dxy / mc.elastic.mu;
-  end.ep_zz = start.ep_zz + (mc.inv_2mu * dzz - vol);
-}
-
 // S : dEp at the returned stress s, in principal space (coaxial). It is sum dl_j s . b_j
 // >= 0 for admissible s and 0 <= psi; the clamp removes round-off at the apex.
 double plastic_dissipation(const MohrCoulombModel& mc, const P3& sB, const P3& s) {
-  const double pvol = mc.inv_vol * ((sB[0] - s[0]) + (sB[1] - s[1]) + (sB[2] - s[2]));
+  const Compliance& d = mc.compliance;
+  const double pvol = d.inv_vol * ((sB[0] - s[0]) + (sB[1] - s[1]) + (sB[2] - s[2]));
   double diss = 0.0;
-  for (int q = 0; q < 3; ++q) diss += s[q] * (mc.inv_2mu * (sB[q] - s[q]) - pvol);
+  for (int q = 0; q < 3; ++q) diss += s[q] * (d.inv_2mu * (sB[q] - s[q]) - pvol);
   return std::max(0.0, diss);
 }
 
@@ -333,14 +310,23 @@ MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E,
   MohrCoulombResult out;
   rotate_back(trial, ret.s, out.S, out.S_zz);
   out.region = ret.region;
-  add_plastic_strain(mc, S, S_zz, out.S, out.S_zz, start, end);
-  out.dissipation = plastic_dissipation(mc, trial.s, ret.s);
-  end.plastic_work = start.plastic_work + out.dissipation;
-  const Vec3 Ee(E[0] - end.ep_xx, E[1] - end.ep_yy, E[2] - end.ep_xy);
-  out.strain_energy = mohr_coulomb_energy(S0, S0_zz, Ee, -end.ep_zz, out.S - S0, out.S_zz - S0_zz);
+  finish_return(mc.compliance, E, S0, S0_zz, S, S_zz, start, end, out,
+                [&](const PlasticIncrement&) { return plastic_dissipation(mc, trial.s, ret.s); });
   return out;
 }
 
 }  // namespace detail
+
+MohrCoulombKernel::Model MohrCoulombKernel::make(std::span<const double> params, const ElasticConstants& elastic,
+                                                 bool plane_stress) {
+  const auto [c, phi, psi] = law::envelope(params);
+  // The declared default is the envelope's apex c / tan(phi): no cut-off of its own.
+  const double ft = params[law::mohr_coulomb::tensile_strength];
+  MohrCoulombParameters p{c, phi, psi,
+                          std::isfinite(ft) && ft < law::envelope_apex(c, phi) ? ft
+                                                                               : std::numeric_limits<double>::infinity()};
+  if (const std::string why = validate(p, plane_stress); !why.empty()) throw std::invalid_argument(why);
+  return make_mohr_coulomb(p, elastic);
+}
 
 }  // namespace dsdem::fem

@@ -1,10 +1,10 @@
 #pragma once
 // Mohr-Coulomb plasticity of the bulk with a tension cut-off (DESIGN.md §12): a pure
-// material-point kernel for the total Lagrangian CST (cst.hpp). Small strain and large
-// rotation: the Green strain splits additively, E = Ee + Ep, and the yield criterion acts
-// on the second Piola-Kirchhoff stress S = S0 + D (E - Ep). Plane strain only: the total
-// E_zz is 0, the out-of-plane plastic strain is state, and S_zz is a principal stress of
-// the return mapping. Tension positive.
+// material-point kernel for the total Lagrangian CST (cst.hpp) on the plastic point of
+// plastic_point.hpp: E = Ee + Ep, and the yield criterion acts on the second
+// Piola-Kirchhoff stress S = S0 + D (E - Ep). Plane strain only: the total E_zz is 0, the
+// out-of-plane plastic strain is state, and S_zz is a principal stress of the return
+// mapping. Tension positive.
 //
 // Return mapping in principal stresses for linear yield planes (Clausen, Damkilde &
 // Andersen 2006, IJNME 66, associated; 2007, Comput. Struct. 85, non-associated): the
@@ -15,9 +15,14 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
+#include <string_view>
 
+#include "fem/bulk_kernel.hpp"
 #include "fem/cst.hpp"
+#include "fem/plastic_point.hpp"
+#include "law/laws.hpp"
 #include "model/types.hpp"
 
 namespace dsdem::fem {
@@ -38,30 +43,12 @@ struct MohrCoulombParameters {
 // principal stress the return may move.
 std::string validate(const MohrCoulombParameters& p, bool plane_stress = false);
 
-// A state variable as the material registry declares it (name, unit, meaning).
-struct StateVariable {
-  const char* name;
-  const char* unit;
-  const char* description;
-};
-
-// State of one element (one CST = one material point), five doubles in this order.
-struct MohrCoulombState {
-  double ep_xx = 0.0;  // plastic Green strain
-  double ep_yy = 0.0;
-  double ep_xy = 0.0;  // engineering shear 2 Ep_xy
-  double ep_zz = 0.0;  // out-of-plane plastic strain; the elastic part is -ep_zz
-  double plastic_work = 0.0;  // accumulated dissipation per unit reference volume, J/m^3
-};
-static_assert(sizeof(MohrCoulombState) == 5 * sizeof(double), "the state is read as 5 doubles");
-
-inline constexpr std::array<StateVariable, 5> kMohrCoulombStateVariables{{
-    {"plastic_strain_xx", "", "plastic Green strain Ep_xx"},
-    {"plastic_strain_yy", "", "plastic Green strain Ep_yy"},
-    {"plastic_strain_xy", "", "plastic Green strain, engineering shear 2 Ep_xy"},
-    {"plastic_strain_zz", "", "out-of-plane plastic strain (plane strain: total E_zz = 0)"},
-    {"plastic_dissipation", "J/m^3", "plastic dissipation per unit reference volume"},
-}};
+// The state of one element (one CST = one material point): the plastic point's, as the
+// law declares it (law::plastic_state).
+using MohrCoulombState = PlasticState;
+using StateVariable = law::StateVariable;
+inline constexpr const std::array<StateVariable, law::plastic_state::kStates>& kMohrCoulombStateVariables =
+    law::plastic_state::kVariables;
 
 // Where the trial stress returned to. Principal stresses s1 >= s2 >= s3 (tension positive).
 enum class MohrCoulombRegion : std::uint8_t {
@@ -99,8 +86,7 @@ struct MohrCoulombModel {
   double apex = 0.0;      // c / tan(phi), Pa (infinity for phi = 0)
   double mc_scale = 0.5;  // (1 - sin phi) / 2: (k s1 - s3 - sc) times this is in Pa
   bool cutoff = false;    // ft < apex: the cut-off is a surface of its own
-  double inv_2mu = 0.0;   // D^-1 = I / (2 mu) - lambda / (2 mu (3 lambda + 2 mu)) 1 x 1
-  double inv_vol = 0.0;   // lambda / (2 mu (3 lambda + 2 mu))
+  Compliance compliance;  // D^-1
   // Planes: 0 = k s1 - s3, 1 = k s2 - s3, 2 = k s1 - s2 (shear, potential with m),
   // 3, 4, 5 = s1, s2, s3 (cut-off, associated).
   std::array<PrincipalPlane, 6> plane;
@@ -115,27 +101,13 @@ std::array<double, 3> principal_stresses(const Vec3& S, double S_zz);
 double yield_function(const MohrCoulombModel& mc, const std::array<double, 3>& s);
 
 // Result of one update.
-struct MohrCoulombResult {
-  Vec3 S = Vec3::Zero();  // PK2 stress (xx, yy, xy), Pa
-  double S_zz = 0.0;      // out-of-plane PK2 stress, Pa
-  double dissipation = 0.0;  // S : dEp of this update at the returned stress, J/m^3, >= 0
-  double strain_energy = 0.0;  // stored elastic energy S0 : Ee + Ee : D : Ee / 2, J/m^3
-  MohrCoulombRegion region = MohrCoulombRegion::Elastic;
-  bool yielded() const { return region != MohrCoulombRegion::Elastic; }
-};
+using MohrCoulombResult = PlasticResult<MohrCoulombRegion>;
 
 namespace detail {
 // The plastic branch of mohr_coulomb_update: S, S_zz hold the trial stress on entry.
 MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E, const Vec3& S0, double S0_zz,
                                       const Vec3& S, double S_zz, const MohrCoulombState& start,
                                       MohrCoulombState& end);
-
-// Stored energy S0 : Ee + Ee : D : Ee / 2 with DEe = S - S0 given as (xx, yy, xy, zz); the
-// order of the sums is the elastic kernel's (triangle_internal_force) when Ee_zz = 0.
-inline double mohr_coulomb_energy(const Vec3& S0, double S0_zz, const Vec3& Ee, double ezz, const Vec3& DEe,
-                                  double DEzz) {
-  return S0.dot(Ee) + S0_zz * ezz + 0.5 * (DEe[0] * Ee[0] + DEe[1] * Ee[1] + DEe[2] * Ee[2] + DEzz * ezz);
-}
 }  // namespace detail
 
 // The stress at the end of a step from the total Green strain E (xx, yy, 2xy) at its end,
@@ -146,35 +118,22 @@ inline double mohr_coulomb_energy(const Vec3& S0, double S0_zz, const Vec3& Ee, 
 // the bits of the elastic kernel's S0 + svk_stress(E) and its strain energy density.
 inline MohrCoulombResult mohr_coulomb_update(const MohrCoulombModel& mc, const Vec3& E, const Vec3& S0,
                                              double S0_zz, const MohrCoulombState& start, MohrCoulombState& end) {
-  const ElasticConstants& c = mc.elastic;
-  const Vec3 Ee(E[0] - start.ep_xx, E[1] - start.ep_yy, E[2] - start.ep_xy);
-  const double ezz = -start.ep_zz;
-  const double tr = Ee[0] + Ee[1] + ezz;
-  const Vec3 DEe(c.lambda * tr + 2.0 * c.mu * Ee[0], c.lambda * tr + 2.0 * c.mu * Ee[1], c.mu * Ee[2]);
-  const double DEzz = c.lambda * tr + 2.0 * c.mu * ezz;
-  const Vec3 S = S0 + DEe;
-  const double S_zz = S0_zz + DEzz;
+  const ElasticTrial t = elastic_trial(mc.elastic, E, S0, S0_zz, start);
   // Largest and smallest principal stress: in-plane pair C +- R and S_zz.
-  const double C = 0.5 * (S[0] + S[1]);
-  const double d = 0.5 * (S[0] - S[1]);
-  const double R = std::sqrt(d * d + S[2] * S[2]);
-  const double s1 = std::max(C + R, S_zz);
-  const double s3 = std::min(C - R, S_zz);
-  if (mc.k * s1 - s3 - mc.sc <= 0.0 && s1 <= mc.ft) {
-    end = start;
-    MohrCoulombResult out;
-    out.S = S;
-    out.S_zz = S_zz;
-    out.strain_energy = detail::mohr_coulomb_energy(S0, S0_zz, Ee, ezz, DEe, DEzz);
-    return out;
-  }
-  return detail::mohr_coulomb_return(mc, E, S0, S0_zz, S, S_zz, start, end);
+  const double C = 0.5 * (t.S[0] + t.S[1]);
+  const double d = 0.5 * (t.S[0] - t.S[1]);
+  const double R = std::sqrt(d * d + t.S[2] * t.S[2]);
+  const double s1 = std::max(C + R, t.S_zz);
+  const double s3 = std::min(C - R, t.S_zz);
+  if (mc.k * s1 - s3 - mc.sc <= 0.0 && s1 <= mc.ft) return elastic_result<MohrCoulombResult>(t, S0, S0_zz, start, end);
+  return detail::mohr_coulomb_return(mc, E, S0, S0_zz, t.S, t.S_zz, start, end);
 }
 
-// The out-of-plane stress of a plane-strain elastic state reached from zero, for an
-// initial stress that came from an elastic stage: S_zz = lambda / (2 (lambda + mu)) (S_xx + S_yy).
-inline double plane_strain_sigma_zz(const Vec3& S, const ElasticConstants& c) {
-  return c.lambda / (2.0 * (c.lambda + c.mu)) * (S[0] + S[1]);
-}
+// The law's kernel for the element loop (bulk_law.hpp): its model from the parameters
+// law/laws.cpp declares, and its update.
+struct MohrCoulombKernel : PlasticKernel<MohrCoulombModel, MohrCoulombResult, mohr_coulomb_update> {
+  static constexpr std::string_view name = law::mohr_coulomb::kName;
+  static Model make(std::span<const double> params, const ElasticConstants& elastic, bool plane_stress);
+};
 
 }  // namespace dsdem::fem

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string_view>
 
 #include "law/registry.hpp"
@@ -53,5 +54,14 @@ inline constexpr std::string_view kName = "mohr_coulomb";
 enum Param : int { E, nu, rho, cohesion, friction_angle, dilation_angle, tensile_strength, kParams };
 using enum plastic_state::State;
 }  // namespace mohr_coulomb
+
+// The Mohr-Coulomb envelope of a plastic law's parameter values (declaration order), angles
+// in radians: cohesion, friction and dilation angle stand at the same positions in each.
+struct Envelope {
+  double c, phi, psi;
+};
+inline Envelope envelope(std::span<const double> v) {
+  return {v[mohr_coulomb::cohesion], radians(v[mohr_coulomb::friction_angle]), radians(v[mohr_coulomb::dilation_angle])};
+}
 
 }  // namespace dsdem::law

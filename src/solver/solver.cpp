@@ -22,7 +22,7 @@ Solver::Solver(Model& model)
   element_strain_energy_.assign(ne, 0.0);
   set_stress_on_demand(false);  // sizes the triangles' stress and strain
   for (const auto& m : model_.materials) elastic_.push_back({m.lambda(), m.mu()});
-  setup_plasticity();
+  setup_laws();
   joint_buf_.prepare(model_.joints, model_.joint_properties);
   scatter_.build(model_.triangles.conn, model_.joints.nodes, model_.joints.tri_a, model_.joints.tri_b,
                  model_.nodes.size());
@@ -156,7 +156,7 @@ void Solver::begin_step() {
   time_step_.update(model_, broken_joints_);
   settings_.dt = time_step_.dt();
   if (settings_.dt != verlet_offset_.dt) restart_verlet_segment(settings_.dt);
-  if (any_plastic_) commit_plastic_state();
+  if (any_law_state_) commit_law_state();
   const auto& n = model_.nodes;
   // The displacements before the drift that the work of the supports and of the viscous
   // boundary needs (a few nodes; the damping work needs all, then in u_prev_).
@@ -393,7 +393,7 @@ void Solver::update_energy() {
     energy_.strain = strain_sum[0];
   }
   offset_settled_ = false;  // the accelerations are this step's: energy() settles the offset
-  if (any_plastic_) energy_.plastic_dissipated = plastic_dissipation_sum();
+  if (any_law_state_) energy_.plastic_dissipated = law_dissipation_sum();
   if (water_.active()) energy_.water_work += water_work_sum();
   if (moving_) {
     const sph::Fluid::Energy e = moving_->fluid.energy();

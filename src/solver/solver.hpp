@@ -12,7 +12,7 @@
 #include "exec/node_scatter.hpp"
 #include "exec/team.hpp"
 #include "fem/cst.hpp"
-#include "fem/mohr_coulomb.hpp"
+#include "fem/bulk_law.hpp"
 #include "io/checkpoint.hpp"
 #include "joint/joint_phase.hpp"
 #include "model/model.hpp"
@@ -210,7 +210,7 @@ class Solver {
   KickPass kick_pass_{this};
   FinishPass finish_pass_{this};
   // The per-item kernels of the element region (exec::ElementRegion), in solver_elements.cpp.
-  template <bool Damping, bool Plastic, bool Water, bool StoreStress>
+  template <bool Damping, bool LawState, bool Water, bool StoreStress>
   friend struct ElementKernels;
 
   // Damping buffers held: set_settings allocates them for a damped stage; update_energy
@@ -315,23 +315,24 @@ class Solver {
   void apply_moving_water_forces(bool book);
   double water_work_sum();  // J/m: this step's work of the water forces
 
-  // Mohr-Coulomb bulk (DESIGN.md §12), per material: its return-mapping model and the
-  // columns of Triangles::state that hold its five state variables. The model's state
-  // arrays hold each triangle's state at the end of the last step; plastic_start_ the
-  // state at its start, from which the step's update is taken (so the update is a function
-  // of the step's start: stress on demand and a restart give the same bits).
-  struct PlasticMaterial {
-    bool on = false;
-    fem::MohrCoulombModel model;
-    std::array<Index, 5> columns{};
+  // The bulk laws (fem/bulk_law.hpp), per material: the kernel the element loop
+  // dispatches to and the columns of Triangles::state that hold the state its law
+  // declares. The model's state arrays hold each triangle's state at the end of the last
+  // step; law_start_ the state at its start, from which the step's
+  // update is taken (so the update is a function of the step's start: stress on demand and
+  // a restart give the same bits).
+  struct MaterialLaw {
+    fem::BulkLaw kernel;
+    std::array<Index, fem::kMaxBulkState> columns{};
+    Index dissipation = kNoIndex;  // the column of the accumulated plastic work, if any
   };
-  std::vector<PlasticMaterial> plastic_;
-  bool any_plastic_ = false;
-  std::vector<fem::MohrCoulombState> plastic_start_;
-  void setup_plasticity();
-  void commit_plastic_state();  // the last step's end state becomes this step's start
-  fem::MohrCoulombState plastic_state(std::size_t t) const;  // at the end of the last step
-  double plastic_dissipation_sum();  // J/m: the accumulated plastic work of all triangles
+  std::vector<MaterialLaw> laws_;
+  bool any_law_state_ = false;  // some triangle's law has state (the element passes dispatch)
+  std::size_t law_stride_ = 0;  // the most state variables of a law in use (the checkpoint's record)
+  std::vector<double> law_start_;  // law_stride_ doubles per triangle
+  void setup_laws();
+  void commit_law_state();       // the last step's end state becomes this step's start
+  double law_dissipation_sum();  // J/m: the accumulated plastic work of all triangles
   std::vector<double> plastic_scratch_;
 };
 

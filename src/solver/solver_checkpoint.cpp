@@ -166,14 +166,8 @@ void Solver::save_triangles(io::CheckpointWriter& out) const {
   // Initial stresses: zeros when the model holds none (the file layout stays the same).
   out.put("triangles/stress0", vec3s(tri.stress0.empty() ? std::vector<Vec3>(tri.size(), Vec3::Zero()) : tri.stress0));
   save_state(out, "triangles/state/", tri.state);
-  if (any_plastic_) {  // the plastic state at the last step's start (stress on demand, the next step)
-    std::vector<double> start(5 * tri.size());
-    for (std::size_t t = 0; t < tri.size(); ++t) {
-      const fem::MohrCoulombState& p = plastic_start_[t];
-      std::copy_n(&p.ep_xx, 5, &start[5 * t]);
-    }
-    out.put("triangles/plastic_start", start);
-  }
+  // The laws' state at the last step's start (stress on demand, the next step).
+  if (any_law_state_) out.put("triangles/plastic_start", law_start_);
 }
 
 void Solver::save_joints(io::CheckpointWriter& out) const {
@@ -376,11 +370,11 @@ void Solver::restore_triangles(const io::CheckpointReader& in) {
     if (any || !tri.stress0.empty()) tri.stress0 = std::move(s0);
   }
   restore_state(in, "triangles/state/", tri.state);
-  if (any_plastic_) {
+  if (any_law_state_) {
     const auto start = in.doubles("triangles/plastic_start");
-    check_size("triangles/plastic_start", start.size(), 5 * tri.size());
-    for (std::size_t t = 0; t < tri.size(); ++t) std::copy_n(&start[5 * t], 5, &plastic_start_[t].ep_xx);
-    energy_.plastic_dissipated = plastic_dissipation_sum();
+    check_size("triangles/plastic_start", start.size(), law_start_.size());
+    std::copy(start.begin(), start.end(), law_start_.begin());
+    energy_.plastic_dissipated = law_dissipation_sum();
   }
 }
 

@@ -1,6 +1,6 @@
 // The element and joint phases of the step (DESIGN.md §1 phases 3-4) as per-item kernels
 // for the execution layer's region (exec::ElementRegion), and the stress on demand.
-#include "fem/plastic_cst.hpp"
+#include "fem/bulk_law.hpp"
 #include "solver/solver.hpp"
 
 namespace dsdem::solver {
@@ -11,9 +11,9 @@ constexpr int kInverted = 1;  // the element region's status bit: some element h
 
 // The kernels of one step's element region: each item's physics, and where its forces go
 // (exec::NodeScatter). What a triangle needs is fixed for the whole pass: stiffness damping
-// (beta > 0), some Mohr-Coulomb material, the water at rest, the stress stored each step.
-// As template arguments, each pass's kernel tests and writes only what it uses.
-template <bool Damping, bool Plastic, bool Water, bool StoreStress>
+// (beta > 0), some material whose law has state, the water at rest, the stress stored each
+// step. As template arguments, each pass's kernel tests and writes only what it uses.
+template <bool Damping, bool LawState, bool Water, bool StoreStress>
 struct ElementKernels {
   Solver& s;
   Nodes& n;
@@ -45,29 +45,19 @@ struct ElementKernels {
     s.element_strain_energy_[t] = r.strain_energy;
     return r;
   }
-  // The material's response: Mohr-Coulomb (DESIGN.md §12) from the state at the step's
-  // start to its end, or elastic.
+  // The material's response through its law (fem/bulk_law.hpp): a law with state from the
+  // state at the step's start to its end, written to the triangle's state columns.
   [[gnu::always_inline]] void respond(std::size_t t, const fem::TriangleInput& in, Index mat, fem::TriangleResponse& r,
                                       std::array<Vec2, 3>& damping) const {
-    if constexpr (Plastic) {
-      if (s.plastic_[mat].on) {
-        mohr_coulomb(t, in, s.plastic_[mat], r, damping);
-        return;
-      }
+    if constexpr (LawState) {
+      const Solver::MaterialLaw& law = s.laws_[mat];
+      auto& v = tri.state.values;
+      fem::triangle_response(law.kernel, in, &s.law_start_[s.law_stride_ * t], r, damping, [&](const auto& end) {
+        for (std::size_t k = 0; k < end.size(); ++k) v[law.columns[k]][t] = end[k];
+      });
+    } else {
+      fem::triangle_internal_force(in, s.elastic_[mat], r, damping);
     }
-    fem::triangle_internal_force(in, s.elastic_[mat], r, damping);
-  }
-  void mohr_coulomb(std::size_t t, const fem::TriangleInput& in, const Solver::PlasticMaterial& pm,
-                    fem::TriangleResponse& r, std::array<Vec2, 3>& damping) const {
-    fem::MohrCoulombState end;
-    fem::triangle_internal_force_mohr_coulomb(in, pm.model, fem::plane_strain_sigma_zz(in.S0, pm.model.elastic),
-                                              s.plastic_start_[t], end, r, damping);
-    auto& v = tri.state.values;
-    v[pm.columns[0]][t] = end.ep_xx;
-    v[pm.columns[1]][t] = end.ep_yy;
-    v[pm.columns[2]][t] = end.ep_xy;
-    v[pm.columns[3]][t] = end.ep_zz;
-    v[pm.columns[4]][t] = end.plastic_work;
   }
   // shared() and own() inline every piece of the kernel (flatten): with a kernel per pass the
   // unit outgrows GCC's inlining budget, which would leave calls that pass the triangle
@@ -118,13 +108,13 @@ void Solver::add_element_and_joint_forces() {
   int bits = 0;
   Index broken_now = 0;
   with_flags(
-      [&]<bool Damping, bool Plastic, bool Water, bool StoreStress>() {
-        ElementKernels<Damping, Plastic, Water, StoreStress> k{*this, model_.nodes, model_.triangles, J, damping_sum,
-                                                               joint_force};
+      [&]<bool Damping, bool LawState, bool Water, bool StoreStress>() {
+        ElementKernels<Damping, LawState, Water, StoreStress> k{*this, model_.nodes, model_.triangles, J, damping_sum,
+                                                                joint_force};
         bits = element_region_.run(team_, model_.nodes.size(), scatter_, joints ? joint_blocks(J.size()) : 0, k);
         broken_now = k.broken_now;
       },
-      settings_.beta > 0.0, any_plastic_, water_.active(), !stress_on_demand_);
+      settings_.beta > 0.0, any_law_state_, water_.active(), !stress_on_demand_);
   inverted_ = (bits & kInverted) != 0;
   if (joints) {
     energy_.joint_elastic = joint_buf_.energy();
@@ -156,11 +146,9 @@ void Solver::compute_stress(std::vector<Vec3>& stress, std::vector<Vec3>& strain
     fem::TriangleResponse r;
     std::array<Vec2, 3> no_damping;
     const Index mat = tri.material[t];
-    if (any_plastic_ && plastic_[mat].on) {  // the step's update again, from the same start
-      fem::MohrCoulombState end;
-      fem::triangle_internal_force_mohr_coulomb(in, plastic_[mat].model,
-                                                fem::plane_strain_sigma_zz(in.S0, plastic_[mat].model.elastic),
-                                                plastic_start_[t], end, r, no_damping);
+    if (any_law_state_) {  // the step's update again, from the same start
+      const MaterialLaw& law = laws_[mat];
+      fem::triangle_response(law.kernel, in, &law_start_[law_stride_ * t], r, no_damping, [](const auto&) {});
     } else {
       fem::triangle_internal_force(in, elastic_[mat], r, no_damping);
     }
