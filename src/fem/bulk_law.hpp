@@ -14,6 +14,7 @@
 
 #include "fem/bulk_kernel.hpp"
 #include "fem/cst.hpp"
+#include "fem/drucker_prager.hpp"
 #include "fem/mohr_coulomb.hpp"
 #include "law/laws.hpp"
 
@@ -31,7 +32,7 @@ template <class... Kernels>
 struct KernelList;
 
 // Every bulk law's kernel, one entry per law (bulk_kernel.hpp says what an entry is).
-using BulkKernels = KernelList<LinearElasticKernel, MohrCoulombKernel>;
+using BulkKernels = KernelList<LinearElasticKernel, MohrCoulombKernel, DruckerPragerKernel>;
 
 template <class K>
 concept StatefulKernel = requires { typename K::State; };

@@ -127,6 +127,15 @@ LawDecl mohr_coulomb_decl() {
   return d;
 }
 
+// Drucker-Prager plasticity matched to the Mohr-Coulomb envelope in plane strain
+// (docs/theory.md §10): the envelope's parameters, state and strength reduction.
+LawDecl drucker_prager_decl() {
+  return plastic_law(drucker_prager::kName,
+                     "Elastic-perfectly plastic Drucker-Prager cone matched to the Mohr-Coulomb envelope (c, phi, psi) "
+                     "in plane strain (docs/theory.md §10): the same plane-strain limit loads with associated flow, a "
+                     "smooth surface and its apex as the tension limit; plane strain only.");
+}
+
 LawDecl cohesive_joint_decl() {
   LawDecl d;
   d.category = Category::Joint;

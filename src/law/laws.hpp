@@ -16,6 +16,7 @@ namespace dsdem::law {
 // Bulk materials (DESIGN.md §2, §12).
 LawDecl linear_elastic_decl();
 LawDecl mohr_coulomb_decl();
+LawDecl drucker_prager_decl();
 // Joints (DESIGN.md §3; paper eqs. 6-9).
 LawDecl cohesive_joint_decl();
 // Contacts (DESIGN.md §4; paper eqs. 1-5).
@@ -54,6 +55,11 @@ inline constexpr std::string_view kName = "mohr_coulomb";
 enum Param : int { E, nu, rho, cohesion, friction_angle, dilation_angle, tensile_strength, kParams };
 using enum plastic_state::State;
 }  // namespace mohr_coulomb
+namespace drucker_prager {
+inline constexpr std::string_view kName = "drucker_prager";
+enum Param : int { E, nu, rho, cohesion, friction_angle, dilation_angle, kParams };
+using enum plastic_state::State;
+}  // namespace drucker_prager
 
 // The Mohr-Coulomb envelope of a plastic law's parameter values (declaration order), angles
 // in radians: cohesion, friction and dilation angle stand at the same positions in each.

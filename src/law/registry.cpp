@@ -68,7 +68,8 @@ const LawDecl& Registry::get(std::string_view name) const {
 const Registry& material_laws() {
   static const Registry r = Registry(Category::Material)
                                 .add(linear_elastic_decl())
-                                .add(mohr_coulomb_decl());
+                                .add(mohr_coulomb_decl())
+                                .add(drucker_prager_decl());
   return r;
 }
 

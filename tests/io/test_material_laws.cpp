@@ -105,7 +105,7 @@ TEST(MaterialLaws, LinearElasticKeepsItsValues) {
 
 TEST(MaterialLaws, MissingCohesionNamesFileLineAndKey) {
   const auto errors = errors_of(scenario("    cohesion: 20.0e3\n", ""));
-  EXPECT_TRUE(has_error(errors, "case.yaml:6:5: materials.soil.cohesion: missing value (mohr_coulomb: Cohesion c of the Mohr-Coulomb envelope, in Pa)"));
+  EXPECT_TRUE(has_error(errors, "case.yaml:6:5: materials.soil.cohesion: missing value (mohr_coulomb, drucker_prager: Cohesion c of the Mohr-Coulomb envelope, in Pa)"));
   EXPECT_EQ(errors.size(), 1u);
 }
 
@@ -128,7 +128,7 @@ TEST(MaterialLaws, OutOfRangeFrictionAngle) {
 TEST(MaterialLaws, KeyOfAnotherModelIsAnError) {
   // A Mohr-Coulomb parameter on a linear elastic material.
   const auto errors = errors_of(scenario("model: mohr_coulomb", "model: linear_elastic"));
-  EXPECT_TRUE(has_error(errors, "case.yaml:10:5: materials.soil.cohesion: 'cohesion' belongs to model mohr_coulomb, "
+  EXPECT_TRUE(has_error(errors, "case.yaml:10:5: materials.soil.cohesion: 'cohesion' belongs to model mohr_coulomb or drucker_prager, "
                                 "not to model linear_elastic chosen here (set model: mohr_coulomb or remove the key)"));
   EXPECT_TRUE(has_error(errors, "materials.soil.friction_angle: 'friction_angle' belongs to model mohr_coulomb"));
   EXPECT_TRUE(has_error(errors, "materials.soil.dilation_angle: 'dilation_angle' belongs to model mohr_coulomb"));
@@ -139,7 +139,7 @@ TEST(MaterialLaws, KeyOfAnotherModelIsAnError) {
 
 TEST(MaterialLaws, UnknownModelNamesTheValidOnes) {
   const auto errors = errors_of(scenario("model: mohr_coulomb", "model: mohr_colomb"));
-  EXPECT_TRUE(has_error(errors, "materials.soil.model: 'mohr_colomb' is not one of: linear_elastic, mohr_coulomb; "
+  EXPECT_TRUE(has_error(errors, "materials.soil.model: 'mohr_colomb' is not one of: linear_elastic, mohr_coulomb, drucker_prager; "
                                 "did you mean 'mohr_coulomb'?"));
 }
 
@@ -157,7 +157,7 @@ TEST(MaterialLaws, SchemaKeysComeFromTheDeclarations) {
       EXPECT_EQ(k->max, p.max);
     }
   // Used by one model only: the doc says which.
-  EXPECT_EQ(io::find_spec("materials.*.cohesion")->doc, "mohr_coulomb: Cohesion c of the Mohr-Coulomb envelope.");
+  EXPECT_EQ(io::find_spec("materials.*.cohesion")->doc, "mohr_coulomb, drucker_prager: Cohesion c of the Mohr-Coulomb envelope.");
   EXPECT_EQ(io::find_spec("materials.*.E")->doc, "Young's modulus.");
   // Joint and contact laws: the law keys and their parameters.
   EXPECT_EQ(io::find_spec("joints.default.law")->default_text, "cohesive");

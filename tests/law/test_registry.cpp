@@ -34,7 +34,7 @@ TEST(LawRegistry, UnknownNameNamesTheValidOnes) {
 }
 
 TEST(LawRegistry, RegisteredLawsAndDefaults) {
-  EXPECT_EQ(law::material_laws().names(), (std::vector<std::string>{"linear_elastic", "mohr_coulomb"}));
+  EXPECT_EQ(law::material_laws().names(), (std::vector<std::string>{"linear_elastic", "mohr_coulomb", "drucker_prager"}));
   EXPECT_EQ(law::joint_laws().names(), (std::vector<std::string>{"cohesive"}));
   EXPECT_EQ(law::contact_laws().names(), (std::vector<std::string>{"spring_dashpot_coulomb"}));
   // The default law of each category is the first registered (Material::law = 0).
@@ -140,6 +140,14 @@ TEST(LawRegistry, PositionsMatchTheDeclarations) {
   EXPECT_EQ(mc.state[m::plastic_strain_zz].name, "plastic_strain_zz");
   EXPECT_EQ(mc.state[m::plastic_dissipation].name, "plastic_dissipation");
   EXPECT_EQ(mc.state[m::plastic_dissipation].unit, "J/m^3");
+  const auto& dp = law::material_laws().get("drucker_prager");
+  namespace d = law::drucker_prager;
+  ASSERT_EQ(dp.params.size(), std::size_t(d::kParams));
+  EXPECT_EQ(dp.param_index("cohesion"), d::cohesion);
+  EXPECT_EQ(dp.param_index("friction_angle"), d::friction_angle);
+  EXPECT_EQ(dp.param_index("dilation_angle"), d::dilation_angle);
+  ASSERT_EQ(dp.state.size(), std::size_t(d::kStates));
+  for (std::size_t k = 0; k < dp.state.size(); ++k) EXPECT_EQ(dp.state[k].name, mc.state[k].name) << k;
 }
 
 TEST(LawRegistry, MohrCoulombDeclaration) {
@@ -184,4 +192,5 @@ TEST(LawRegistry, EnvelopeApexAndAngles) {
 TEST(LawRegistry, LawsWithAStrengthReduceThemselves) {
   EXPECT_FALSE(law::material_laws().get("linear_elastic").reduce);
   EXPECT_TRUE(law::material_laws().get("mohr_coulomb").reduce);
+  EXPECT_TRUE(law::material_laws().get("drucker_prager").reduce);
 }

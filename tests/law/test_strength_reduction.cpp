@@ -120,6 +120,21 @@ TEST(StrengthReduction, MohrCoulombMaterial) {
   EXPECT_TRUE(std::isinf(rc.params[mc::tensile_strength]));
 }
 
+// Drucker-Prager reduces the same envelope: c / F, tan(phi) / F, tan(psi) / F.
+TEST(StrengthReduction, DruckerPragerMaterial) {
+  namespace dp = law::drucker_prager;
+  Material m;
+  m.name = "soil";
+  m.model = std::string(dp::kName);
+  m.params = {5e7, 0.3, 1900, 2e4, 30, 10};
+  ASSERT_EQ(m.params.size(), static_cast<std::size_t>(dp::kParams));
+  const Material r = law::reduce_material(m, 1.5);
+  EXPECT_DOUBLE_EQ(r.params[dp::cohesion], 2e4 / 1.5);
+  EXPECT_NEAR(std::tan(r.params[dp::friction_angle] * kDeg), std::tan(30 * kDeg) / 1.5, 1e-14);
+  EXPECT_NEAR(std::tan(r.params[dp::dilation_angle] * kDeg), std::tan(10 * kDeg) / 1.5, 1e-14);
+  EXPECT_EQ(r.params[dp::E], 5e7);
+}
+
 TEST(StrengthReduction, ElasticMaterialUntouchedContactFrictionReduced) {
   Material e;
   e.name = "rock";

@@ -60,3 +60,18 @@ TEST(StabilityRegression, TrialsAreTheSameOnOneAndTwoThreads) {
   }
   EXPECT_EQ(one["factor_of_safety"].get<double>(), two["factor_of_safety"].get<double>());
 }
+
+// The vertical cut with Drucker-Prager (phi = 0: von Mises with k = c, which in plane
+// strain is Tresca's c): the factor of safety of the Mohr-Coulomb material, 1.578 on
+// cut_h1.msh. It stands at 1.5625 and fails at 1.59375 (the Mohr-Coulomb bisection's
+// neighbouring trials; the Drucker-Prager bisection ends at 1.578125 as well).
+TEST(StabilityRegression, VerticalCutWithDruckerPragerHasTheMohrCoulombFactorOfSafety) {
+  const auto s = stability(example("vertical_cut/scenario.yaml"),
+                           " --set materials.clay.model=drucker_prager --set stability.failure_displacement=0.1"
+                           " --bounds 1.5625 1.59375 --tolerance 1 --threads 1",
+                           "stab_cut_dp");
+  ASSERT_TRUE(s.is_object());
+  ASSERT_EQ(s["trials"].size(), 2u);
+  EXPECT_EQ(s["trials"][0]["result"], "equilibrium") << s["trials"][0]["reason"];
+  EXPECT_EQ(s["trials"][1]["result"], "failed") << s["trials"][1]["reason"];
+}

@@ -38,7 +38,8 @@ constexpr double kFooting = 1.0;   // half-width of the strip footing, m
 // Half of a strip footing on weightless cohesive ground (phi = 0): [0, 5] x [-3, 0] m,
 // cells of 0.25 m cut in four triangles (crossed diagonals: no volumetric locking under
 // isochoric plastic flow), symmetry at x = 0, the footing's nodes on top for x <= 1 m.
-Model footing_model(double friction_deg = 0.0, double dilation_deg = 0.0) {
+Model footing_model(double friction_deg = 0.0, double dilation_deg = 0.0,
+                    const law::LawDecl& law = law::mohr_coulomb_decl()) {
   RawMesh raw = mesh::rectangle_mesh(28, 16, 3.5, 2.0, mesh::Diagonal::Cross, 0.0, -2.0, "soil");
   RawPhysicalGroup footing;
   footing.name = "footing";
@@ -51,19 +52,21 @@ Model footing_model(double friction_deg = 0.0, double dilation_deg = 0.0) {
   sc.file = "(test)";
   Material m;
   m.name = "clay";
-  m.model = "mohr_coulomb";
+  m.model = law.name;
   m.E = 1e8;
   m.nu = 0.3;
   m.rho = 2000;
-  namespace mc = law::mohr_coulomb;
-  m.params.assign(mc::kParams, 0.0);
-  m.params[mc::E] = m.E;
-  m.params[mc::nu] = m.nu;
-  m.params[mc::rho] = m.rho;
-  m.params[mc::cohesion] = kCohesion;
-  m.params[mc::friction_angle] = friction_deg;
-  m.params[mc::dilation_angle] = dilation_deg;
-  m.params[mc::tensile_strength] = std::numeric_limits<double>::infinity();
+  // The declared defaults (no tension cut-off), then the values of the test.
+  for (const auto& p : law.params)
+    m.params.push_back(p.rule ? p.rule(law, m.params) : (p.required() || p.default_text.empty() ? 0.0 : std::stod(p.default_text)));
+  const auto set = [&](std::string_view name, double value) { m.params[static_cast<std::size_t>(law.param_index(name))] = value; };
+  set("E", m.E);
+  set("nu", m.nu);
+  set("rho", m.rho);
+  set("cohesion", kCohesion);
+  set("friction_angle", friction_deg);
+  set("dilation_angle", dilation_deg);
+  if (law.has_param("tensile_strength")) set("tensile_strength", std::numeric_limits<double>::infinity());
   sc.materials["clay"] = m;
   sc.regions = {io::RegionSpec{"soil", "clay", Zone::Bedrock, {}, {}}};
   sc.stages.push_back(io::StageSpec{});
@@ -89,12 +92,14 @@ double footing_pressure(const solver::Solver& s, const Model& model) {
 }  // namespace
 
 // Prandtl (1920): a smooth rigid strip footing on weightless ground of cohesion c and
-// phi = 0 fails at q_u = (2 + pi) c. The footing is pushed slowly (quasi-static: the
+// phi = 0 fails at q_u = (2 + pi) c, for each plastic law. The footing is pushed slowly (quasi-static: the
 // loading takes ~100 times the wave's transit of the model); the pressure's peak and its
 // plateau up to 9 mm of settlement are within 5 % of q_u. Further on the plateau falls slowly:
 // St Venant-Kirchhoff softens at finite strain.
-TEST(Plasticity, PrandtlBearingCapacityOfAStripFootingWithinFivePercent) {
-  Model model = footing_model();
+class PrandtlBearingCapacity : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PrandtlBearingCapacity, OfAStripFootingWithinFivePercent) {
+  Model model = footing_model(0.0, 0.0, law::material_laws().get(GetParam()));
   solver::Solver s(model);
   const double v = 0.01, ramp = 0.2;  // m/s, s
   s.set_constraints(footing_constraints(model, v, ramp));
@@ -112,10 +117,16 @@ TEST(Plasticity, PrandtlBearingCapacityOfAStripFootingWithinFivePercent) {
   EXPECT_GT(s.energy().plastic_dissipated, 0.0);
 }
 
+// Mohr-Coulomb, and Drucker-Prager at phi = 0: von Mises with k = c, Tresca's in plane strain.
+INSTANTIATE_TEST_SUITE_P(Plasticity, PrandtlBearingCapacity, ::testing::Values("mohr_coulomb", "drucker_prager"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
 // Work put in by the footing = stored energy + plastic work + damping (DESIGN.md §1, §6):
 // the plastic work is booked in the ledger, and it only grows.
-TEST(Plasticity, PlasticWorkIsBookedAndNeverDecreases) {
-  Model model = footing_model(20.0, 5.0);
+class PlasticWork : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PlasticWork, IsBookedAndNeverDecreases) {
+  Model model = footing_model(20.0, 5.0, law::material_laws().get(GetParam()));
   solver::Solver s(model);
   s.set_constraints(footing_constraints(model, 0.02, 0.2));
   s.set_settings({Vec2::Zero(), 5.0, 0.0, 0.3 * solver::stable_time_step(model, 0.0).dt, true});
@@ -129,6 +140,9 @@ TEST(Plasticity, PlasticWorkIsBookedAndNeverDecreases) {
   EXPECT_GT(s.energy().plastic_dissipated, 0.01 * s.energy().external_work);
   EXPECT_LT(s.energy().balance_error(), 5e-3);
 }
+
+INSTANTIATE_TEST_SUITE_P(Plasticity, PlasticWork, ::testing::Values("mohr_coulomb", "drucker_prager"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
 namespace {
 struct PlasticRun {
