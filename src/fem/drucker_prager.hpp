@@ -22,6 +22,7 @@
 
 #include "fem/cst.hpp"
 #include "fem/plastic_point.hpp"
+#include "fem/plastic_point3d.hpp"
 #include "law/laws.hpp"
 
 namespace dsdem::fem {
@@ -77,6 +78,14 @@ inline DruckerPragerResult drucker_prager_update(const DruckerPragerModel& m, co
   if (J + m.alpha * I1 - m.k <= 0.0) return elastic_result<DruckerPragerResult>(t, S0, S0_zz, start, end);
   return detail::drucker_prager_return(m, E, S0, S0_zz, t, I1, J, start, end);
 }
+
+// The 3D update of the tetrahedron's point (plastic_point3d.hpp): the same cone and return
+// on the six stress components. The state at the step's end goes to `end` (may be `start`).
+using DruckerPragerResult3D = PlasticResult3D<DruckerPragerRegion>;
+DruckerPragerResult3D drucker_prager_update_3d(const DruckerPragerModel& m, const Vec6& E, const Vec6& S0,
+                                               const PlasticState3D& start, PlasticState3D& end);
+// sqrt(J2) + alpha I1 - k of a 3D stress, in Pa.
+double drucker_prager_yield(const DruckerPragerModel& m, const Vec6& S);
 
 // The law's kernel for the element loop (bulk_law.hpp).
 struct DruckerPragerKernel : PlasticKernel<DruckerPragerModel, DruckerPragerResult, drucker_prager_update> {

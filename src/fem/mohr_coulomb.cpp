@@ -317,6 +317,26 @@ MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E,
 
 }  // namespace detail
 
+MohrCoulombResult3D mohr_coulomb_update_3d(const MohrCoulombModel& mc, const Vec6& E, const Vec6& S0,
+                                           const PlasticState3D& start, PlasticState3D& end) {
+  const ElasticTrial3D t = elastic_trial(mc.elastic, E, S0, start);
+  // Eigenvalues ascending, eigenvectors as columns: s1 >= s2 >= s3 is the reverse order.
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(detail::to_tensor(t.S));
+  const Vec3& ev = eig.eigenvalues();
+  const P3 sB{ev[2], ev[1], ev[0]};
+  if (mc.k * sB[0] - sB[2] - mc.sc <= 0.0 && sB[0] <= mc.ft)
+    return elastic_result<MohrCoulombResult3D>(t, S0, start, end);
+  const Returned ret = return_to_envelope(mc, sB);
+  const Mat3& Q = eig.eigenvectors();
+  const Mat3 S = Q * Vec3(ret.s[2], ret.s[1], ret.s[0]).asDiagonal() * Q.transpose();
+  MohrCoulombResult3D out;
+  out.S << S(0, 0), S(1, 1), S(2, 2), 0.5 * (S(1, 2) + S(2, 1)), 0.5 * (S(0, 2) + S(2, 0)), 0.5 * (S(0, 1) + S(1, 0));
+  out.region = ret.region;
+  finish_return(mc.compliance, E, S0, t.S, start, end, out,
+                [&](const Vec6&) { return plastic_dissipation(mc, sB, ret.s); });
+  return out;
+}
+
 MohrCoulombKernel::Model MohrCoulombKernel::make(std::span<const double> params, const ElasticConstants& elastic,
                                                  bool plane_stress) {
   const auto [c, phi, psi] = law::envelope(params);

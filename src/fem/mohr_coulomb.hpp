@@ -22,6 +22,7 @@
 #include "fem/bulk_kernel.hpp"
 #include "fem/cst.hpp"
 #include "fem/plastic_point.hpp"
+#include "fem/plastic_point3d.hpp"
 #include "law/laws.hpp"
 #include "model/types.hpp"
 
@@ -128,6 +129,14 @@ inline MohrCoulombResult mohr_coulomb_update(const MohrCoulombModel& mc, const V
   if (mc.k * s1 - s3 - mc.sc <= 0.0 && s1 <= mc.ft) return elastic_result<MohrCoulombResult>(t, S0, S0_zz, start, end);
   return detail::mohr_coulomb_return(mc, E, S0, S0_zz, t.S, t.S_zz, start, end);
 }
+
+// The 3D update of the tetrahedron's point (plastic_point3d.hpp): the trial's principal
+// stresses and directions (the stress tensor's eigensystem), the same return in principal
+// space as plane strain, and the returned stresses rotated back onto the trial's directions
+// (isotropic D keeps them). The state at the step's end goes to `end` (may be `start`).
+using MohrCoulombResult3D = PlasticResult3D<MohrCoulombRegion>;
+MohrCoulombResult3D mohr_coulomb_update_3d(const MohrCoulombModel& mc, const Vec6& E, const Vec6& S0,
+                                           const PlasticState3D& start, PlasticState3D& end);
 
 // The law's kernel for the element loop (bulk_law.hpp): its model from the parameters
 // law/laws.cpp declares, and its update.
