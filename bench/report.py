@@ -220,7 +220,7 @@ def main():
     lines.append("|---|---|---|")
     rates = {}
     for name, b in pick(kern).items():
-        rate_keys = [k for k in ("elem_steps/s", "joint_steps/s", "pairs/s", "triangles/s") if k in b]
+        rate_keys = [k for k in ("elem_steps/s", "joint_steps/s", "pairs/s", "triangles/s", "tets/s") if k in b]
         rate = ", ".join(f"{b[k] / 1e6:.2f} M {k}" for k in rate_keys)
         rates[name] = b
         lines.append(f"| {name} | {b['real_time']:.3g} {b['time_unit']} | {rate} |")

@@ -51,7 +51,7 @@ round_trip() { echo "$1 $("$BUILD/bench/dsdem_core_round_trip" | cut -d' ' -f2-)
 round_trip start
 
 # Kernels: 5 repetitions, medians reported.
-run kernels 'BM_(TriangleInternalForce|JointLaw|NarrowPhase|BroadPhase)' 5
+run kernels 'BM_(TriangleInternalForce|TetInternalForce|JointLaw|NarrowPhase|BroadPhase)' 5
 # Whole runs: every size in its own process, so peak memory is that model's.
 run box_1e3_t1 'BM_WholeBox/22/20/1/' 3
 run box_1e3_t2 'BM_WholeBox/22/20/2/' 3
