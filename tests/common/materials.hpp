@@ -1,7 +1,9 @@
 #pragma once
-// A linear elastic material for tests that build a model from a mesh.
+// A linear elastic material for tests that build a model from a mesh, and the elastic
+// constants a kernel test takes.
 #include <string>
 
+#include "fem/cst.hpp"
 #include "model/model.hpp"
 
 namespace dsdem::test {
@@ -13,6 +15,12 @@ inline Material elastic_material(std::string name, double E, double nu, double r
   m.nu = nu;
   m.rho = rho;
   return m;
+}
+
+// The Lame constants (lambda, mu) of E and nu: plane strain's, which are the 3D ones.
+inline fem::ElasticConstants elastic_constants(double E, double nu) {
+  const Material m = elastic_material("", E, nu, 1000.0);
+  return {m.lambda(), m.mu()};
 }
 
 }  // namespace dsdem::test

@@ -9,19 +9,12 @@
 #include "common/same_bits.hpp"
 #include "fem/cst.hpp"
 #include "mesh/model_builder.hpp"
+#include "common/materials.hpp"
 #include "model/model.hpp"
 
 using namespace dsdem;
 
 namespace {
-
-fem::ElasticConstants constants(double E, double nu) {
-  Material m;
-  m.E = E;
-  m.nu = nu;
-  m.rho = 1000;
-  return {m.lambda(), m.mu()};
-}
 
 Mat2 rotation(double angle) {
   Mat2 R;
@@ -43,7 +36,7 @@ fem::TriangleInput reference_triangle() {
 }  // namespace
 
 TEST(Cst, RigidRotationOfUnstressedElementGivesZeroStress) {
-  const auto c = constants(30e9, 0.25);
+  const auto c = test::elastic_constants(30e9, 0.25);
   for (double deg : {1.0, 45.0, 90.0, 180.0, 270.0}) {
     fem::TriangleInput in = reference_triangle();
     const Mat2 R = rotation(deg * kPi / 180.0);
@@ -59,7 +52,7 @@ TEST(Cst, RigidRotationOfUnstressedElementGivesZeroStress) {
 }
 
 TEST(Cst, PrestressedElementRotatedBy90DegreesCarriesRotatedStress) {
-  const auto c = constants(30e9, 0.25);
+  const auto c = test::elastic_constants(30e9, 0.25);
   fem::TriangleInput in = reference_triangle();
   in.S0 = Vec3(-2.0e6, -5.0e6, 1.5e6);
   const double angle = kPi / 2.0;
@@ -81,7 +74,7 @@ TEST(Cst, PrestressedElementRotatedBy90DegreesCarriesRotatedStress) {
 
 TEST(Cst, UniaxialSmallStrainMatchesHooke) {
   const double E = 10e9, nu = 0.3;
-  const auto c = constants(E, nu);
+  const auto c = test::elastic_constants(E, nu);
   fem::TriangleInput in = reference_triangle();
   const double eps = 1e-7;  // small: Green strain = linear strain to 1e-7 relative
   for (auto& x : in.x) x = Vec2(x.x() * (1 + eps), x.y());
@@ -96,7 +89,7 @@ TEST(Cst, UniaxialSmallStrainMatchesHooke) {
 }
 
 TEST(Cst, StiffnessDampingForceOpposesStrainRateAndVanishesForRigidMotion) {
-  const auto c = constants(10e9, 0.2);
+  const auto c = test::elastic_constants(10e9, 0.2);
   fem::TriangleInput in = reference_triangle();
   in.beta = 1e-3;
   // Rigid spin about the centroid: no strain rate, no damping force.
@@ -164,7 +157,7 @@ TEST(Cst, PatchTestConstantStrainIsExact) {
     const Vec2 X = model.nodes.X[i];
     model.nodes.u[i] = Vec2(a * X.x() + b * X.y(), cc * X.x() + d * X.y());
   }
-  const auto c = constants(mat.E, mat.nu);
+  const auto c = test::elastic_constants(mat.E, mat.nu);
   std::array<Vec2, 5> f;
   f.fill(Vec2::Zero());
   Vec3 first = Vec3::Zero();

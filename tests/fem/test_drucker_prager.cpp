@@ -8,6 +8,7 @@
 
 #include "fem/cst.hpp"
 #include "fem/drucker_prager.hpp"
+#include "common/materials.hpp"
 #include "model/model.hpp"
 
 using namespace dsdem;
@@ -16,14 +17,6 @@ using fem::DruckerPragerRegion;
 namespace {
 
 constexpr double kDeg = kPi / 180.0;
-
-fem::ElasticConstants constants(double E, double nu) {
-  Material m;
-  m.E = E;
-  m.nu = nu;
-  m.rho = 2000;
-  return {m.lambda(), m.mu()};
-}
 
 double first_invariant(const fem::DruckerPragerResult& r) { return r.S[0] + r.S[1] + r.S_zz; }
 
@@ -41,7 +34,7 @@ std::array<double, 4> increment(const fem::PlasticState& a, const fem::PlasticSt
 }  // namespace
 
 TEST(DruckerPrager, ConstantsMatchMohrCoulombInPlaneStrain) {
-  const auto el = constants(1e9, 0.25);
+  const auto el = test::elastic_constants(1e9, 0.25);
   const double c = 1e5, phi = 30 * kDeg;
   const fem::DruckerPragerModel m = fem::make_drucker_prager(c, phi, 10 * kDeg, el);
   const double t = std::tan(phi);
@@ -81,7 +74,7 @@ TEST(DruckerPrager, ConstantsMatchMohrCoulombInPlaneStrain) {
 
 // Below the cone, with no plastic strain: the elastic kernel's stress bits.
 TEST(DruckerPrager, BelowTheConeTheStressIsTheElasticKernels) {
-  const auto el = constants(2e9, 0.3);
+  const auto el = test::elastic_constants(2e9, 0.3);
   const fem::DruckerPragerModel m = fem::make_drucker_prager(1e6, 35 * kDeg, 0, el);
   const Vec3 E(1.3e-5, -2.1e-5, 0.7e-5), S0(-2e5, -4e5, 3e4);
   fem::PlasticState start, end;
@@ -100,7 +93,7 @@ TEST(DruckerPrager, BelowTheConeTheStressIsTheElasticKernels) {
 // accumulated plastic work is its sum; the flow follows the potential's gradient
 // s / (2 J) + beta 1 (volume over deviator 3 sqrt(2) beta, 1e-9).
 TEST(DruckerPrager, RandomStrainPathsStayOnTheConeAndDissipate) {
-  const auto el = constants(1e9, 0.3);
+  const auto el = test::elastic_constants(1e9, 0.3);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int cone = 0, apex = 0;
@@ -148,7 +141,7 @@ TEST(DruckerPrager, RandomStrainPathsStayOnTheConeAndDissipate) {
 
 // phi = 0 in plane strain: simple shear from rest flows at the in-plane radius c (Tresca).
 TEST(DruckerPrager, SimpleShearAtZeroFrictionFlowsAtTheCohesion) {
-  const auto el = constants(1e9, 0.3);
+  const auto el = test::elastic_constants(1e9, 0.3);
   const double c = 2e5;
   const fem::DruckerPragerModel m = fem::make_drucker_prager(c, 0, 0, el);
   fem::PlasticState st;

@@ -12,6 +12,7 @@
 
 #include "fem/cst.hpp"
 #include "fem/mohr_coulomb.hpp"
+#include "common/materials.hpp"
 #include "model/model.hpp"
 
 using namespace dsdem;
@@ -20,14 +21,6 @@ using fem::MohrCoulombRegion;
 namespace {
 
 constexpr double kDeg = kPi / 180.0;
-
-fem::ElasticConstants constants(double E, double nu) {
-  Material m;
-  m.E = E;
-  m.nu = nu;
-  m.rho = 2000;
-  return {m.lambda(), m.mu()};
-}
 
 fem::MohrCoulombParameters params(double c, double phi_deg, double psi_deg,
                                   double ft = std::numeric_limits<double>::infinity()) {
@@ -120,7 +113,7 @@ TEST(MohrCoulomb, StateVariablesAreDeclared) {
 
 // Below the envelope the law is the elastic kernel's, bit for bit, stress and energy.
 TEST(MohrCoulomb, ElasticPathIsTheElasticKernelsBits) {
-  const auto el = constants(20e9, 0.25);
+  const auto el = test::elastic_constants(20e9, 0.25);
   const auto mc = fem::make_mohr_coulomb(params(1e9, 40, 10), el);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -146,7 +139,7 @@ TEST(MohrCoulomb, ElasticPathIsTheElasticKernelsBits) {
 // with psi = 0 the plastic strain is pure shear and the dissipation is c * plastic slip.
 TEST(MohrCoulomb, TrescaSimpleShearYieldsAtCohesion) {
   const double c = 1e5;
-  const auto el = constants(1.1e8, 0.3);
+  const auto el = test::elastic_constants(1.1e8, 0.3);
   const auto mc = fem::make_mohr_coulomb(params(c, 0, 0), el);
   Point pt(mc);
   const double gamma_y = c / el.mu;
@@ -211,7 +204,7 @@ struct Biaxial {
 // it without plastic flow.
 TEST(MohrCoulomb, BiaxialCompressionReachesTheMohrCoulombPeak) {
   const double c = 50e3, phi = 30, pc = 200e3;
-  const auto el = constants(100e6, 0.3);
+  const auto el = test::elastic_constants(100e6, 0.3);
   const auto mc = fem::make_mohr_coulomb(params(c, phi, 10), el);
   const double t = std::tan((45 + phi / 2) * kDeg);
   const double peak = -(pc * t * t + 2 * c * t);
@@ -271,7 +264,7 @@ TEST(MohrCoulomb, BiaxialCompressionReachesTheMohrCoulombPeak) {
 // the plastic volume, psi = phi is the normal of the yield plane (k, 0, -1).
 TEST(MohrCoulomb, PlasticFlowFollowsTheDilationAngle) {
   const double c = 50e3, phi = 30, pc = 200e3;
-  const auto el = constants(100e6, 0.3);
+  const auto el = test::elastic_constants(100e6, 0.3);
   for (double psi : {0.0, 10.0, 30.0}) {
     const auto mc = fem::make_mohr_coulomb(params(c, phi, psi), el);
     Biaxial b(mc, pc);
@@ -304,7 +297,7 @@ TEST(MohrCoulomb, PlasticFlowFollowsTheDilationAngle) {
 
 // The in-situ out-of-plane stress of an elastic stage: what the law gives from zero.
 TEST(MohrCoulomb, PlaneStrainSigmaZzOfAnElasticState) {
-  const auto el = constants(100e6, 0.3);
+  const auto el = test::elastic_constants(100e6, 0.3);
   const auto mc = fem::make_mohr_coulomb(params(1e9, 30, 0), el);
   fem::MohrCoulombState st;
   const auto r = fem::mohr_coulomb_update(mc, Vec3(-1e-3, -3e-3, 5e-4), Vec3::Zero(), 0.0, st, st);
@@ -316,7 +309,7 @@ TEST(MohrCoulomb, PlaneStrainSigmaZzOfAnElasticState) {
 // compression edge and moves along it; unloading goes inside.
 TEST(MohrCoulomb, OedometricCompressionFollowsTheCompressionEdge) {
   const double c = 20e3;
-  const auto el = constants(50e6, 0.2);
+  const auto el = test::elastic_constants(50e6, 0.2);
   for (double psi : {0.0, 15.0, 30.0}) {
     const auto mc = fem::make_mohr_coulomb(params(c, 30, psi), el);
     Point pt(mc);
@@ -347,7 +340,7 @@ TEST(MohrCoulomb, OedometricCompressionFollowsTheCompressionEdge) {
 // 1. Extension from an isotropic state: S_yy = S_zz, the triaxial extension edge.
 TEST(MohrCoulomb, ExtensionFromIsotropicStateFollowsTheExtensionEdge) {
   const double c = 20e3, p0 = 300e3;
-  const auto el = constants(50e6, 0.3);
+  const auto el = test::elastic_constants(50e6, 0.3);
   const auto mc = fem::make_mohr_coulomb(params(c, 25, 5), el);
   Point pt(mc);
   pt.S0 = Vec3(-p0, -p0, 0);
@@ -368,7 +361,7 @@ TEST(MohrCoulomb, ExtensionFromIsotropicStateFollowsTheExtensionEdge) {
 // 1. In-plane biaxial extension climbs the compression edge to the apex c / tan(phi).
 TEST(MohrCoulomb, BiaxialExtensionReachesTheApex) {
   const double c = 50e3;
-  const auto el = constants(100e6, 0.3);
+  const auto el = test::elastic_constants(100e6, 0.3);
   for (double psi : {5.0, 30.0}) {
     const auto mc = fem::make_mohr_coulomb(params(c, 30, psi), el);
     const double apex = c / std::tan(30 * kDeg);
@@ -400,7 +393,7 @@ TEST(MohrCoulomb, BiaxialExtensionReachesTheApex) {
 // meets the shear plane, then slides down the shear plane.
 TEST(MohrCoulomb, ExtensionIntoTheTensionCutoff) {
   const double c = 50e3, ft = 20e3;
-  const auto el = constants(100e6, 0.3);
+  const auto el = test::elastic_constants(100e6, 0.3);
   const auto mc = fem::make_mohr_coulomb(params(c, 30, 10, ft), el);
   using R = MohrCoulombRegion;
   struct Path {
@@ -448,7 +441,7 @@ TEST(MohrCoulomb, ExtensionIntoTheTensionCutoff) {
 // plastic strain increment follows the potential with the dilation angle, the dissipation
 // is >= 0 and is S : dEp.
 TEST(MohrCoulomb, RandomPathsStayOnTheEnvelopeAndDissipate) {
-  const auto el = constants(80e6, 0.28);
+  const auto el = test::elastic_constants(80e6, 0.28);
   struct Case {
     fem::MohrCoulombParameters p;
     std::size_t regions;  // regions (elastic included) the walks visit at least
@@ -543,7 +536,7 @@ TEST(MohrCoulomb, RandomPathsStayOnTheEnvelopeAndDissipate) {
 // fresh states, and the returned point is the one the region names (to 1e-9 of c + |p|),
 // for friction angles from 0.1 to 60 deg, cut-offs from 0 to the apex.
 TEST(MohrCoulomb, RandomTrialStressesReturnToTheNamedFeature) {
-  const auto el = constants(80e6, 0.28);
+  const auto el = test::elastic_constants(80e6, 0.28);
   struct Case {
     fem::MohrCoulombParameters p;
     std::size_t regions;  // regions reached, the elastic one included
@@ -603,7 +596,7 @@ TEST(MohrCoulomb, RandomTrialStressesReturnToTheNamedFeature) {
 // returned stress), so the summed error falls tenfold for ten times smaller steps. The
 // stored energy is S0 : Ee + Ee : D : Ee / 2 of the state.
 TEST(MohrCoulomb, EnergyBalanceClosesAsTheStepShrinks) {
-  const auto el = constants(80e6, 0.28);
+  const auto el = test::elastic_constants(80e6, 0.28);
   const auto mc = fem::make_mohr_coulomb(params(50e3, 30, 10, 20e3), el);
   auto error = [&](int n) {
     Point pt(mc);
@@ -642,7 +635,7 @@ TEST(MohrCoulomb, EnergyBalanceClosesAsTheStepShrinks) {
 // Evaluating again from the end state with the same strain (stress on demand, a repeated
 // evaluation) gives the same stress and no further plastic flow, up to round-off.
 TEST(MohrCoulomb, ReturnedStateIsAFixedPoint) {
-  const auto el = constants(80e6, 0.28);
+  const auto el = test::elastic_constants(80e6, 0.28);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (const auto& p : {params(50e3, 30, 10), params(50e3, 30, 10, 20e3), params(80e3, 0, 0, 40e3)}) {
@@ -671,7 +664,7 @@ TEST(MohrCoulomb, ReturnedStateIsAFixedPoint) {
 
 // The law is objective in the plane: rotating E, S0 and the plastic strain rotates S.
 TEST(MohrCoulomb, RotatedInputsGiveTheRotatedStress) {
-  const auto el = constants(80e6, 0.28);
+  const auto el = test::elastic_constants(80e6, 0.28);
   const auto mc = fem::make_mohr_coulomb(params(50e3, 30, 10, 20e3), el);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -11,6 +11,7 @@
 
 #include "fem/drucker_prager.hpp"
 #include "fem/mohr_coulomb.hpp"
+#include "common/materials.hpp"
 #include "model/model.hpp"
 
 using namespace dsdem;
@@ -20,16 +21,8 @@ namespace {
 
 constexpr double kDeg = kPi / 180.0;
 
-fem::ElasticConstants constants_3d(double E, double nu) {
-  // The 3D Lame constants (Material's are plane strain's, the same lambda and mu).
-  Material m;
-  m.E = E;
-  m.nu = nu;
-  return {m.lambda(), m.mu()};
-}
-
 fem::MohrCoulombModel mohr_coulomb(double c, double phi, double psi, double ft = std::numeric_limits<double>::infinity()) {
-  return fem::make_mohr_coulomb({c, phi * kDeg, psi * kDeg, ft}, constants_3d(1e9, 0.3));
+  return fem::make_mohr_coulomb({c, phi * kDeg, psi * kDeg, ft}, test::elastic_constants(1e9, 0.3));
 }
 
 std::array<double, 3> principal(const Vec6& S) {
@@ -152,7 +145,7 @@ TEST(MohrCoulomb3D, ARotatedPathGivesTheRotatedStress) {
 TEST(DruckerPrager3D, RandomPathsStayOnTheConeAndMatchPlaneStrain) {
   std::mt19937 rng(13);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const fem::ElasticConstants el = constants_3d(1e9, 0.3);
+  const fem::ElasticConstants el = test::elastic_constants(1e9, 0.3);
   int cone = 0, apex = 0;
   for (const auto& [phi, psi] : {std::pair{30.0, 0.0}, {30.0, 30.0}, {0.0, 0.0}, {40.0, 15.0}}) {
     const fem::DruckerPragerModel m = fem::make_drucker_prager(1e5, phi * kDeg, psi * kDeg, el);

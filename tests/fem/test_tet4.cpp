@@ -10,20 +10,13 @@
 #include <vector>
 
 #include "fem/tet4.hpp"
+#include "common/materials.hpp"
 #include "model/model.hpp"
 
 using namespace dsdem;
 using fem::Vec6;
 
 namespace {
-
-fem::ElasticConstants constants(double E, double nu) {
-  Material m;
-  m.E = E;
-  m.nu = nu;
-  m.rho = 1000;
-  return {m.lambda(), m.mu()};
-}
 
 // Rotation by angle about a unit axis (Rodrigues).
 Mat3 rotation(Vec3 axis, double angle) { return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(); }
@@ -112,7 +105,7 @@ TEST(Tet4, ReferenceGeometrySignedVolume) {
 }
 
 TEST(Tet4, InvertedTetrahedronHasNonPositiveDetF) {
-  const auto c = constants(30e9, 0.25);
+  const auto c = test::elastic_constants(30e9, 0.25);
   fem::TetInput in = reference_tet();
   EXPECT_NEAR(evaluate(in, c).detF, 1.0, 1e-14);
   // Node 3 moved through the plane of nodes 0, 1, 2 to its mirror image: det F = -1.
@@ -133,7 +126,7 @@ TEST(Tet4, InvertedTetrahedronHasNonPositiveDetF) {
 
 TEST(Tet4, RigidRotationOfUnstressedTetrahedronGivesZeroStressAndForces) {
   const double E = 30e9;
-  const auto c = constants(E, 0.25);
+  const auto c = test::elastic_constants(E, 0.25);
   const double ref_stress = 1e-3 * E;  // the stress of a strain of 1e-3
   const fem::TetInput base = reference_tet();
   const double ref_force = ref_stress * std::cbrt(base.volume0 * base.volume0);
@@ -152,7 +145,7 @@ TEST(Tet4, RigidRotationOfUnstressedTetrahedronGivesZeroStressAndForces) {
 }
 
 TEST(Tet4, PrestressedTetrahedronRotatedBy90DegreesAboutASkewAxisCarriesRotatedStress) {
-  const auto c = constants(30e9, 0.25);
+  const auto c = test::elastic_constants(30e9, 0.25);
   fem::TetInput in = reference_tet();
   Vec6 S0;
   S0 << -2.0e6, -5.0e6, -3.5e6, 0.8e6, -1.1e6, 1.5e6;
@@ -174,7 +167,7 @@ TEST(Tet4, PrestressedTetrahedronRotatedBy90DegreesAboutASkewAxisCarriesRotatedS
 }
 
 TEST(Tet4, NodalForcesAreMinusTheGradientOfTheStrainEnergy) {
-  const auto c = constants(20e9, 0.3);
+  const auto c = test::elastic_constants(20e9, 0.3);
   fem::TetInput in = reference_tet();
   Vec6 S0;
   S0 << -1.0e6, 0.5e6, -2.0e6, 0.3e6, -0.4e6, 0.7e6;
@@ -213,7 +206,7 @@ TEST(Tet4, NodalForcesAreMinusTheGradientOfTheStrainEnergy) {
 // Patch test: a linear displacement field on a cube of 12 tetrahedra around an off-centre interior
 // node gives every element the same Green strain and stress, and the interior node no net force.
 TEST(Tet4, PatchTestConstantStrainIsExact) {
-  const auto c = constants(20e9, 0.25);
+  const auto c = test::elastic_constants(20e9, 0.25);
   const Mesh mesh = cube_with_interior_node(Vec3(0.43, 0.58, 0.37));
   ASSERT_EQ(mesh.tets.size(), 12u);
   double total = 0.0;
@@ -262,7 +255,7 @@ TEST(Tet4, PatchTestConstantStrainIsExact) {
 // Uniaxial and hydrostatic strain and simple shear in each plane against the closed form of S.
 TEST(Tet4, HomogeneousStrainsMatchTheClosedFormSecondPiolaKirchhoffStress) {
   const double Y = 10e9, nu = 0.3;
-  const auto c = constants(Y, nu);
+  const auto c = test::elastic_constants(Y, nu);
   const double lambda = Y * nu / ((1 + nu) * (1 - 2 * nu)), mu = Y / (2 * (1 + nu));
   EXPECT_DOUBLE_EQ(c.lambda, lambda);  // the 3D Lame constants, no plane reduction
   EXPECT_DOUBLE_EQ(c.mu, mu);
@@ -330,7 +323,7 @@ TEST(Tet4, HomogeneousStrainsMatchTheClosedFormSecondPiolaKirchhoffStress) {
 // For small motion about the reference state the damping force of velocity v is the elastic
 // force of the displacement beta v (C = beta K): linear in v, so the two agree to O(beta |grad v|).
 TEST(Tet4, DampingForceIsTheElasticForceOfBetaTimesVelocity) {
-  const auto c = constants(20e9, 0.25);
+  const auto c = test::elastic_constants(20e9, 0.25);
   const fem::TetInput base = reference_tet();
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -353,7 +346,7 @@ TEST(Tet4, DampingForceIsTheElasticForceOfBetaTimesVelocity) {
 }
 
 TEST(Tet4, DampingForceVanishesForRigidMotionAndWithoutBeta) {
-  const auto c = constants(20e9, 0.25);
+  const auto c = test::elastic_constants(20e9, 0.25);
   fem::TetInput in = reference_tet();
   const Mat3 R = rotation(Vec3(1, -1, 2), 1.1);
   for (auto& x : in.x) x = R * x + Vec3(1, 2, 3);
@@ -443,7 +436,7 @@ TEST(Tet4, HalfTheAltitudeStepIsWithinTheElementsStabilityLimit) {
       {Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0, 0.1, 0), Vec3(0.03, 0.03, 1.0)}}};     // needle
   for (double nu : {0.0, 0.25, 0.45, 0.49})
     for (const auto& X : shapes) {
-      const auto c = constants(Y, nu);
+      const auto c = test::elastic_constants(Y, nu);
       const auto g = fem::tet_reference_geometry(X[0], X[1], X[2], X[3]);
       ASSERT_GT(g.volume, 0.0);
       fem::TetInput in;
