@@ -1,4 +1,4 @@
-// SPH water alone (DESIGN.md §13): particle-steps per second per core for a tank of water
+// SPH water alone (docs/theory.md §11): particle-steps per second per core for a tank of water
 // at rest, 10^4 and 10^5 fluid particles (square tanks), one thread. The step is the full
 // sph::Fluid::step: both neighbour passes, the cell lists, the boundary and the re-sorts.
 #include <benchmark/benchmark.h>

@@ -103,7 +103,7 @@ def water(raw):
         rounds.setdefault(int(m.group(1)), []).append(b)
     rate = {}
     if rounds:
-        lines += ["## Water alone (SPH, DESIGN.md §13)", "",
+        lines += ["## Water alone (SPH, docs/theory.md §11)", "",
                   "A square tank of water at rest (n x n particles 0.01 m apart, walls on three sides; "
                   "bench/sph_tank.hpp), one thread; each round is five repetitions (their median), the rounds "
                   "alternate the two sizes. Particle-steps per second per core: fluid particles x steps per wall "

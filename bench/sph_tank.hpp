@@ -1,5 +1,5 @@
 #pragma once
-// The SPH benchmark's tank (DESIGN.md §13): n x n fluid particles at rest, dp = 0.01 m, in a
+// The SPH benchmark's tank (docs/theory.md §11): n x n fluid particles at rest, dp = 0.01 m, in a
 // tank walled on three sides 1.2 times as high as the water. Shared by BM_SphTank and
 // dsdem_profile_sph so that the profiler runs what the benchmark times.
 #include <utility>

@@ -148,7 +148,7 @@ for ex in brazilian_disc dr2; do
   done
 done
 
-# The water alone (SPH, DESIGN.md §13): the tank at rest of 10^4 and 10^5 particles, one
+# The water alone (SPH, docs/theory.md §11): the tank at rest of 10^4 and 10^5 particles, one
 # thread, in alternating rounds of five repetitions each (report.py: each size's median over the
 # rounds, particle-steps per second per core, and their ratio); the end state of 20 steps on one
 # and on two threads (dsdem_profile_sph's hash of every particle's bits); Dr2 shear sliding at

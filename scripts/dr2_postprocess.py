@@ -456,7 +456,7 @@ def main(argv=None) -> int:
         ax.fill(*channel_polygon().T, color="tab:blue", alpha=0.2, label="river channel (< 790 m)")
         ax.plot(*INTAKE, "k^", label="intake")
         line = final_water_line(summary)
-        if line is not None:  # the last stage's piezometric line (DESIGN.md §11)
+        if line is not None:  # the last stage's piezometric line (docs/theory.md §8)
             ax.plot(line[:, 0], line[:, 1], color=(0.1, 0.35, 0.75), lw=1.2, label="piezometric line")
         ax.set_xlim(*PLOT_X)
         ax.set_ylim(720, 1100)

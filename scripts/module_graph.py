@@ -2,7 +2,7 @@
 """The module dependency graph of src/, read from the #include lines.
 
   module_graph.py --check          fail (exit 1) on a cycle or on a dependency that
-                                   points up the layers below (DESIGN.md §9)
+                                   points up the layers below (docs/developer-guide.md §1)
   module_graph.py --dot FILE.dot   write the graph (Graphviz); with --svg FILE.svg also
                                    render it when Graphviz's `dot` is installed
 

@@ -256,7 +256,7 @@ class Plotter:
         """The primary wave at the gauges against their distance from the shoreline (summary.json
         heller_hager.gauges: the first crest after the slide's entry and crest to trough), beside
         Heller & Hager's 2D decay a(x) = (3/5) (P (x/h)^(-1/3))^(4/5) h and H(x) = (3/4) (...) h
-        (DESIGN.md §13). A summary without that block: each gauge's highest surface and its
+        (docs/theory.md §12). A summary without that block: each gauge's highest surface and its
         range after the entry, against the distance from the entry point."""
         hh = self.summary.get("heller_hager") or {}
         P, h, t0 = hh.get("impulse_product"), hh.get("depth_m"), hh.get("impact_time_s")

@@ -334,7 +334,7 @@ def gauge_position(track, t: float):
 
 
 def water_line(w) -> list[tuple[float, float]] | None:
-    """The piezometric line of one `water:` section (DESIGN.md §11), None when dry."""
+    """The piezometric line of one `water:` section (docs/theory.md §8), None when dry."""
     if not isinstance(w, dict) or w.get("dry"):
         return None
     if "line" in w:

@@ -219,7 +219,7 @@ def key_cards(summary: dict) -> str:
 
 
 def stability_section(out: Path, summary: dict) -> str:
-    """The output of `dsdem stability` (DESIGN.md §12): FS, displacement against F, the mechanism."""
+    """The output of `dsdem stability` (docs/theory.md §9): FS, displacement against F, the mechanism."""
     if "factor_of_safety" not in summary:
         return ""
     rows = [("factor of safety (static)", "", summary["factor_of_safety"])]
@@ -263,7 +263,7 @@ def stability_section(out: Path, summary: dict) -> str:
 
 
 def impulse_wave_section(summary: dict) -> str:
-    """The slide where it entered the reservoir and the Heller & Hager (2010) wave (DESIGN.md §13)."""
+    """The slide where it entered the reservoir and the Heller & Hager (2010) wave (docs/theory.md §12)."""
     h = summary.get("heller_hager")
     if not isinstance(h, dict):
         return ""
@@ -474,7 +474,7 @@ def first_taken_out(t: float) -> str:
 
 
 def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
-    """A run with moving water (DESIGN.md §13): the wave it computed beside Heller & Hager's estimate."""
+    """A run with moving water (docs/theory.md §11, §12): the wave it computed beside Heller & Hager's estimate."""
     mw = summary.get("moving_water")
     if not isinstance(mw, dict):
         return ""

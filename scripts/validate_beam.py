@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Post-processing of the four-point impact beam (examples/beam_impact, DESIGN.md §7).
+"""Post-processing of the four-point impact beam (examples/beam_impact, docs/validation.md §2).
 
     python3 scripts/validate_beam.py OUT [--scenario examples/beam_impact/scenario.yaml]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Post-processing of the Brazilian disc test (examples/brazilian_disc, DESIGN.md §7).
+"""Post-processing of the Brazilian disc test (examples/brazilian_disc, docs/validation.md §1).
 
     python3 scripts/validate_brazilian.py OUT [--scenario examples/brazilian_disc/scenario.yaml]
 

@@ -1,4 +1,4 @@
-// Four-point bending beam under impact (DESIGN.md §7, paper §1.3.2; the 1/3-scale
+// Four-point bending beam under impact (docs/validation.md §2, paper §1.3.2; the 1/3-scale
 // drop-tower rig of Murray et al. 2007, FHWA-HRT-05-063). Units: metres.
 // Beam 1.60 m x 0.152 m (x = -0.8 .. 0.8, y = 0 .. 0.152), two fixed steel supports
 // with round tops 1.422 m apart, a steel impactor with two round heads 0.203 m apart

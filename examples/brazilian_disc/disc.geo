@@ -1,4 +1,4 @@
-// Brazilian disc test (DESIGN.md §7, paper §1.3.1): a disc of radius 0.1 m between two
+// Brazilian disc test (docs/validation.md §1, paper §1.3.1): a disc of radius 0.1 m between two
 // steel loading plates.
 //
 // The loaded diameter is a line of the mesh. Cracks in dsdem can only run along element

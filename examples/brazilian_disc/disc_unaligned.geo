@@ -1,4 +1,4 @@
-// Brazilian disc test (DESIGN.md §7, paper §1.3.1), "blind" mesh variant: as disc.geo
+// Brazilian disc test (docs/validation.md §1, paper §1.3.1), "blind" mesh variant: as disc.geo
 // but without the loaded diameter as a mesh line, so the crack has to find its way
 // along inclined element edges (docs/validation.md: about 8 % more peak load).
 // Use it with: dsdem run scenario.yaml --set mesh.file=disc_unaligned.geo

@@ -1,5 +1,5 @@
 // Dr2 rock slope, Suofengying hydropower station (Wujiang river, Guizhou): the
-// reconstructed 2D profile of DESIGN.md §8. x toward the river (m), y = elevation (m).
+// reconstructed 2D profile of docs/dr2.md §1. x toward the river (m), y = elevation (m).
 //
 // The paper (Mao Jia et al. 2026) gives no coordinates; this profile is rebuilt from the
 // numbers it does give: model 1298 m wide, up to 689 m tall (base at 480 m); crest
@@ -11,11 +11,11 @@
 // colluvium) on the lower slope down to the river; the river bed at 745 m and the
 // opposite (left) bank.
 //
-// Small deviations from DESIGN.md §8 (all < 2 m), so that curves meet exactly:
+// Small deviations from docs/dr2.md §1 (all < 2 m), so that curves meet exactly:
 //   * J1 carries the 3 deg dip all along: z = 960 + (474 - x) tan 3deg, so L1 ends at
 //     (441, 961.73) and L3 at (452, 961.15) on J1 instead of at z = 960;
-//   * L3 starts on the ground line at (425, 1075.74) (DESIGN: 1075);
-//   * the lower tip of L2 is at (435, 1000), midway between L1 and L3 (DESIGN: 440,
+//   * L3 starts on the ground line at (425, 1075.74) (docs/dr2.md §1: 1075);
+//   * the lower tip of L2 is at (435, 1000), midway between L1 and L3 (docs/dr2.md §1: 440,
 //     only 2.9 m from L3, which forced 1.8 m slivers and a 2x smaller time step);
 //   * J4 (905 m) reaches the face under deposit III, so it ends on the deposit base at
 //     (547.03, 905).

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Hoek & Bray's plane failure: the closed-form factor of safety of every scenario here.
 
-Hoek & Bray (1981), Wyllie & Mah (2004, ch. 6); README.md and DESIGN.md §12. Per unit width,
+Hoek & Bray (1981), Wyllie & Mah (2004, ch. 6); README.md. Per unit width,
 a vertical tension crack of depth z in the upper surface behind the crest, water standing z_w
 deep in it and falling linearly along the plane to zero where the plane daylights:
 

@@ -1,4 +1,4 @@
-// Hoek & Bray plane failure without a tension crack (DESIGN.md §12): a block on a
+// Hoek & Bray plane failure without a tension crack (README.md): a block on a
 // sliding plane that daylights at the toe of a slope facing +x. Units: metres.
 // H = 20 m, face angle psi_f = 60 deg, plane angle psi_p = 35 deg, toe 10 m above the base;
 // the plane daylights in the face 5 m above the toe, so the block can slide out freely.

@@ -1,5 +1,5 @@
 // Hoek & Bray plane failure with a vertical tension crack of depth z = 8 m in the upper
-// surface, behind the crest, reaching the sliding plane (DESIGN.md §12). Units: metres.
+// surface, behind the crest, reaching the sliding plane (README.md). Units: metres.
 // H = 20 m, psi_f = 60 deg, psi_p = 35 deg, toe 10 m above the base; the plane daylights
 // in the face 5 m above the toe, so the block can slide out freely.
 lc = Mesh.CharacteristicLengthMax;     // = mesh.element_size of the scenario (gmsh -clmax)

@@ -69,7 +69,7 @@ void add_ensemble_command(CLI::App& app, EnsembleArgs& a) {
   a.cmd = app.add_subcommand("ensemble", "Many runs of a scenario with sampled values, on one machine or over MPI");
   // The long help under `dsdem ensemble --help`; the top-level list keeps one line per command.
   a.cmd->footer(
-      "Many runs of a scenario with sampled values (DESIGN.md §14, docs/ensemble-reference.md): the members run as "
+      "Many runs of a scenario with sampled values (docs/theory.md §13, docs/ensemble-reference.md): the members run as "
       "`dsdem run` processes, --jobs at a time (under `mpirun -n K` dealt to the K ranks, gathered on rank 0), in "
       "OUT/members/NNNN; a rerun skips members already complete and reruns those that were killed. Writes "
       "OUT/members.csv, OUT/ensemble.json (percentiles with bootstrap intervals, event probabilities with Wilson "

@@ -1,5 +1,5 @@
 #pragma once
-// `dsdem ensemble ENSEMBLE.yaml -o OUT` (DESIGN.md §14): many runs of one scenario with
+// `dsdem ensemble ENSEMBLE.yaml -o OUT` (docs/theory.md §13): many runs of one scenario with
 // sampled values, on one machine (a pool of processes) or many (mpirun), and their statistics.
 #include <CLI/CLI.hpp>
 

@@ -1,4 +1,4 @@
-// dsdem command line: a thin layer over libdsdem (DESIGN.md §10).
+// dsdem command line: a thin layer over libdsdem (docs/user-guide.md).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <omp.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Post-processing subcommands of the dsdem command line (DESIGN.md §10):
+// Post-processing subcommands of the dsdem command line (docs/user-guide.md):
 //
 //   dsdem plot OUT [--no-show-stages]      PNG history plots into OUT/plots/
 //   dsdem render OUT [--field F] [--frames all|last|N,M|A-B] [--movie] [--fps 10]

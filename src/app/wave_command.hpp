@@ -1,5 +1,5 @@
 #pragma once
-// `dsdem wave generate` and `dsdem wave spectrum` (DESIGN.md §5, §10). The work is done
+// `dsdem wave generate` and `dsdem wave spectrum` (docs/theory.md §5, docs/user-guide.md). The work is done
 // by seismic/wave_tools; this only declares the options.
 #include <CLI/CLI.hpp>
 

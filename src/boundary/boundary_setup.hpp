@@ -1,5 +1,5 @@
 #pragma once
-// Viscous-spring boundary nodes of a model (DESIGN.md §5): tributary length, outward
+// Viscous-spring boundary nodes of a model (docs/theory.md §5): tributary length, outward
 // normal, the medium behind them, the free-field column each one sees, and the static
 // reaction kept as a load when the boundary replaces the supports of a gravity stage.
 #include <array>
@@ -27,7 +27,7 @@ struct BoundaryNode {
 };
 
 // Height of the model's top outline above each x, in the reference configuration: the
-// highest point where the vertical line at x meets a triangle edge (DESIGN.md §5: the
+// highest point where the vertical line at x meets a triangle edge (docs/theory.md §5: the
 // free-field column runs from the base to the free surface above a boundary point).
 // Built once in O(triangles) over a uniform grid of x-columns; a query scans one column.
 class SurfaceProfile {

@@ -16,7 +16,7 @@ FreeFieldState free_field_column(IncidentWave wave, const IncidentMotion& motion
   if (!(y >= -tol && y <= H + tol))
     throw std::runtime_error(fmt::format("free field: height y = {} is outside the column [0, {}]", y, H));
   const double c = wave == IncidentWave::SV ? medium.cs() : medium.cp();
-  // Upgoing incident wave and its reflection from the free surface (DESIGN.md §5).
+  // Upgoing incident wave and its reflection from the free surface (docs/theory.md §5).
   const seismic::MotionSample up = motion.at(t - y / c);
   const seismic::MotionSample down = motion.at(t - (2.0 * H - y) / c);
   const double u = up.d + down.d;

@@ -1,6 +1,6 @@
 #pragma once
 // Free field of a 1D column for vertically incident SV and P waves and the equivalent
-// nodal forces that feed it through a viscous-spring boundary (DESIGN.md §5):
+// nodal forces that feed it through a viscous-spring boundary (docs/theory.md §5):
 //   u_ff(y,t) = u0(t - y/c) + u0(t - (2H - y)/c),   F = K u_ff + C v_ff + A sigma_ff.n
 // y is the height of the node above the column base, H the height of the column (base
 // to the free surface above that boundary point). Pure per-node kernels, no allocation.

@@ -1,5 +1,5 @@
 #pragma once
-// Viscous-spring artificial boundary (DESIGN.md §5, paper §1.2 eqs. 16-17; Deeks &
+// Viscous-spring artificial boundary (docs/theory.md §5, paper §1.2 eqs. 16-17; Deeks &
 // Randolph 1994; 2D constants of Liu Jingbo & Lu 1998). Pure per-node kernels: the
 // solver calls them for each boundary node, nothing is allocated.
 #include "model/model.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Broad phase (DESIGN.md §4): candidate pairs of triangles whose bounding boxes,
+// Broad phase (docs/theory.md §4): candidate pairs of triangles whose bounding boxes,
 // enlarged by half the skin on every side, overlap. Uniform cell grid built by a
 // counting sort, O(N) time and memory; pairs in ascending (i, j), i < j. The list
 // stays valid while every active triangle's current box lies inside its enlarged box of

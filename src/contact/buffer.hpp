@@ -1,7 +1,7 @@
 #pragma once
 // Capacity policy of the contact buffers: they are reused every step and only ever
 // grow, with headroom, so a slowly growing contact count or grid does not reallocate
-// at every step (no allocation per step once warmed up, DESIGN.md §9).
+// at every step (no allocation per step once warmed up, docs/developer-guide.md §3).
 #include <algorithm>
 #include <cstddef>
 #include <vector>

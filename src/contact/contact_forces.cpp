@@ -504,7 +504,7 @@ ContactStepStats ContactForces::finish() {
   // Spare room so that a slowly growing contact count does not reallocate every step. Each
   // thread's lists get room for the whole step's count, not only for its own: the split
   // between the threads follows their measured speed (TunedSplit) and may give any thread
-  // more than it ever had, which must not allocate in the time loop (DESIGN.md §9). On one
+  // more than it ever had, which must not allocate in the time loop (docs/developer-guide.md §3). On one
   // thread it is the same room as before.
   std::size_t records = 0, examined = 0, blocks = 0;
   for (int t = 0; t < used_threads_; ++t) {

@@ -1,5 +1,5 @@
 #pragma once
-// Contact phase of the time step (DESIGN.md §1 step 5, §4): broad phase, narrow
+// Contact phase of the time step (docs/theory.md §1 step 5, §4): broad phase, narrow
 // phase, contact law and shape-function mapping, adding the contact forces to the
 // node forces. Called once per step; keeps its buffers and the tangential history
 // between calls and allocates nothing once they have grown (warm-up).
@@ -187,8 +187,8 @@ class ContactForces {
                      const ContactInput& in, const ContactParamTable& params, double dt, PairRun& run);
   // The run's last block sums and its counts.
   void end_pair_run(const PairRun& run);
-  // The second half of the work of the last call's dashpot forces (DESIGN.md §1 steps 1
-  // and 8, §6): velocity Verlet applies a force of step n half into v(n) and half into
+  // The second half of the work of the last call's dashpot forces (docs/theory.md §1 steps 1
+  // and 8, §7): velocity Verlet applies a force of step n half into v(n) and half into
   // v(n+1/2), so its exact (trapezoidal) work is 0.5 dt f . (v_rel(n-1/2) + v_rel(n+1/2)),
   // each at the contact's own shape functions. The first half is booked with the force
   // (ContactRecord::damping_dissipation); this books the second with in.v = v(n+1/2),

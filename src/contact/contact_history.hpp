@@ -1,5 +1,5 @@
 #pragma once
-// Tangential-force history of the contacts (DESIGN.md §4: stored per element pair +
+// Tangential-force history of the contacts (docs/theory.md §4: stored per element pair +
 // feature, carried between steps). Two sets of sorted segments: `previous` (last step's
 // contacts, read-only this step) and `current` (being written this step); end_step()
 // swaps them. Several threads may write a step at once, one segment each: segment t

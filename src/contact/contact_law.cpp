@@ -87,7 +87,7 @@ ContactLawResult contact_law(double overlap, const Vec2& normal, const Vec2& v_r
     // (The trial-state formula (trial^2 - cap^2)/(2 ks) adds ks*slip^2/2 per step, which
     // is no work of any force and breaks the energy balance of run-out runs.) It is
     // negative on a step where the force swings across zero to a smaller cap: kept, so
-    // the ledger books the work velocity Verlet applies (DESIGN.md §6).
+    // the ledger books the work velocity Verlet applies (docs/theory.md §7).
     if (p.ks > 0.0) {
       const double work = 0.5 * (prev + r.ft).dot(trial - prev) / p.ks;
       const double d_elastic = 0.5 * (r.ft.squaredNorm() - prev.squaredNorm()) / p.ks;

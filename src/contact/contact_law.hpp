@@ -1,5 +1,5 @@
 #pragma once
-// Contact law of one spheropolygon contact (DESIGN.md §4; paper eqs. 2-4): linear
+// Contact law of one spheropolygon contact (docs/theory.md §4; paper eqs. 2-4): linear
 // normal spring with an optional dashpot, incremental tangential spring with the
 // Coulomb cap, no tension. A pure function of the contact's geometry, the relative
 // velocity at the contact point, dt, the stored tangential force and parameters.
@@ -52,7 +52,7 @@ struct ContactLawResult {
   // The dashpot's part of fn (fn - kn delta, N/m along +normal; <= 0 while separating) and
   // its power over dt at the given v_rel, -(fn - kn delta) vn dt >= 0, J/m. Velocity Verlet
   // applies the force half before and half after v_rel's half step: ContactForces books
-  // half of this now and half with the next half-step velocity (DESIGN.md §1, §6).
+  // half of this now and half with the next half-step velocity (docs/theory.md §7).
   double dashpot_force = 0.0;
   double damping_dissipation = 0.0;
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Dashpot mass of a contact (DESIGN.md §4, contact damping): the pair's reduced mass
+// Dashpot mass of a contact (docs/theory.md §4, contact damping): the pair's reduced mass
 // m_i m_j / (m_i + m_j) of the two triangles (a contact softer than the elements moves
 // each element as a whole, so the set restitution holds for element impacts), capped so
 // the dashpot on the contact point's own mass stays explicit-stable (c dt <= m_point):

@@ -1,5 +1,5 @@
 #pragma once
-// Narrow phase between two spheropolygons (DESIGN.md §4; paper eq. 1, Fig. 4): the
+// Narrow phase between two spheropolygons (docs/theory.md §4; paper eq. 1, Fig. 4): the
 // vertex-edge, edge-vertex and vertex-vertex contacts of the two cores.
 //
 // Every core vertex of one body is measured against every core edge of the other

@@ -1,5 +1,5 @@
 #pragma once
-// Contact force to nodes (DESIGN.md §4; paper eq. 5): a force acting at a point of a
+// Contact force to nodes (docs/theory.md §4; paper eq. 5): a force acting at a point of a
 // triangle goes to its 3 nodes by the linear shape functions (barycentric
 // coordinates) at that point, f_k = N_k(x_c) F. Since sum N_k = 1 and
 // sum N_k x_k = x_c, the nodal forces have the same resultant and the same moment as

@@ -1,5 +1,5 @@
 #pragma once
-// Spheropolygon geometry of one triangle (DESIGN.md §4; paper §1.1, Fig. 1): the core
+// Spheropolygon geometry of one triangle (docs/theory.md §4; paper §1.1, Fig. 1): the core
 // triangle eroded by the rounding radius r, swept by a disc of radius r, so that the
 // rounded outline lies inside the triangle and touches each of its edges.
 #include <algorithm>
@@ -73,7 +73,7 @@ struct Spheropolygon {
 // Erodes the current triangle by r: every edge moved inward by r, which for a
 // triangle is the triangle scaled about its incentre by (rho - r)/rho. The core's
 // inradius is then rho - r and the rounded outline touches all three edges, so two
-// triangles sharing an edge touch with zero overlap (DESIGN.md §4). If the triangle
+// triangles sharing an edge touch with zero overlap (docs/theory.md §4). If the triangle
 // has been squashed to rho <= r the core collapses to the incentre (a disc).
 inline Spheropolygon make_spheropolygon(const Vec2& p0, const Vec2& p1, const Vec2& p2, double r) {
   const Incircle ic = incircle(p0, p1, p2);

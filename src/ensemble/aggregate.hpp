@@ -1,5 +1,5 @@
 #pragma once
-// The ensemble's aggregates (DESIGN.md §14), from the member folders on disk:
+// The ensemble's aggregates (docs/theory.md §13), from the member folders on disk:
 //   OUT/members.csv     one row per member: status, sampled values, every scalar of its summary.json
 //   OUT/ensemble.json   mean, sd, P5/P50/P95 with bootstrap intervals; event probabilities with
 //                       Wilson intervals; exceedance curves; Spearman sensitivities; convergence

@@ -1,5 +1,5 @@
 #pragma once
-// The ensemble file (DESIGN.md §14): a base scenario, the number of members, the sampling,
+// The ensemble file (docs/theory.md §13): a base scenario, the number of members, the sampling,
 // the varied values (any key that `dsdem run --set` reaches, each with a distribution),
 // their rank correlations, fixed overrides and events. Read and validated as a whole before
 // any member starts: every error names file, line and key (io::SchemaReader), and every

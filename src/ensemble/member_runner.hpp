@@ -1,5 +1,5 @@
 #pragma once
-// Runs an ensemble's members as child processes of the same dsdem binary (DESIGN.md §14):
+// Runs an ensemble's members as child processes of the same dsdem binary (docs/theory.md §13):
 // `dsdem run BASE -o OUT/members/NNNN --set ...`, a pool of `jobs` at a time. A member is
 // complete when OUT/members/NNNN/member.json exists (written atomically once its run and
 // post-processing ended): a rerun skips complete members and reruns those whose run was

@@ -1,5 +1,5 @@
 #pragma once
-// MPI for ensembles only (DESIGN.md §14): members dealt to ranks, their files gathered on
+// MPI for ensembles only (docs/theory.md §13): members dealt to ranks, their files gathered on
 // rank 0. MPI is initialised only when the process was started by mpirun (Open MPI sets
 // OMPI_COMM_WORLD_SIZE), so a plain `dsdem` never touches it; built without Open MPI, every
 // call is the one-rank case.

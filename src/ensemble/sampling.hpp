@@ -1,5 +1,5 @@
 #pragma once
-// Sampling of an ensemble's varied values (DESIGN.md §14): distributions by their inverse
+// Sampling of an ensemble's varied values (docs/theory.md §13): distributions by their inverse
 // CDF, Monte Carlo or Latin hypercube on (0, 1), rank correlation by Iman-Conover.
 // Pure functions, no I/O. Reproducible bit for bit from the seed on every platform: the
 // generator is std::mt19937_64 (fully specified by the standard) and every transform is

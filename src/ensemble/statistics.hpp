@@ -1,5 +1,5 @@
 #pragma once
-// Statistics of an ensemble's outputs (DESIGN.md §14): sample quantiles, bootstrap confidence
+// Statistics of an ensemble's outputs (docs/theory.md §13): sample quantiles, bootstrap confidence
 // intervals, Wilson intervals for event probabilities, Spearman rank correlation. Pure
 // functions, seeded and deterministic.
 #include <cstdint>

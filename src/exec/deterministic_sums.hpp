@@ -1,7 +1,7 @@
 #pragma once
 // Execution layer: reductions that give bit-identical results for any thread count. The
 // sum is split into fixed-size chunks (independent of the number of threads), each chunk
-// summed in order, and the chunk sums added serially (DESIGN.md §9).
+// summed in order, and the chunk sums added serially (docs/developer-guide.md §3).
 #include <algorithm>
 #include <array>
 #include <cmath>

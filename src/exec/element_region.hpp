@@ -1,5 +1,5 @@
 #pragma once
-// Execution layer: the traversal of the element and joint phases (DESIGN.md §1 phases 3-4)
+// Execution layer: the traversal of the element and joint phases (docs/theory.md §1 phases 3-4)
 // in one thread region per step. Physics hands it per-item kernels; this file alone holds
 // the region's plumbing: the deferred node pass, the tuned splits, work stealing, busy
 // timers, barriers and rebalancing. Which thread computes an item changes no result.

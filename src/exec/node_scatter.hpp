@@ -1,6 +1,6 @@
 #pragma once
 // Execution layer: the deterministic scatter of element and joint forces into the node
-// force sums (DESIGN.md §9). Every node's sum is formed as f + fd + fj in a fixed order
+// force sums (docs/developer-guide.md §3). Every node's sum is formed as f + fd + fj in a fixed order
 // (its element force, its element damping force, then its joints' forces in joint order),
 // so the bits do not depend on which thread computed what.
 // An "own" triangle, whose three nodes belong to no other triangle (every triangle of a

@@ -1,5 +1,5 @@
 #pragma once
-// Execution layer: the traversals of the contact phase (DESIGN.md §1 step 5, §9), each in
+// Execution layer: the traversals of the contact phase (docs/theory.md §1 step 5; docs/developer-guide.md §3), each in
 // one thread region per call. Physics hands them per-thread kernels; this file alone holds
 // their plumbing: the tuned splits, busy timers, barriers, worksharing, the stamps that
 // order one partition's runs, and rebalancing. Which thread computes an item changes no

@@ -2,7 +2,7 @@
 // Execution layer: the thread team of one solver. It decides whether a step's loops run
 // on OpenMP threads or on one thread (by size, by hand, or by timing both now and then),
 // which node chunks each thread takes in the node loops, and it carries a node pass that
-// a phase asked for to the next region that walks the nodes (phase fusion, DESIGN.md §9:
+// a phase asked for to the next region that walks the nodes (phase fusion, docs/developer-guide.md §2:
 // one fork and join fewer per fused pass, declared here and nowhere else).
 // Physics code never calls OpenMP; it hands this layer per-item kernels.
 #include <algorithm>

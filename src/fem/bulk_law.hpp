@@ -94,7 +94,7 @@ BulkLaw make_bulk_law(const law::LawDecl& decl, std::span<const double> params, 
 // law's update from `start`, the state at the step's start, to `end` (a separate record:
 // evaluating twice from the same start gives the same bits). The initial stress's
 // out-of-plane part is an elastic stage's (plane_strain_sigma_zz). Stiffness-proportional
-// Rayleigh damping stays the viscous stress beta D Edot on the elastic D (DESIGN.md §6).
+// Rayleigh damping stays the viscous stress beta D Edot on the elastic D (docs/theory.md §6).
 template <class K>
 [[gnu::always_inline]] inline BulkResponse triangle_internal_force_law(const TriangleInput& in,
                                                                        const typename K::Model& m,

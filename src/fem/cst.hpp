@@ -1,5 +1,5 @@
 #pragma once
-// Constant-strain triangle, total Lagrangian (DESIGN.md §2): objective for any rigid
+// Constant-strain triangle, total Lagrangian (docs/theory.md §2): objective for any rigid
 // rotation, unlike the paper's incremental tau + D*B*du update.
 #include "model/types.hpp"
 
@@ -45,7 +45,7 @@ inline Vec3 svk_stress(const Vec3& E, const ElasticConstants& c) {
   return Vec3(c.lambda * tr + 2.0 * c.mu * E[0], c.lambda * tr + 2.0 * c.mu * E[1], c.mu * E[2]);
 }
 
-// Green strain rate (xx, yy, 2xy) = sym(F^T Fdot) (DESIGN.md §6), in scalars: M = F^T Fdot
+// Green strain rate (xx, yy, 2xy) = sym(F^T Fdot) (docs/theory.md §6), in scalars: M = F^T Fdot
 // and (Fdot^T F)(r, c) = M(c, r) bit for bit (two products, one addition each). Eigen's
 // 0.5 * (F^T Fdot + Fdot^T F) stores the products as scalars and loads them as pairs, a
 // store-forwarding stall.
@@ -90,7 +90,7 @@ struct TriangleResponse {
 };
 
 // Internal forces of one CST: P = F S with S = S0 + D E + beta D Edot (stiffness-
-// proportional Rayleigh damping as a viscous stress, DESIGN.md §6); the damping part is
+// proportional Rayleigh damping as a viscous stress, docs/theory.md §6); the damping part is
 // returned separately so the energy balance can book it as dissipation.
 struct TriangleInput {
   std::array<Vec2, 3> x;  // current positions
@@ -116,7 +116,7 @@ struct TriangleInput {
   out.strain_energy = scale * (in.S0.dot(E) + 0.5 * (DE[0] * E[0] + DE[1] * E[1] + DE[2] * E[2]));
 
   if (in.beta > 0.0) {
-    // Edot = sym(F^T Fdot); damping stress beta * D Edot (DESIGN.md §6).
+    // Edot = sym(F^T Fdot); damping stress beta * D Edot (docs/theory.md §6).
     const Mat2 Fdot = deformation_gradient(in.v[0], in.v[1], in.v[2], in.Dm_inv);
     const Vec3 Sd = in.beta * svk_stress(strain_rate(F, Fdot), c);
     detail::nodal_forces(F * detail::to_tensor(Sd), in.Dm_inv, scale, damping_force);

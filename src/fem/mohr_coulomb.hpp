@@ -1,5 +1,5 @@
 #pragma once
-// Mohr-Coulomb plasticity of the bulk with a tension cut-off (DESIGN.md §12): a pure
+// Mohr-Coulomb plasticity of the bulk with a tension cut-off (docs/theory.md §10): a pure
 // material-point kernel for the total Lagrangian CST (cst.hpp) on the plastic point of
 // plastic_point.hpp: E = Ee + Ep, and the yield criterion acts on the second
 // Piola-Kirchhoff stress S = S0 + D (E - Ep). Plane strain only: the total E_zz is 0, the

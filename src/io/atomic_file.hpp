@@ -1,5 +1,5 @@
 #pragma once
-// Atomic file output shared by every writer in io/ (DESIGN.md §10: a killed or failed
+// Atomic file output shared by every writer in io/ (docs/user-guide.md: a killed or failed
 // run must never leave a half-written VTU, PVD or JSON file behind).
 //
 // Contract: the target either keeps its previous contents (or stays absent) or holds

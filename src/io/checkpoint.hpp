@@ -1,6 +1,6 @@
 #pragma once
 // Checkpoints (HDF5): named arrays of doubles and integers, written to a temporary file
-// and renamed, so a checkpoint on disk is always complete (DESIGN.md §10).
+// and renamed, so a checkpoint on disk is always complete (docs/user-guide.md).
 #include <cstdint>
 #include <filesystem>
 #include <memory>

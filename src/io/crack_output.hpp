@@ -1,6 +1,6 @@
 #pragma once
 // Cracks for ParaView: every joint as a line cell between the mid-points of its two end
-// pairs, with its state, damage, opening, slip, break mode and time (DESIGN.md §10).
+// pairs, with its state, damage, opening, slip, break mode and time (docs/user-guide.md).
 #include <filesystem>
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// CSV time histories (DESIGN.md §10): gauge displacements and velocities, energy balance,
+// CSV time histories (docs/user-guide.md): gauge displacements and velocities, energy balance,
 // plate loads. One file per history, a fixed list of columns declared up front.
 //
 // Format: one header line of column names carrying their units by the `<quantity>_<unit>`

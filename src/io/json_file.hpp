@@ -1,5 +1,5 @@
 #pragma once
-// JSON files: OUT/summary.json, OUT/diagnosis.json (DESIGN.md §10), read back by the
+// JSON files: OUT/summary.json, OUT/diagnosis.json (docs/user-guide.md), read back by the
 // post-processing and by anything that compares runs. nlohmann-json does the encoding.
 //
 //   nlohmann::ordered_json s;                    // keys keep insertion order

@@ -1,5 +1,5 @@
 #pragma once
-// ParaView collection index (.pvd) of one time series of files (DESIGN.md §10): open
+// ParaView collection index (.pvd) of one time series of files (docs/user-guide.md): open
 // OUT/<name>.pvd in ParaView and scrub through time.
 //
 // The index is rewritten atomically after every frame, so it is valid at any moment:

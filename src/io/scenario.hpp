@@ -1,5 +1,5 @@
 #pragma once
-// The scenario (YAML) in memory, validated as a whole before step 0 (DESIGN.md §9).
+// The scenario (YAML) in memory, validated as a whole before step 0 (docs/developer-guide.md §5).
 #include <array>
 #include <limits>
 #include <map>
@@ -49,7 +49,7 @@ struct BoundarySpec {
   BoundaryType type = BoundaryType::Fixed;
   int direction = 0;  // roller: 0 = x held, 1 = y held
   std::optional<TimeHistory> x, y;
-  // viscous_spring (DESIGN.md §5)
+  // viscous_spring (docs/theory.md §5)
   std::optional<double> R;
   std::optional<Vec2> scattering_centre;
   bool free_field = true;
@@ -107,7 +107,7 @@ struct GivenParams {
   }
 };
 
-// Joint properties as given; absent values fall back to joints.default (DESIGN.md §3).
+// Joint properties as given; absent values fall back to joints.default (docs/theory.md §3).
 struct JointSpec {
   std::optional<std::string> law;  // joint law by name (law/registry); joints.default's when absent
   GivenParams params;              // the joint law's parameters (law::joint_laws())
@@ -145,14 +145,14 @@ struct ContactSpec {
   std::vector<ContactPairSpec> pairs;
 };
 
-// Water in a named crack up to a level (DESIGN.md §11).
+// Water in a named crack up to a level (docs/theory.md §8).
 struct CrackWaterSpec {
   std::string curve;  // a curve group whose joints form the crack
   double level = 0.0;  // m
   SourceLocation where;
 };
 
-// Water at rest during a stage (DESIGN.md §11).
+// Water at rest during a stage (docs/theory.md §8).
 struct WaterSpec {
   bool present = false;
   std::vector<Vec2> line;   // piezometric line (x, z), m, x increasing; one point: a level
@@ -191,10 +191,10 @@ struct OutputSpec {
   std::vector<GaugeSpec> gauges;
 };
 
-// The reservoir at its still level, where a slide may enter it (DESIGN.md §13): the run
+// The reservoir at its still level, where a slide may enter it (docs/theory.md §12): the run
 // measures the slide where it meets the water and gives the Heller & Hager estimate of the
 // impulse wave it raises.
-// A named place on the water where the run measures it (DESIGN.md §13).
+// A named place on the water where the run measures it (docs/theory.md §12).
 struct WaterGaugeSpec {
   std::string name;
   double x = 0.0;  // m: the free-surface gauge's abscissa
@@ -219,7 +219,7 @@ struct WaterFillSpec {
 };
 
 // The reservoir as moving water: weakly compressible SPH coupled both ways with the solid
-// (DESIGN.md §13).
+// (docs/theory.md §11).
 struct SphSpec {
   bool present = false;
   double spacing = 0.0;              // m, dp
@@ -247,7 +247,7 @@ struct ReservoirSpec {
   SourceLocation where;
 };
 
-// Factor of safety by strength reduction (`dsdem stability`, DESIGN.md §12).
+// Factor of safety by strength reduction (`dsdem stability`, docs/theory.md §9).
 struct StabilitySpec {
   bool present = false;
   // Pseudo-static coefficients: a body force |g| (kh, kv) m per node on top of gravity,
@@ -286,7 +286,7 @@ struct Scenario {
   std::optional<double> dt;
   double safety = 0.3;
   // Take the step again as joints break (safety x the stable step of the model as it is,
-  // DESIGN.md §6); false keeps the first step for the whole run. Not with a fixed dt.
+  // docs/theory.md §6); false keeps the first step for the whole run. Not with a fixed dt.
   bool adaptive_dt = true;
   std::vector<StageSpec> stages;  // at least one after parsing
   OutputSpec output;

@@ -1,4 +1,4 @@
-// The reservoir section of the scenario (DESIGN.md §13).
+// The reservoir section of the scenario (docs/theory.md §11, §12).
 #include <cmath>
 #include <fmt/format.h>
 

@@ -534,7 +534,7 @@ void read_output(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   }
 }
 
-// Strength reduction (DESIGN.md §12): bounds, criteria, pseudo-static coefficients, monitored points.
+// Strength reduction (docs/theory.md §9): bounds, criteria, pseudo-static coefficients, monitored points.
 void read_stability(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   const KeyPath top{"", ""};
   YAML::Node s = r.section(root, top, "stability", YAML::NodeType::Map);

@@ -1,7 +1,7 @@
 #pragma once
 // The scenario schema: one table of every key (type, unit, default, range, meaning)
 // used both to validate input and to generate docs/scenario-reference.md, so the
-// reference never drifts from the code (DESIGN.md §9).
+// reference never drifts from the code (docs/developer-guide.md §5).
 #include <yaml-cpp/yaml.h>
 
 #include "model/types.hpp"

@@ -127,7 +127,7 @@ void add_boundaries_time_stages(std::vector<KeySpec>& s) {
   s.push_back(choice("boundaries[].type", {"fixed", "roller", "velocity", "displacement", "free", "viscous_spring"}, "required",
                      "fixed: both directions held; roller: `direction` held; velocity / displacement: the given "
                      "components prescribed (constant or history); free: nothing (overrides an earlier stage); "
-                     "viscous_spring: absorbing boundary with the free-field earthquake input (DESIGN.md §5)."));
+                     "viscous_spring: absorbing boundary with the free-field earthquake input (docs/theory.md §5)."));
   s.push_back(num("boundaries[].R", "m", "", 0, kInf, "viscous_spring: distance from the scattering source to the boundary.", true));
   s.push_back(of("boundaries[].scattering_centre", KeyType::Vector2, "",
                  "viscous_spring: point of the scattering source; R is then each node's distance to it.", "m"));
@@ -141,7 +141,7 @@ void add_boundaries_time_stages(std::vector<KeySpec>& s) {
   s.push_back(of("boundaries[].y", KeyType::NumberOrTable, "", "Prescribed y component, as for x.", "m/s or m"));
 
   s.push_back(of("gravity", KeyType::Vector2, "[0, -9.81]", "Gravitational acceleration.", "m/s^2"));
-  s.push_back(of("damping", KeyType::Map, "", "Rayleigh damping C = alpha M + beta K (DESIGN.md §6)."));
+  s.push_back(of("damping", KeyType::Map, "", "Rayleigh damping C = alpha M + beta K (docs/theory.md §6)."));
   s.push_back(num("damping.alpha", "1/s", "0", 0, kInf, "Mass-proportional coefficient."));
   s.push_back(num("damping.beta", "s", "0", 0, kInf, "Stiffness-proportional coefficient."));
 
@@ -152,7 +152,7 @@ void add_boundaries_time_stages(std::vector<KeySpec>& s) {
   s.push_back(num("time.safety", "", "0.3", 0, 1, "Fraction of the stable time step used.", true));
   s.push_back(of("time.adaptive", KeyType::Boolean, "true without time.dt",
                  "Take the step again as joints break: safety x the stable step of the intact joints, triangles and "
-                 "contacts (DESIGN.md §6), so it grows as the stiffest joints go; false keeps the first step. Not "
+                 "contacts (docs/theory.md §6), so it grows as the stiffest joints go; false keeps the first step. Not "
                  "with time.dt."));
 
   s.push_back(of("stages", KeyType::List, "", "Stages run one after another; each may override damping and boundaries."));
@@ -174,7 +174,7 @@ void add_boundaries_time_stages(std::vector<KeySpec>& s) {
                   "End the stage early once kinetic energy falls below this fraction of its peak in the stage.", true));
 }
 
-// Cohesive joints (DESIGN.md §3; paper eqs. 6-9).
+// Cohesive joints (docs/theory.md §3; paper eqs. 6-9).
 void add_joints(std::vector<KeySpec>& s) {
   s.push_back(of("joints", KeyType::Map, "", "Cohesive joint properties for discrete (breakable) zones."));
   const std::vector<std::pair<std::string, std::string>> joint_sets{
@@ -196,7 +196,7 @@ void add_joints(std::vector<KeySpec>& s) {
   }
 }
 
-// Spheropolygon contact (DESIGN.md §4; paper eqs. 1-5).
+// Spheropolygon contact (docs/theory.md §4; paper eqs. 1-5).
 void add_contact(std::vector<KeySpec>& s) {
   s.push_back(of("contact", KeyType::Map, "", "Contact between spheropolygons of the discrete and contact zones."));
   s.push_back(choice("contact.law", law::contact_laws().names(), std::string(law::kDefaultContactLaw),
@@ -219,7 +219,7 @@ void add_contact(std::vector<KeySpec>& s) {
     }
 }
 
-// Earthquake input (DESIGN.md §5; paper §2.2) and the stage switches after it.
+// Earthquake input (docs/theory.md §5; paper §2.2) and the stage switches after it.
 void add_earthquake(std::vector<KeySpec>& s) {
   s.push_back(of("earthquake", KeyType::Map, "", "Design ground motion fed through viscous-spring boundaries."));
   s.push_back(num("earthquake.incident_factor", "", "0.5", 0, kInf,
@@ -251,10 +251,10 @@ void add_earthquake(std::vector<KeySpec>& s) {
                  "Joints may damage and break in this stage (false for a gravity stage: elastic joints)."));
 }
 
-// Water at rest (DESIGN.md §11), for every stage and per stage.
+// Water at rest (docs/theory.md §8), for every stage and per stage.
 void add_water(std::vector<KeySpec>& s) {
   s.push_back(of("water", KeyType::Map, "",
-                 "Water at rest in every stage unless a stage sets its own (DESIGN.md §11): hydrostatic pressure "
+                 "Water at rest in every stage unless a stage sets its own (docs/theory.md §8): hydrostatic pressure "
                  "rho_w g (z_w(x) - z) below the piezometric line z_w(x), acting on elements (total stress), joint "
                  "faces and exposed edges."));
   for (const std::string base : {"water", "stages[].water"}) {
@@ -288,7 +288,7 @@ void add_water(std::vector<KeySpec>& s) {
   }
 }
 
-// The reservoir as moving water (DESIGN.md §13).
+// The reservoir as moving water (docs/theory.md §11).
 void add_reservoir_sph(std::vector<KeySpec>& s) {
   const std::string b = "reservoir.sph";
   s.push_back(of(b, KeyType::Map, "",
@@ -302,7 +302,7 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(num(b + ".expected_speed", "m/s", "0", 0, kInf,
                   "The fastest flow expected (a slide's entry speed), for the sound speed; the run warns when the "
                   "water goes faster than c0 / 10."));
-  s.push_back(num(b + ".viscosity", "", "0.02", 0, 1, "Artificial viscosity alpha (DESIGN.md §13: 0.01-0.1)."));
+  s.push_back(num(b + ".viscosity", "", "0.02", 0, 1, "Artificial viscosity alpha (docs/theory.md §11: 0.01-0.1)."));
   s.push_back(num(b + ".excluded_limit", "", "0.01", 0, 0.5,
                   "Water particles that leave the weakly compressible range (faster than the sound speed, or "
                   "density off by half: one flung out of a squeeze) are taken out of the water, up to this fraction "
@@ -354,7 +354,7 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(choice(b + ".crests[].side", {"right", "left"}, "right", "The far side: x greater (right) or smaller."));
 }
 
-// The reservoir a slide may enter (DESIGN.md §13).
+// The reservoir a slide may enter (docs/theory.md §12).
 void add_reservoir(std::vector<KeySpec>& s) {
   s.push_back(of("reservoir", KeyType::Map, "",
                  "The reservoir at its still level: the run measures the slide where it enters the water (speed, "
@@ -386,10 +386,10 @@ void add_output(std::vector<KeySpec>& s) {
                  "Reference position; the gauge follows the material point there.", "m"));
 }
 
-// Factor of safety by strength reduction: `dsdem stability` (DESIGN.md §12).
+// Factor of safety by strength reduction: `dsdem stability` (docs/theory.md §9).
 void add_stability(std::vector<KeySpec>& s) {
   s.push_back(of("stability", KeyType::Map, "",
-                 "Factor of safety by strength reduction (`dsdem stability`, DESIGN.md §12): c/F, tan(phi)/F and "
+                 "Factor of safety by strength reduction (`dsdem stability`, docs/theory.md §9): c/F, tan(phi)/F and "
                  "ft/F for every joint, Mohr-Coulomb material and contact friction, bisection on F. Ignored by "
                  "`dsdem run`."));
   s.push_back(num("stability.kh", "", "", -kInf, kInf,

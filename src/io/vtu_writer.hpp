@@ -1,5 +1,5 @@
 #pragma once
-// VTK XML unstructured-grid (.vtu) output for ParaView (DESIGN.md §10): the triangles of
+// VTK XML unstructured-grid (.vtu) output for ParaView (docs/user-guide.md): the triangles of
 // the model at the current configuration, crack segments, and point clouds such as
 // contact forces. Every file is written atomically (io/atomic_file.hpp).
 //

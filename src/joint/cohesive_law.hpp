@@ -1,6 +1,6 @@
 #pragma once
 // Constitutive law of a cohesive joint at one integration point (paper eqs. 6-9,
-// DESIGN.md §3). Pure function: separations + history in, tractions + history out.
+// docs/theory.md §3). Pure function: separations + history in, tractions + history out.
 //
 // Envelope (tension positive, wt = ft/kn, wn = 2*GI/ft, ws = fs/ks):
 //   normal  sn = kn*dn up to ft, then ft*(1 - D) with D the damage below;
@@ -22,7 +22,7 @@
 //    unloading), as the paper computes sn before eq. 8; this keeps the law explicit.
 //  * Shear softens from fs to the residual friction fr (not to zero, then jumping to
 //    fr), and wsII = 2*GII/(fs - fr): the softening area above the friction line is
-//    GII. Without compression fr = 0 and this is DESIGN.md's wsII = 2*GII/fs.
+//    GII. Without compression fr = 0 and this is docs/theory.md §3's wsII = 2*GII/fs.
 //  * Once the slip has passed ws the shear secant ks_sec = (fr + (fs - fr)*(1 - D)) /
 //    s_max depends on sn. The shear traction therefore follows the secant slope
 //    incrementally and is kept between 0 and ks_sec*ds: it does not jump up when
@@ -69,7 +69,7 @@ struct JointLawConstants {
 };
 JointLawConstants law_constants(const JointProperties& p);
 // The constants of one joint whose stiffness is s times its property's (local penalty
-// size, DESIGN.md §3): kn (and ks when scale_ks) times s.
+// size, docs/theory.md §3): kn (and ks when scale_ks) times s.
 inline JointLawConstants scaled(const JointLawConstants& k, double s) {
   JointLawConstants r = k;
   r.kn = k.kn * s;

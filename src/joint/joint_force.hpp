@@ -1,5 +1,5 @@
 #pragma once
-// Forces of one 4-node zero-thickness joint (DESIGN.md §3, paper eq. 10): separations
+// Forces of one 4-node zero-thickness joint (docs/theory.md §3, paper eq. 10): separations
 // in the joint's current frame, the cohesive law at the two end points (Lobatto /
 // nodal integration, weight L0/2 each), equal and opposite nodal forces on the faces.
 #include <algorithm>
@@ -150,7 +150,7 @@ double joint_stable_dt(double m_a, double m_b, double k);
   // longer joins the two edges it was made for: their ends now face other edges, and the
   // equal and opposite end forces, that far apart, exert a couple that no potential gives
   // (the law's frame is the mid-line's, exact for separations small next to L0 only).
-  // It breaks, whatever strength a ductile law has left; contact takes over (DESIGN.md §3).
+  // It breaks, whatever strength a ductile law has left; contact takes over (docs/theory.md §3).
   if (!r.failed_now && (state[0].damage > 0.0 || state[1].damage > 0.0)) [[unlikely]] {
     const double l2 = length0 * length0;
     if (delta[0].squaredNorm() > l2 || delta[1].squaredNorm() > l2) {

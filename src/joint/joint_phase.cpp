@@ -17,7 +17,7 @@ namespace {
   // Separations from displacements: the two faces coincide in the reference.
   const JointSeparations delta{(nodes.X[nd[2]] - nodes.X[nd[0]]) + (nodes.u[nd[2]] - nodes.u[nd[0]]),
                                (nodes.X[nd[3]] - nodes.X[nd[1]]) + (nodes.u[nd[3]] - nodes.u[nd[1]])};
-  // A penalty joint's stiffness follows its local element size (DESIGN.md §3); a scale
+  // A penalty joint's stiffness follows its local element size (docs/theory.md §3); a scale
   // of 1 leaves the constants' bits as they are (x * 1.0 == x).
   const JointLawConstants k = scaled(law[joints.property[j]], joints.stiffness_scale[j]);
   const JointUpdate r = joint_update(x, delta, joints.length0[j], k, joints.state[j], joints.end_mode[j], damage_enabled);
@@ -45,7 +45,7 @@ JointPhaseTotals add_joint_forces(const Nodes& nodes, std::vector<Vec2>& force, 
   std::vector<JointLawConstants> law(properties.size());
   for (std::size_t k = 0; k < properties.size(); ++k) law[k] = law_constants(properties[k]);
   for (std::size_t j = 0; j < joints.size(); ++j) {
-    if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3)
+    if (joints.broken[j]) continue;  // contact takes over (docs/theory.md §3)
     std::array<Vec2, 2> f;
     double energy = 0.0, dissipation = 0.0;
     const bool broke = joint_step(nodes, joints, law, j, damage_enabled, thickness, f, energy, dissipation);
@@ -100,7 +100,7 @@ void evaluate_joints(const Nodes& nodes, Joints& joints, bool damage_enabled, do
     // Broken joints add nothing (their per-joint terms were +0, which left the sums' bits alone).
     double energy = 0.0, dissipation = 0.0;
     for (std::size_t j = begin; j < end; ++j) {
-      if (joints.broken[j]) continue;  // contact takes over (DESIGN.md §3); its force slot stays zero
+      if (joints.broken[j]) continue;  // contact takes over (docs/theory.md §3); its force slot stays zero
       double e, d;
       if (joint_step(nodes, joints, buf.law, j, damage_enabled, thickness, buf.force[j], e, d)) ++broke;
       energy += e;

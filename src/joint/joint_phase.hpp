@@ -1,5 +1,5 @@
 #pragma once
-// Step 4 of the time step (DESIGN.md §1): forces of every intact joint added to the
+// Step 4 of the time step (docs/theory.md §1): forces of every intact joint added to the
 // node forces, histories updated, joints that meet the failure criterion broken for
 // good with their time, position and mode recorded.
 #include <cstddef>

@@ -27,7 +27,7 @@ ParamDecl param(std::string name, std::string unit, std::string def, double min,
   return p;
 }
 
-// The elastic constants every bulk law starts from (DESIGN.md §2).
+// The elastic constants every bulk law starts from (docs/theory.md §2).
 std::vector<ParamDecl> elastic_params() {
   return {param("E", "Pa", "required", 0, kInf, "Young's modulus.", true),
           param("nu", "", "required", -1, 0.5, "Poisson's ratio.", true, true),
@@ -55,7 +55,7 @@ std::vector<double> reduce_envelope(const LawDecl& law, std::span<const double> 
   return v;
 }
 
-// A plane-strain plastic law on a Mohr-Coulomb envelope (DESIGN.md §12): the elastic
+// A plane-strain plastic law on a Mohr-Coulomb envelope (docs/theory.md §10): the elastic
 // constants, the envelope's c and phi with the flow's dilation angle psi <= phi, the
 // plastic point's state (law::plastic_state) and the envelope's strength reduction. Plane
 // strain only: the out-of-plane stress is a stress the return moves (plane stress,
@@ -86,16 +86,16 @@ LawDecl linear_elastic_decl() {
   LawDecl d;
   d.category = Category::Material;
   d.name = linear_elastic::kName;
-  d.doc = "St Venant-Kirchhoff elasticity on the Green strain (DESIGN.md §2).";
+  d.doc = "St Venant-Kirchhoff elasticity on the Green strain (docs/theory.md §2).";
   d.params = elastic_params();
   return d;
 }
 
-// Mohr-Coulomb plasticity with a tension cut-off, non-associated (DESIGN.md §12).
+// Mohr-Coulomb plasticity with a tension cut-off, non-associated (docs/theory.md §10).
 LawDecl mohr_coulomb_decl() {
   LawDecl d = plastic_law(mohr_coulomb::kName,
-                          "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (DESIGN.md "
-                          "§12); plane strain only.");
+                          "Elastic-perfectly plastic Mohr-Coulomb with a tension cut-off and a dilation angle (docs/theory.md "
+                          "§10); plane strain only.");
   ParamDecl ft = param("tensile_strength", "Pa", "c / tan(phi)", 0, kInf,
                        "Tension cut-off on the largest principal stress (default: the apex of the envelope, no "
                        "cut-off; none when phi = 0).");
@@ -141,7 +141,7 @@ LawDecl cohesive_joint_decl() {
   d.category = Category::Joint;
   d.name = "cohesive";
   d.doc = "Linear softening in tension and shear, Mohr-Coulomb strength with a tension cut-off, elliptical "
-          "mixed-mode failure (paper eqs. 6-9, DESIGN.md §3).";
+          "mixed-mode failure (paper eqs. 6-9, docs/theory.md §3).";
   d.params = {
       param("kn", "Pa/m", "p*E/h", 0, kInf,
             "Normal stiffness (default: penalty p*E/h with h the local element size, logged).", true),
@@ -165,7 +165,7 @@ LawDecl spring_dashpot_coulomb_decl() {
   d.category = Category::Contact;
   d.name = "spring_dashpot_coulomb";
   d.doc = "Linear normal spring with a restitution dashpot, incremental tangential spring capped by Coulomb "
-          "friction (paper eqs. 1-5, DESIGN.md §4).";
+          "friction (paper eqs. 1-5, docs/theory.md §4).";
   d.params = {
       param("penalty", "", "1", 0, kInf, "p_c in kn = p_c * E (E of the softer side) when kn is absent.", true),
       param("kn", "Pa", "p_c*E", 0, kInf, "Normal contact stiffness, force per unit thickness per unit overlap.", true),

@@ -13,13 +13,13 @@
 
 namespace dsdem::law {
 
-// Bulk materials (DESIGN.md §2, §12).
+// Bulk materials (docs/theory.md §2, §10).
 LawDecl linear_elastic_decl();
 LawDecl mohr_coulomb_decl();
 LawDecl drucker_prager_decl();
-// Joints (DESIGN.md §3; paper eqs. 6-9).
+// Joints (docs/theory.md §3; paper eqs. 6-9).
 LawDecl cohesive_joint_decl();
-// Contacts (DESIGN.md §4; paper eqs. 1-5).
+// Contacts (docs/theory.md §4; paper eqs. 1-5).
 LawDecl spring_dashpot_coulomb_decl();
 
 // An angle of the scenario (degrees) in radians, as the kernels take it, and back.

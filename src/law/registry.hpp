@@ -1,5 +1,5 @@
 #pragma once
-// Constitutive laws by name (DESIGN.md §9: one registry per category, string-keyed, with a
+// Constitutive laws by name (docs/developer-guide.md §5: one registry per category, string-keyed, with a
 // loud error naming the valid keys). A law declares its parameters and its state
 // variables; the scenario schema, docs/scenario-reference.md, the per-item state arrays,
 // checkpoints and VTU fields all come from these declarations, not from central lists.

@@ -1,12 +1,12 @@
 #pragma once
-// Strength reduction by a trial factor F (DESIGN.md §12; Dawson, Roth & Drescher 1999):
+// Strength reduction by a trial factor F (docs/theory.md §9; Dawson, Roth & Drescher 1999):
 // c/F, tan(phi)/F and (unless tension is kept) ft/F for every joint law, every material
 // whose law has a strength (the law reduces its own parameters: LawDecl::reduce) and the
 // contacts' Coulomb friction. Pure functions: the full strengths in, the reduced ones out;
 // the stiffnesses are never touched.
 //
 // Fracture energies: the softening lengths are kept (wn = 2 GI/ft and the shear
-// wsII = 2 GII/c of a joint in compression, DESIGN.md §3), so GI and GII scale like the
+// wsII = 2 GII/c of a joint in compression, docs/theory.md §3), so GI and GII scale like the
 // strengths, by 1/F (G = strength x length / 2). The joint then softens over the same
 // displacement at every F: the bisection compares one mechanism at different strengths,
 // not a joint that grows more ductile (G kept, wsII x F) or more brittle (G/F^2, the

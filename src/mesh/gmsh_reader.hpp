@@ -1,5 +1,5 @@
 #pragma once
-// Gmsh input (DESIGN.md §9): ASCII .msh 4.1 or 2.2 read by dsdem's own strict parser
+// Gmsh input (docs/developer-guide.md §1): ASCII .msh 4.1 or 2.2 read by dsdem's own strict parser
 // (mesh/msh_format); a .geo is first meshed by the gmsh command line with the element
 // size the scenario gives.
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Joint insertion (paper step 2, Fig. 3; DESIGN.md §3): split a mesh into discrete
+// Joint insertion (paper step 2, Fig. 3; docs/theory.md §3): split a mesh into discrete
 // triangles glued by 4-node zero-thickness joints where it may break.
 //
 // Rules:

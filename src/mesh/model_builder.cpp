@@ -81,7 +81,7 @@ double mean_element_size(const RawMesh& mesh, Index group) {
   return n > 0 ? sum / n : 0.0;
 }
 
-// A property from a (merged) spec; kn from the penalty rule p*E/h when absent (DESIGN.md §3).
+// A property from a (merged) spec; kn from the penalty rule p*E/h when absent (docs/theory.md §3).
 // h here is a reference size (the group's mean): each joint rescales kn to its own local
 // element size after insertion (set_local_penalty_scales), which log_penalty_stiffness reports.
 JointProperties make_joint_property(const std::string& name, const io::JointSpec& spec, double E, double h,
@@ -110,8 +110,8 @@ JointProperties make_joint_property(const std::string& name, const io::JointSpec
   return p;
 }
 
-// One log line per penalty property: kn = p E / h_local over its joints (DESIGN.md §3 asks
-// to say so in the log).
+// One log line per penalty property: kn = p E / h_local over its joints (docs/theory.md §3: logged
+// as a range per joint set).
 void log_penalty_stiffness(const Model& model) {
   const auto& J = model.joints;
   for (std::size_t p = 0; p < model.joint_properties.size(); ++p) {
@@ -211,7 +211,7 @@ void set_contact_bodies(const Model& model, ContactSetup& c) {
     if (model.triangles.zone[t] == Zone::ContactBedrock) c.body[t] = root(static_cast<Index>(t));
 }
 
-// Stiffness: given, or p_c * E of the softer side (DESIGN.md §4); times the thickness
+// Stiffness: given, or p_c * E of the softer side (docs/theory.md §4); times the thickness
 // (plane stress) so forces are those of the slab. Sets the defaults and a pair per two
 // active surface groups, then the scenario's pairs; returns E of the softest group.
 double set_contact_pairs(const io::Scenario& sc, Model& model, std::vector<std::string>& errors) {

@@ -23,10 +23,10 @@ void build_joint_properties(const io::Scenario& sc, const RawMesh& mesh,
                             const std::map<std::string, Index>& material_index, Model& model,
                             dsdem::JointInsertionOptions& opt, std::vector<std::string>& errors);
 
-// Spheropolygons of zones A and C, continuous bodies, pair parameters (DESIGN.md §4).
+// Spheropolygons of zones A and C, continuous bodies, pair parameters (docs/theory.md §4).
 void setup_contact(const io::Scenario& sc, Model& model, std::vector<std::string>& errors);
 
-// Lumped masses rho * A * t / 3 to each node (DESIGN.md §2).
+// Lumped masses rho * A * t / 3 to each node (docs/theory.md §2).
 void compute_lumped_masses(Model& model);
 
 // Each material's law index from its model name, and Triangles::state: one zeroed column

@@ -1,5 +1,5 @@
 #pragma once
-// Strict reader of Gmsh ASCII .msh files, formats 4.1 and 2.2 (DESIGN.md §9), without
+// Strict reader of Gmsh ASCII .msh files, formats 4.1 and 2.2 (docs/developer-guide.md §1), without
 // libgmsh: Gmsh's own parser trusts its input and a damaged file could corrupt memory.
 // parse_msh() checks every count, tag and reference and keeps the file's content;
 // to_raw_mesh() orders it the way the Gmsh API returned it (nodes per entity, entities

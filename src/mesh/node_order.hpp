@@ -1,5 +1,5 @@
 #pragma once
-// Node numbering for locality (DESIGN.md §9): nodes numbered in the order the
+// Node numbering for locality (docs/developer-guide.md §1): nodes numbered in the order the
 // triangles first use them, so that the nodes of nearby triangle indices are nearby in
 // memory and every contiguous share of the triangles (a thread's) works on a contiguous
 // share of the nodes. Gmsh numbers a mesh's corner and curve nodes first and its surface

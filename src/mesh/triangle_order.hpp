@@ -1,5 +1,5 @@
 #pragma once
-// Triangle numbering for locality (DESIGN.md §9): triangles numbered along a
+// Triangle numbering for locality (docs/developer-guide.md §1): triangles numbered along a
 // Hilbert curve through their centroids, so that triangles near in space are near in
 // number. Gmsh numbers a surface's triangles in the order its mesher made them, not by
 // place: a thread's contact pairs would then often reach a triangle in another thread's

@@ -1,5 +1,5 @@
 #pragma once
-// Contact parameters of a pair of surface groups as the user gives them (DESIGN.md §4;
+// Contact parameters of a pair of surface groups as the user gives them (docs/theory.md §4;
 // 2D: per unit thickness). Data only: the contact law (contact/contact_law.hpp) reads them.
 namespace dsdem {
 

@@ -1,6 +1,6 @@
 #pragma once
-// Cohesive joint elements (DESIGN.md §3): their properties and all joints of a model
-// as a structure of arrays (DESIGN.md §9). Filled by mesh/joint_insertion, updated by
+// Cohesive joint elements (docs/theory.md §3): their properties and all joints of a model
+// as a structure of arrays (docs/developer-guide.md §1). Filled by mesh/joint_insertion, updated by
 // the joint phase of the time step.
 #include <array>
 #include <cstdint>
@@ -13,7 +13,7 @@
 
 namespace dsdem {
 
-// Parameters of the joint law (paper eqs. 6-9, DESIGN.md §3). Stiffnesses are tractions
+// Parameters of the joint law (paper eqs. 6-9, docs/theory.md §3). Stiffnesses are tractions
 // per unit relative displacement; strengths are tractions; energies per unit area.
 struct JointProperties {
   std::string name;
@@ -25,7 +25,7 @@ struct JointProperties {
   double GI = 0.0;   // mode I fracture energy, N/m
   double GII = 0.0;  // mode II fracture energy, N/m
   bool initially_broken = false;  // every joint with these properties starts broken
-  // > 0 when kn came from the penalty rule p*E/h (DESIGN.md §3) with h = penalty_h, m:
+  // > 0 when kn came from the penalty rule p*E/h (docs/theory.md §3) with h = penalty_h, m:
   // each joint then rescales kn (and ks unless ks_given) to its own local element size,
   // so small elements get stiff joints and the joints' compliance stays a fixed
   // fraction of their elements' (Joints::stiffness_scale).
@@ -44,7 +44,7 @@ enum class BreakMode : std::uint8_t { None = 0, Tension = 1, Shear = 2, Mixed = 
 const char* to_string(BreakMode m);
 
 // History of one integration (end) point of a joint, 48 B. The maxima and the damage are
-// the irreversible state (DESIGN.md §3); the separations and the shear traction of the
+// the irreversible state (docs/theory.md §3); the separations and the shear traction of the
 // last evaluation let the law report the dissipation of the next increment and move the
 // shear traction incrementally. The normal traction and the shear secant of the last
 // evaluation are functions of these (last_tractions() in cohesive_law.hpp recomputes
@@ -91,7 +91,7 @@ struct Joints {
   // time and a position per joint (memory per element).
   std::vector<BreakRecord> breaks;
   // The joint's kn (and ks, unless given) is its property's times this factor:
-  // penalty_h / local element size for penalty stiffnesses, 1 otherwise (DESIGN.md §3).
+  // penalty_h / local element size for penalty stiffnesses, 1 otherwise (docs/theory.md §3).
   std::vector<double> stiffness_scale;
   // State variables that the joint laws in use declare (law/registry.hpp), one column
   // each, sized by the model builder; empty while none does (the cohesive law keeps its

@@ -1,5 +1,5 @@
 #pragma once
-// The simulated model as structures of arrays (DESIGN.md §9): contiguous node and
+// The simulated model as structures of arrays (docs/developer-guide.md §1): contiguous node and
 // element fields, no object per node. Built by mesh/model_builder from a Gmsh mesh
 // and a scenario; read and written by the solver phases.
 #include <string>
@@ -12,7 +12,7 @@
 
 namespace dsdem {
 
-// Zone of a triangle (DESIGN.md §1): A breaks and collides, B is plain FEM, C is FEM
+// Zone of a triangle (docs/theory.md §1): A breaks and collides, B is plain FEM, C is FEM
 // whose surface takes part in contact.
 enum class Zone : std::uint8_t { Discrete = 0, Bedrock = 1, ContactBedrock = 2 };
 
@@ -118,7 +118,7 @@ struct Material {
 
 namespace dsdem {
 
-// Contact set-up of a model (DESIGN.md §4): which triangles are spheropolygons, their
+// Contact set-up of a model (docs/theory.md §4): which triangles are spheropolygons, their
 // rounding radii, which continuous body they belong to, and the pair parameters.
 struct ContactSetup {
   bool enabled = false;

@@ -71,7 +71,7 @@ std::string model_report(const PreparedRun& run) {
   return r;
 }
 
-// A stage's water at rest (DESIGN.md §11) in a few words.
+// A stage's water at rest (docs/theory.md §8) in a few words.
 std::string water_text(const io::WaterSpec& w) {
   if (!w.present) return "";
   std::string s = w.ru > 0.0                ? fmt::format(", water: ru = {} below the ground surface", w.ru)
@@ -147,8 +147,8 @@ WaterEstimate estimate_water_steps(const PreparedRun& run) {
     elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
   }
   e.per_step_s = elapsed / e.steps_timed;
-  // In the run the water moves, up to the c0 / 10 its sound speed was chosen for (DESIGN.md
-  // §13), and its step shortens to cfl h / (c0 + v): counted at that speed.
+  // In the run the water moves, up to the c0 / 10 its sound speed was chosen for (docs/theory.md
+  // §11), and its step shortens to cfl h / (c0 + v): counted at that speed.
   const sph::FluidParameters& p = fluid.parameters();
   const double dt_flow = std::min(dt, sph::stable_time_step(p.h(), p.c0, 0.1 * p.c0, 0.0, p.cfl));
   e.per_solid_step = std::ceil(run.dt / dt_flow);

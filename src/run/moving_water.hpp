@@ -1,5 +1,5 @@
 #pragma once
-// The reservoir as moving water (DESIGN.md §13), from the scenario to the solver and back:
+// The reservoir as moving water (docs/theory.md §11), from the scenario to the solver and back:
 // the particles laid out in the fill regions outside the solid, the solid faces they are
 // coupled with, and the settling before step 0 (run/water_watch.hpp reads the water).
 #include <optional>

@@ -182,7 +182,7 @@ void RunOutputs::write_fields() {
     solver::count_fragments(model_, fragment_label_);
     cell_extra.push_back(io::scalar_field("fragment", "", std::span<const std::int32_t>(fragment_label_)));
   }
-  if (has_water_) {  // at the centroid; the stress field is the effective stress (DESIGN.md §11)
+  if (has_water_) {  // at the centroid; the stress field is the effective stress (docs/theory.md §8)
     pore_pressure_.resize(model_.triangles.size());
     for (std::size_t t = 0; t < pore_pressure_.size(); ++t) {
       const auto& c = model_.triangles.conn[t];
@@ -203,7 +203,7 @@ void RunOutputs::write_fields() {
   if (water_frames_) write_water_frame();
 }
 
-// The water particles: velocity, pressure, density (DESIGN.md §13).
+// The water particles: velocity, pressure, density (docs/theory.md §11).
 void RunOutputs::write_water_frame() {
   const sph::FluidParticles& f = solver_.moving_water()->fluid();
   water_points_.resize(f.size());

@@ -1,5 +1,5 @@
 #pragma once
-// What a run writes as it goes (DESIGN.md §10): history.csv rows (time, energies, counts,
+// What a run writes as it goes (docs/user-guide.md): history.csv rows (time, energies, counts,
 // reactions on driven groups, gauges), the field, crack and contact frame series, and the
 // gauges' peaks for the summary.
 #include <cstddef>
@@ -50,7 +50,7 @@ class RunOutputs {
   std::size_t history_rows() const { return history_->rows_written(); }
   std::size_t field_frames() const { return fields_->size(); }
   int fragments();  // solver::count_fragments with this object's scratch
-  // The slide's entry into the reservoir, once seen at a history row (DESIGN.md §13).
+  // The slide's entry into the reservoir, once seen at a history row (docs/theory.md §12).
   std::optional<SlideAtImpact> slide_impact() const { return slide_watch_ ? slide_watch_->impact() : std::nullopt; }
   const std::string& energy_unit() const { return energy_unit_; }
   // The moving water's measurements (with reservoir.sph).

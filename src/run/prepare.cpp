@@ -146,7 +146,7 @@ void warn_of_places_the_water_cannot_reach(const io::SphSpec& sph, const MovingW
 
 // The water-at-rest section's piezometric line over the moving water's span should stand at
 // the pool's level: elsewhere the rock's pore pressure under the pool does not match the water
-// above it (DESIGN.md §11, §13). Said once per distinct line, at its key.
+// above it (docs/theory.md §8, §11). Said once per distinct line, at its key.
 void warn_of_a_piezometric_line_off_the_pool(const io::Scenario& sc, const MovingWaterLayout& w,
                                              std::vector<PreparedRun::LogLine>& log) {
   std::vector<std::vector<Vec2>> said;
@@ -194,7 +194,7 @@ void lay_out_water(PreparedRun& run) {
                                           "{} coupled faces up to {:.6g} m carrying {} wall particles",
                                           w.fluid.size(), par.dp, w.depth, par.c0, w.edges.size(), w.coupled_top,
                                           w.walls.size())});
-  // The artificial sound speed (DESIGN.md §13: c0 >= 10 sqrt(g H), not water's 1480 m/s) puts
+  // The artificial sound speed (docs/theory.md §11: c0 >= 10 sqrt(g H), not water's 1480 m/s) puts
   // the pool's first compression mode c0 / 4H inside an earthquake's band: the shaking's own
   // hydrodynamic pressures are not real water's, though the wave (a gravity wave) is.
   if (run.scenario.earthquake.present && w.depth > 0.0)

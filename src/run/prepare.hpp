@@ -1,6 +1,6 @@
 #pragma once
 // Everything a run needs before step 0: the model, its gauges, time step and earthquake
-// records, validated against the scenario (DESIGN.md §10).
+// records, validated against the scenario (docs/user-guide.md).
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,7 +31,7 @@ struct PreparedRun {
   // writes them next to the results, so the caller may remove work_dir right after
   // preparing and a run killed later (SIGKILL, a job's time limit) leaves no scratch behind.
   std::string mesh_text;
-  // Earthquake records resampled to dt (DESIGN.md §5), when the scenario has them; an
+  // Earthquake records resampled to dt (docs/theory.md §5), when the scenario has them; an
   // adaptive step only grows from dt, and the free field interpolates them at each step.
   std::optional<seismic::Accelerogram> quake_horizontal, quake_vertical;
   // What meshing and model building logged (penalty joint stiffnesses, contact

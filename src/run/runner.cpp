@@ -49,8 +49,8 @@ std::string shell_sets(const std::vector<std::string>& overrides) {
   return out;
 }
 
-// Water faster than a tenth of its sound speed is no longer weakly compressible (DESIGN.md
-// §13: c0 >= 10 v_max): said after the run with the flow's speed (1 % of the water faster) and
+// Water faster than a tenth of its sound speed is no longer weakly compressible (docs/theory.md
+// §11: c0 >= 10 v_max): said after the run with the flow's speed (1 % of the water faster) and
 // when, the setting that keeps it within, and the fastest particle apart.
 void warn_of_fast_water(spdlog::logger& log, const WaterWatch& water, double c0) {
   const WaterWatch::Peak &v = water.flow_speed(), &top = water.max_speed();

@@ -1,5 +1,5 @@
 #pragma once
-// Runs a scenario end to end: stages, output, checkpoints, summary (DESIGN.md §10).
+// Runs a scenario end to end: stages, output, checkpoints, summary (docs/user-guide.md).
 // prepare_run (run/prepare.hpp) builds what it runs; check_report (run/check.hpp) is
 // `dsdem check`.
 #include <csignal>

@@ -1,5 +1,5 @@
 #pragma once
-// Where a slide meets the reservoir (DESIGN.md §13): the bank from the bedrock's surface,
+// Where a slide meets the reservoir (docs/theory.md §12): the bank from the bedrock's surface,
 // and the slide measured at its first entry into the water (speed, thickness, mass, the
 // bank's angle), the inputs of the Heller & Hager (2010) impulse-wave estimate.
 #include <optional>

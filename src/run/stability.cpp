@@ -677,7 +677,7 @@ void StabilityRunner::write_summary(StabilityResult& r) {
   if (r.factor_of_safety_pseudo_static) s["factor_of_safety_pseudo_static"] = *r.factor_of_safety_pseudo_static;
   if (r.factor_of_safety_dynamic) s["factor_of_safety_dynamic"] = *r.factor_of_safety_dynamic;
   nlohmann::ordered_json m;
-  m["method"] = "strength reduction (DESIGN.md §12): c/F, tan(phi)/F" +
+  m["method"] = "strength reduction (docs/theory.md §9): c/F, tan(phi)/F" +
                 std::string(spec_.keep_tension ? "" : ", ft/F") + " for joints, Mohr-Coulomb materials and contact "
                 "friction; bisection on F";
   m["bounds"] = {spec_.F_low, spec_.F_high};

@@ -1,5 +1,5 @@
 #pragma once
-// Factor of safety by strength reduction (DESIGN.md §12; Dawson, Roth & Drescher 1999):
+// Factor of safety by strength reduction (docs/theory.md §9; Dawson, Roth & Drescher 1999):
 // `dsdem stability`.
 //
 // 1. Settle: the scenario's static stages (those before its first earthquake stage), at

@@ -1,5 +1,5 @@
 #pragma once
-// A stage's settings handed to the solver (DESIGN.md §10 stages).
+// A stage's settings handed to the solver (the stages of docs/theory.md §6).
 #include "io/scenario.hpp"
 #include "run/prepare.hpp"
 #include "solver/solver.hpp"

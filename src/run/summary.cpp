@@ -37,7 +37,7 @@ Json final_energies(const solver::EnergyLedger& e, const std::string& unit) {
   return energies;
 }
 
-// Each stage's water at rest (DESIGN.md §11) as run, overrides included: what renders and
+// Each stage's water at rest (docs/theory.md §8) as run, overrides included: what renders and
 // reports draw.
 Json water_stages(const io::Scenario& sc) {
   Json stages = Json::array();
@@ -66,7 +66,7 @@ Json water_stages(const io::Scenario& sc) {
 }
 
 // The primary wave at each gauge on the open water's side of the shoreline against Heller &
-// Hager's 2D decay laws at its distance x from where the slide met the level (DESIGN.md §13):
+// Hager's 2D decay laws at its distance x from where the slide met the level (docs/theory.md §12):
 // the wave the run raised along the reservoir beside the one the equations give.
 Json wave_along_reservoir(const Shore& shore, const water::ImpulseWave& w, const WaterWatch& watch, double t_entry) {
   Json gauges = Json::array();
@@ -94,7 +94,7 @@ Json wave_along_reservoir(const Shore& shore, const water::ImpulseWave& w, const
 }
 
 // The slide where it entered the reservoir and the Heller & Hager (2010) wave it raises
-// (DESIGN.md §13), or that it has not entered it; with the moving water, the run's wave at
+// (docs/theory.md §12), or that it has not entered it; with the moving water, the run's wave at
 // its gauges beside the equations' decay.
 Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>& impact, const WaterWatch* watch) {
   Json h = Json::object();
@@ -128,7 +128,7 @@ Json heller_hager_summary(const Shore& shore, const std::optional<SlideAtImpact>
   return h;
 }
 
-// The moving water's peaks (DESIGN.md §13): the wave's amplitude above the still level (where
+// The moving water's peaks (docs/theory.md §12): the wave's amplitude above the still level (where
 // and when), run-up per bank, overtopping per crest, force and pressure per curve, the wave
 // period at each gauge, and the energy the water took from the slide.
 Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, const std::optional<SlideAtImpact>& impact,

@@ -1,5 +1,5 @@
 #pragma once
-// OUT/summary.json, the record of a run (DESIGN.md §10), and OUT/diagnosis.json, what
+// OUT/summary.json, the record of a run (docs/user-guide.md), and OUT/diagnosis.json, what
 // made a run unstable. Keys carry their units; ordered as written here.
 #include <filesystem>
 #include <optional>

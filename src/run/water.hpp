@@ -1,5 +1,5 @@
 #pragma once
-// The scenario's water at rest (DESIGN.md §11) checked against the model and handed to
+// The scenario's water at rest (docs/theory.md §8) checked against the model and handed to
 // the solver.
 #include <vector>
 

@@ -256,7 +256,7 @@ void WaterWatch::observe_curves(const sph::Fluid& fluid, double t, std::span<dou
   std::vector<std::int32_t> near;
   for (std::size_t c = 0; c < forces_.size(); ++c) {
     // The water on the curve's right (walked a -> b): the force on it p (-n) ds, n = (t_y,
-    // -t_x) into the water, sampled every dp / 2 (DESIGN.md §13).
+    // -t_x) into the water, sampled every dp / 2 (docs/theory.md §12).
     const auto& poly = spec_.pressure[c].polyline;
     particles_near(f, poly, 2.0 * h_, near);
     Vec2 force = Vec2::Zero();

@@ -1,5 +1,5 @@
 #pragma once
-// What engineers read off the moving water (DESIGN.md §13) at each history row: the
+// What engineers read off the moving water (docs/theory.md §12) at each history row: the
 // free surface at gauges, the wave's amplitude above the still level (where and when), the
 // run-up on banks, the water past crests, the force and peak pressure on curves, the energy
 // the water gained; their peaks for summary.json.
@@ -30,7 +30,7 @@ struct Crest {
 Crest crest_beyond(std::span<const double> xs, std::span<const double> surface, double level, double front,
                    int direction);
 
-// Where the wave is sought (DESIGN.md §13): columns of width dx from x_min, bottom[b] the
+// Where the wave is sought (docs/theory.md §12): columns of width dx from x_min, bottom[b] the
 // lowest still water in column b (infinite: none). The x of every column whose still water is
 // at least min_depth deep, and whether it stands against a wall: the first or last column, or
 // one beside a column with no water at rest. A crest there is the wave's reflection, up to twice
@@ -124,7 +124,7 @@ class WaterWatch {
   const Peak& max_speed() const { return speed_; }
   // The flow's speed: the largest at a history row of the speed that 1 % of the particles
   // exceed (m/s) and when. Beyond c0 / 10 the weakly compressible water's density errs by more
-  // than about 1 % (DESIGN.md §13).
+  // than about 1 % (docs/theory.md §11).
   const Peak& flow_speed() const { return flow_speed_; }
   // True when this peak came at the last row observed: the quantity may still have been
   // growing when the run ended.

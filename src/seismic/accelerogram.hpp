@@ -1,5 +1,5 @@
 #pragma once
-// Uniformly sampled ground-motion records (DESIGN.md §5): readers for CSV and PEER
+// Uniformly sampled ground-motion records (docs/theory.md §5): readers for CSV and PEER
 // NGA .AT2 files, linear resampling to any dt, trapezoidal integration to velocity
 // and displacement with a least-squares polynomial baseline correction.
 #include <cstddef>

@@ -1,5 +1,5 @@
 #pragma once
-// Spectrum-compatible artificial accelerograms by the method of GB 17741-2005 (DESIGN.md
+// Spectrum-compatible artificial accelerograms by the method of GB 17741-2005 (docs/theory.md
 // §5, paper §2.2): target spectrum -> power spectral density -> sum of cosines with
 // seeded random phases -> intensity envelope -> iterative correction of the Fourier
 // amplitudes by the ratio target / computed response spectrum -> baseline correction ->

@@ -52,7 +52,7 @@ struct Setup {
 Setup make_setup(const ArtificialWaveParams& P);
 
 // Stationary sum of cosines with the target's PSD and seeded phases, times the
-// intensity envelope; frequencies f_k = k/(2T) up to Nyquist (DESIGN.md §5).
+// intensity envelope; frequencies f_k = k/(2T) up to Nyquist (docs/theory.md §5).
 std::vector<double> synthesise(const ArtificialWaveParams& P, const Setup& S, std::mt19937_64& rng);
 
 }  // namespace dsdem::seismic::detail

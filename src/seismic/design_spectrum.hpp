@@ -1,5 +1,5 @@
 #pragma once
-// Code design spectra used as targets for artificial accelerograms (DESIGN.md §5):
+// Code design spectra used as targets for artificial accelerograms (docs/theory.md §5):
 // the hydraulic code's dynamic amplification spectrum beta(T) (NB 35047 / DL 5073) and
 // the GB 50011 seismic influence coefficient alpha(T), both scaled to a design PGA.
 #include <string>

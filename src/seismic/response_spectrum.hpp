@@ -1,5 +1,5 @@
 #pragma once
-// Elastic response spectra of a ground acceleration (DESIGN.md §5) by the exact
+// Elastic response spectra of a ground acceleration (docs/theory.md §5) by the exact
 // piecewise-linear recurrence of Nigam & Jennings (1969): the ground acceleration is
 // taken linear between samples and the SDOF equation
 //   x'' + 2 zeta omega x' + omega^2 x = -a_g(t)

@@ -1,5 +1,5 @@
 #pragma once
-// The work behind `dsdem wave generate` and `dsdem wave spectrum` (DESIGN.md §5, §10),
+// The work behind `dsdem wave generate` and `dsdem wave spectrum` (docs/theory.md §5, docs/user-guide.md),
 // kept in the library so that it is testable; src/app/wave_command.cpp only parses
 // options and calls these.
 #include <string>

@@ -17,15 +17,15 @@ struct EnergyLedger {
   double initial_total = 0.0;         // mechanical energy at the start of the run
   // Normal contact dashpots (contact restitution < 1), booked as velocity Verlet applies
   // them: half of each force's work at the step it is computed, half at the next
-  // (DESIGN.md §1, §6; ContactForces::settle_previous).
+  // (docs/theory.md §7; ContactForces::settle_previous).
   double contact_damping_dissipated = 0.0;
-  // Plastic work of the bulk (Mohr-Coulomb, DESIGN.md §12): a function of the state, the
+  // Plastic work of the bulk (Mohr-Coulomb, docs/theory.md §10): a function of the state, the
   // sum of each triangle's accumulated plastic work.
   double plastic_dissipated = 0.0;
-  // Work of the water at rest on the solid (DESIGN.md §11), booked as the work of the
+  // Work of the water at rest on the solid (docs/theory.md §8), booked as the work of the
   // other loads: trapezoidal on each step's displacement increments.
   double water_work = 0.0;
-  // Work of the moving (SPH) water on the solid (DESIGN.md §13), booked the same way.
+  // Work of the moving (SPH) water on the solid (docs/theory.md §11), booked the same way.
   double moving_water_work = 0.0;
   // The moving water's own energy (J/m), reported beside the solid's: kinetic, and the
   // changes of its gravity potential and compression (Tait) since it was set. Not part of
@@ -37,7 +37,7 @@ struct EnergyLedger {
   // still the water's.
   double fluid_excluded = 0.0;
   double fluid_energy() const { return fluid_kinetic + fluid_potential + fluid_compression + fluid_excluded; }
-  // Velocity Verlet's kinetic offset (DESIGN.md §1, §6): with the trapezoidal work of the
+  // Velocity Verlet's kinetic offset (docs/theory.md §7): with the trapezoidal work of the
   // forces the integrator conserves 1/2 m v(n-1/2).v(n+1/2) = 1/2 m v(n)^2 - dt^2/8 m |a(n)|^2,
   // not the kinetic energy at the full step. This is the change of sum dt^2/8 m |a|^2 since
   // the start, each step's with its dt (Solver sums it per stretch of constant dt, settled

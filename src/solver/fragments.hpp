@@ -1,6 +1,6 @@
 #pragma once
 // Fragments: pieces of the model connected through shared nodes (continuous mesh) or
-// intact joints (DESIGN.md §7, the pieces of a broken beam). Union-find, O(N).
+// intact joints (docs/validation.md §2, the pieces of a broken beam). Union-find, O(N).
 #include <vector>
 
 #include "model/model.hpp"

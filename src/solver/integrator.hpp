@@ -1,5 +1,5 @@
 #pragma once
-// Velocity Verlet with lumped masses (DESIGN.md §1, phases 1 and 8), on node ranges so the
+// Velocity Verlet with lumped masses (docs/theory.md §1, phases 1 and 8), on node ranges so the
 // execution layer may run them on any thread's nodes. Phase 1 also restarts the force sum
 // at gravity (phase 2) in the same node loop: once the kick has read the acceleration,
 // the array that held it (Nodes::a) starts the step's force sum.

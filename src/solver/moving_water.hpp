@@ -1,5 +1,5 @@
 #pragma once
-// The solid's side of the moving water (DESIGN.md §13): which edges of the mesh the water
+// The solid's side of the moving water (docs/theory.md §11): which edges of the mesh the water
 // can meet.
 #include <span>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The node-force assembler (DESIGN.md §1 phases 2-7, §9): the one way a phase's forces
+// The node-force assembler (docs/theory.md §1 phases 2-7; docs/developer-guide.md §2): the one way a phase's forces
 // reach the nodes' force sum (Nodes::a holds it during the step; finish_kick turns it into
 // accelerations), and the one rule that books the work of a force.
 //
@@ -14,7 +14,7 @@
 //                                                                 order (exec::PartitionedRegion)
 // Gravity restarts the sum in the integrator's kick (integrator.hpp, the one declared fusion).
 //
-// How each force's work reaches the energy ledger (DESIGN.md §7):
+// How each force's work reaches the energy ledger (docs/theory.md §7):
 //   conservative internal forces (strain, joint and contact springs): their stored energy;
 //   dissipative laws (fracture, friction, dashpots, plastic flow): their dissipation as the
 //     law applies it;
@@ -29,7 +29,7 @@
 namespace dsdem::solver {
 
 // The work a force does over one step as velocity Verlet applies it: F(n) and F(n+1) each
-// kick half a step around the drift du = u(n+1) - u(n) = dt v(n+1/2) (DESIGN.md §1, §7).
+// kick half a step around the drift du = u(n+1) - u(n) = dt v(n+1/2) (docs/theory.md §1, §7).
 inline double drift_work(const Vec2& f_prev, const Vec2& f, const Vec2& du) { return 0.5 * (f_prev + f).dot(du); }
 // The same for one direction of a node (a prescribed dof's reaction).
 inline double drift_work(double f_prev, double f, double du) { return 0.5 * (f_prev + f) * du; }

@@ -132,7 +132,7 @@ void Solver::initialise() {
       energy_.mechanical() - energy_.verlet_kinetic_offset + energy_.dissipated() - energy_.work_in();
 }
 
-// One step of velocity Verlet, phase by phase (DESIGN.md §1). The execution layer runs a
+// One step of velocity Verlet, phase by phase (docs/theory.md §1). The execution layer runs a
 // node pass (the kick and drift, the velocities) inside the next region over the nodes
 // instead of in a region of its own (exec::Team::defer_node_pass); the order of the
 // physics is this one.
@@ -243,7 +243,7 @@ void Solver::add_contact_forces() {
   energy_.contact_damping_dissipated += contact_stats_.damping_dissipation;
 }
 
-// The water steps at its own stable step (DESIGN.md §13): sub-cycled when that is shorter than
+// The water steps at its own stable step (docs/theory.md §11): sub-cycled when that is shorter than
 // the solid's, and, when it is longer, advanced once over as many solid steps as fit in it,
 // its force on the nodes held in between (the solid sub-cycling inside the water's step).
 void Solver::add_moving_water_forces() {
@@ -264,7 +264,7 @@ void Solver::add_moving_water_forces() {
 }
 
 // The coupling's node forces into the sum in its node order; their work as for every
-// other load, drift_work on each node's displacement over the step (DESIGN.md §7).
+// other load, drift_work on each node's displacement over the step (docs/theory.md §7).
 void Solver::apply_moving_water_forces(bool book) {
   const auto& n = model_.nodes;
   const sph::SolidCoupling& c = moving_->coupling;
@@ -414,7 +414,7 @@ double Solver::mass_accel2() const {
 }
 
 // Each step's kinetic energy change is the trapezoidal work of the forces plus
-// dt^2/8 (S(n+1) - S(n)), both kicks with that step's dt (DESIGN.md §1): over the open
+// dt^2/8 (S(n+1) - S(n)), both kicks with that step's dt (docs/theory.md §7): over the open
 // segment's steps that sums to dt^2/8 (S - s_start).
 void Solver::restart_verlet_segment(double dt) {
   const double s = mass_accel2();

@@ -1,5 +1,5 @@
 #pragma once
-// The explicit time step (DESIGN.md §1): one short named sequence of phases.
+// The explicit time step (docs/theory.md §1): one short named sequence of phases.
 #include <array>
 #include <memory>
 #include <stdexcept>
@@ -71,21 +71,21 @@ class Solver {
   const std::vector<PrescribedDof>& constraints() const { return constraints_; }
   // Viscous-spring boundary nodes for the coming stage. Nodes that were supported in the
   // previous stage keep that support's reaction as a constant load, and their springs
-  // start from the current displacement (DESIGN.md §6, stage 2).
+  // start from the current displacement (docs/theory.md §6, stage 2).
   void set_viscous_boundary(std::vector<boundary::BoundaryNode> nodes,
                             const std::vector<PrescribedDof>& previous_constraints);
   const std::vector<boundary::BoundaryNode>& viscous_boundary() const { return boundary_; }
-  // Earthquake input through the viscous-spring boundary (DESIGN.md §5); records may be
+  // Earthquake input through the viscous-spring boundary (docs/theory.md §5); records may be
   // null; time zero of the records is `start_time`. Call with both null to switch it off.
   void set_earthquake(const seismic::Accelerogram* horizontal, const seismic::Accelerogram* vertical,
                       double incident_factor, double start_time);
 
-  // Water at rest for the coming stage (DESIGN.md §11), or none from now.
+  // Water at rest for the coming stage (docs/theory.md §8), or none from now.
   void set_water(WaterSetup w);
   void clear_water();
   const WaterLoads& water() const { return water_; }
 
-  // Moving water (DESIGN.md §13): SPH water whose riding boundary particles sit on the
+  // Moving water (docs/theory.md §11): SPH water whose riding boundary particles sit on the
   // model's edges `edges` (their `edge` indexes it; sph::lay_edge_particles lays them), from
   // now on, two ways: the water's force reaches the edges' nodes each step (phase 5b) and
   // the nodes move its walls. Call before initialise(). The fluid's own thread choice is
@@ -105,7 +105,7 @@ class Solver {
   // Computes forces and accelerations at the current state without advancing, and sets
   // the energy reference. Call once before the first step.
   void initialise();
-  // One explicit step of velocity Verlet (DESIGN.md §1).
+  // One explicit step of velocity Verlet (docs/theory.md §1).
   void step();
 
   // Checkpoint of the whole state (bit-identical restart). restore() expects a solver
@@ -175,12 +175,12 @@ class Solver {
   }
 
  private:
-  // The phases of one step (DESIGN.md §1), in order; step() calls each once.
+  // The phases of one step (docs/theory.md §1), in order; step() calls each once.
   void begin_step();                   // dt from the time-step control; the clock advanced
   void kick_drift_and_restart_forces();  // 1-2: velocity Verlet's first half, forces restart at gravity
   void add_element_and_joint_forces();   // 3-4: triangles (§2) and cohesive joints (§3)
   void add_contact_forces();           // 5: spheropolygons of zones A and C (§4)
-  void add_moving_water_forces();      // 5b: SPH water on the exposed edges (§13)
+  void add_moving_water_forces();      // 5b: SPH water on the exposed edges (§11)
   void add_boundary_forces();          // 6: viscous-spring boundary and seismic input (§5)
   void add_damping_forces();           // 7: local and Rayleigh mass parts (the stiffness part is in 3)
   void apply_constraints();            // reactions at prescribed dofs
@@ -255,7 +255,7 @@ class Solver {
   int energy_growth_steps_ = 0;  // consecutive steps with energy created beyond the work put in
   double created_prev_ = 0.0;    // energy created (not put in) at the previous step
   // Velocity Verlet's kinetic offset (EnergyLedger::verlet_kinetic_offset) is the sum of each
-  // step's dt^2/8 (S(n+1) - S(n)), S = sum m |a|^2 (DESIGN.md §1). Over steps of one dt it
+  // step's dt^2/8 (S(n+1) - S(n)), S = sum m |a|^2 (docs/theory.md §7). Over steps of one dt it
   // telescopes, so S is summed only where dt changes and when the ledger is read: the
   // offset is the closed segments' sum plus dt^2/8 (S - s_start) of the open one.
   struct VerletOffset {

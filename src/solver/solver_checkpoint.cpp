@@ -1,5 +1,5 @@
 // Saving and restoring the solver's state: everything a step reads, so a restarted run
-// continues bit-identically (DESIGN.md §1 step 9, §10).
+// continues bit-identically (docs/theory.md §1 step 9; docs/user-guide.md).
 #include <fmt/format.h>
 
 #include "solver/solver.hpp"

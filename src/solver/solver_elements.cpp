@@ -1,4 +1,4 @@
-// The element and joint phases of the step (DESIGN.md §1 phases 3-4) as per-item kernels
+// The element and joint phases of the step (docs/theory.md §1 phases 3-4) as per-item kernels
 // for the execution layer's region (exec::ElementRegion), and the stress on demand.
 #include "fem/bulk_law.hpp"
 #include "solver/solver.hpp"
@@ -23,7 +23,7 @@ struct ElementKernels {
   const std::array<Vec2, 2>* const joint_force;
   Index broken_now = 0;
 
-  // One triangle (DESIGN.md §2): stress (when stored), strain energy, nodal forces and,
+  // One triangle (docs/theory.md §2): stress (when stored), strain energy, nodal forces and,
   // with Damping, the stiffness-damping forces into damping (else zeros, read by nobody).
   [[gnu::always_inline]] fem::TriangleResponse element(std::size_t t, std::array<Vec2, 3>& damping) const {
     fem::TriangleInput in = s.triangle_input(t);
@@ -35,7 +35,7 @@ struct ElementKernels {
     fem::TriangleResponse r;
     const Index mat = tri.material[t];
     respond(t, in, mat, r, damping);
-    // The water at rest (DESIGN.md §11): the pore pressure's part of the total stress and
+    // The water at rest (docs/theory.md §8): the pore pressure's part of the total stress and
     // the tractions on this triangle's exposed edges and joint faces.
     if constexpr (Water) s.water_.add(t, in.x, tri.conn[t], mat, n, J, s.settings_.dt, s.water_booking_, r.force);
     if constexpr (StoreStress) {
@@ -69,7 +69,7 @@ struct ElementKernels {
     s.scatter_.shared_force(slot) = r.force;
     return r.detF > 0.0 ? 0 : kInverted;
   }
-  // Cohesive joints (DESIGN.md §3), breaking for good; any thread may take any block.
+  // Cohesive joints (docs/theory.md §3), breaking for good; any thread may take any block.
   void joint_blocks(std::size_t b0, std::size_t b1) {
     evaluate_joints(n, J, s.settings_.failure, s.model_.thickness, s.joint_buf_, broken_now, b0, b1);
   }

@@ -36,7 +36,7 @@ StableStep triangle_step_limit(const Model& model, double beta) {
 }
 
 std::vector<JointStepLimit> joint_step_limits(const Model& model, bool intact_only) {
-  // Joints: 2 sqrt(m/k) of the two node masses across each end (DESIGN.md §6).
+  // Joints: 2 sqrt(m/k) of the two node masses across each end (docs/theory.md §6).
   const auto& J = model.joints;
   std::vector<JointStepLimit> limits;
   for (std::size_t j = 0; j < J.size(); ++j) {

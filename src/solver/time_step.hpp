@@ -1,5 +1,5 @@
 #pragma once
-// The time step (DESIGN.md §6): dt = safety x min(h_e / cp_e over triangles, 2 sqrt(m/k)
+// The time step (docs/theory.md §6): dt = safety x min(h_e / cp_e over triangles, 2 sqrt(m/k)
 // over joints and contacts). TimeStepControl is the one owner of a solver's dt: a fixed
 // step, or the rule that takes the step again as the stiffest joints break, and what
 // controls it.
@@ -39,7 +39,7 @@ class TimeStepControl {
     fixed_dt_ = dt;
     if (!has_rule()) dt_ = dt;
   }
-  // The rule (DESIGN.md §6: dt = safety x the stable step of the model as it is): each step
+  // The rule (docs/theory.md §6: dt = safety x the stable step of the model as it is): each step
   // starts with dt = safety x min(fixed_limit, the limit of the stiffest intact joint),
   // taken again whenever joints broke. fixed_limit holds the triangles' and contact
   // springs' limits. Joints only break, so dt only grows, and a state gives one dt

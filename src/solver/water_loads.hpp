@@ -1,7 +1,7 @@
 #pragma once
-// Water at rest on the model (DESIGN.md §11): which triangle edges the water loads, and
+// Water at rest on the model (docs/theory.md §8): which triangle edges the water loads, and
 // each triangle's water forces of the last step for their work. The element kernels add
-// a triangle's water forces to its internal force (the total stress of §11 item 1 and
+// a triangle's water forces to its internal force (the total stress of §8 item 1 and
 // the tractions of items 2-3 on its own edges), so they reach the nodes through the
 // element scatter with the same bits for any thread count.
 #include <array>
@@ -32,7 +32,7 @@ struct WaterSetup {
   // index; empty: rho_w g everywhere).
   double ru = 0.0;
   std::vector<double> material_unit_weight;
-  // Moving water (DESIGN.md §13) over x in [moving_x_min, moving_x_max] replaces the line's
+  // Moving water (docs/theory.md §11) over x in [moving_x_min, moving_x_max] replaces the line's
   // pressure on exposed edges whose midpoint lies over that span (NaN: none).
   double moving_x_min = std::numeric_limits<double>::quiet_NaN();
   double moving_x_max = std::numeric_limits<double>::quiet_NaN();

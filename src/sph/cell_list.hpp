@@ -1,5 +1,5 @@
 #pragma once
-// O(N) neighbour search for SPH (DESIGN.md §13): a uniform grid of cells as wide as the
+// O(N) neighbour search for SPH (docs/theory.md §11): a uniform grid of cells as wide as the
 // kernel's support, filled by a stable counting sort. The candidates of a point are the
 // particles of the 3 x 3 cells around its own; cells are numbered row by row, so the three
 // cells of one row are one contiguous range of the sorted order.

@@ -1,5 +1,5 @@
 #pragma once
-// Weakly compressible SPH water in the vertical plane (DESIGN.md §13): fluid particles,
+// Weakly compressible SPH water in the vertical plane (docs/theory.md §11): fluid particles,
 // boundary particles that make the walls (the dynamic boundary condition: their density
 // follows the continuity equation and their pressure pushes the fluid back), an O(N) cell
 // list, and a velocity-Verlet step with the density advanced like a position:
@@ -44,9 +44,9 @@ enum class DensityDiffusion { Fourtakas, DeltaSph };
 struct FluidParameters {
   double rho0 = 1000.0;   // kg/m^3, the rest density
   double dp = 0.0;        // m, the initial particle spacing
-  double h_over_dp = 1.5; // smoothing length h in units of dp (DESIGN.md §13: 1.3-2)
+  double h_over_dp = 1.5; // smoothing length h in units of dp (docs/theory.md §11: 1.3-2)
   double c0 = 0.0;        // m/s, the numerical speed of sound (>= 10 max(sqrt(g H), v_max))
-  double alpha = 0.02;    // artificial viscosity (DESIGN.md §13: 0.01-0.1)
+  double alpha = 0.02;    // artificial viscosity (docs/theory.md §11: 0.01-0.1)
   double delta = 0.1;     // density diffusion coefficient
   DensityDiffusion diffusion = DensityDiffusion::DeltaSph;
   Vec2 gravity{0.0, -9.81};
@@ -68,7 +68,7 @@ struct FluidParameters {
   double mass() const { return rho0 * dp * dp; }  // kg/m: one particle's area times rho0
 };
 
-// The sound speed of DESIGN.md §13 for water depth H and an expected largest speed.
+// The sound speed of docs/theory.md §11 for water depth H and an expected largest speed.
 double sound_speed_for(double depth, double v_max, double g);
 
 class Fluid;
@@ -93,7 +93,7 @@ class Fluid {
   // for sizing a run before its water is laid out.
   static std::size_t bytes_per_particle(const FluidParameters& parameters);
 
-  // The largest stable step for the current state (DESIGN.md §13).
+  // The largest stable step for the current state (docs/theory.md §11).
   double stable_dt() const;
   // Advances by dt_outer in n equal sub-steps no longer than stable_dt(); returns n. This
   // is how a solid step larger than the fluid's limit drives the water.

@@ -1,4 +1,4 @@
-// sph::Fluid's pair passes (DESIGN.md §13): the neighbour lists, the density rates and the
+// sph::Fluid's pair passes (docs/theory.md §11): the neighbour lists, the density rates and the
 // accelerations. Each particle gathers its sums over the fluid partners within the support,
 // picked out of its Verlet list in ascending index (pair_lanes.hpp sums them four pairs at a
 // time in a fixed order): the same bits for any thread count, and whatever the lists hold
@@ -77,7 +77,7 @@ DensityPairConstants Fluid::density_constants() const {
 
 ForcePairConstants Fluid::force_constants() const { return {h_, par_.alpha * par_.c0, f_.mass, 1.0 / h_, grad_c_}; }
 
-// Continuity with density diffusion (DESIGN.md §13) for the fluid, continuity alone for
+// Continuity with density diffusion (docs/theory.md §11) for the fluid, continuity alone for
 // the boundary particles (the dynamic boundary condition; fluid neighbours only).
 void Fluid::density_rates() {
   if (par_.diffusion == DensityDiffusion::Fourtakas)
@@ -198,7 +198,7 @@ void Fluid::density_from_walls(std::size_t lo, std::size_t hi) {
   }
 }
 
-// The momentum equation (DESIGN.md §13): pressure, artificial viscosity and gravity, and the
+// The momentum equation (docs/theory.md §11): pressure, artificial viscosity and gravity, and the
 // renormalised density gradient's sums.
 void Fluid::accelerations() {
   if (par_.diffusion == DensityDiffusion::DeltaSph)

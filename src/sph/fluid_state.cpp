@@ -1,4 +1,4 @@
-// The state of the water between steps, for a checkpoint (DESIGN.md §10, §13): taken and
+// The state of the water between steps, for a checkpoint (docs/user-guide.md, docs/theory.md §11): taken and
 // put back whole, so that a restored fluid continues with the same bits.
 #include <algorithm>
 #include <stdexcept>

@@ -1,5 +1,5 @@
 #pragma once
-// Weakly compressible SPH in the vertical plane (DESIGN.md §13): the pair kernels, pure
+// Weakly compressible SPH in the vertical plane (docs/theory.md §11): the pair kernels, pure
 // functions of two particles' data. The formulation is that of DualSPHysics (Dominguez et
 // al. 2022): Wendland C2 smoothing kernel, Tait equation of state, Monaghan's artificial
 // viscosity and the density diffusion of Fourtakas et al. (2019). Per unit width (2D):
@@ -37,7 +37,7 @@ inline double wendland_gradient_factor(double r2, double h) {
   return wendland_gradient_factor(r2, 1.0 / h, -5.0 * wendland_normalisation(h) / (h * h));
 }
 
-// Tait's equation of state (DESIGN.md §13): p = B ((rho / rho0)^7 - 1), B = rho0 c0^2 / 7,
+// Tait's equation of state (docs/theory.md §11): p = B ((rho / rho0)^7 - 1), B = rho0 c0^2 / 7,
 // so that dp/drho = c0^2 at rho0.
 inline double tait_b(double rho0, double c0) { return rho0 * c0 * c0 / 7.0; }
 inline double tait_pressure(double rho, double rho0, double b) {
@@ -98,7 +98,7 @@ inline double density_gradient_correction(double delta_h_c0, double f, double gs
   return delta_h_c0 * f * gsum_dot_rji * volume_j;
 }
 
-// The time-step limit (DESIGN.md §13): dt <= cfl h / (c0 + v_max), and the force
+// The time-step limit (docs/theory.md §11): dt <= cfl h / (c0 + v_max), and the force
 // condition 0.25 sqrt(h / a_max) (Monaghan 1989).
 inline double stable_time_step(double h, double c0, double v_max, double a_max, double cfl) {
   const double dt_c = cfl * h / (c0 + v_max);

@@ -1,5 +1,5 @@
 #pragma once
-// One fluid particle's sums over its partners (sph::Fluid's pair passes, DESIGN.md §13),
+// One fluid particle's sums over its partners (sph::Fluid's pair passes, docs/theory.md §11),
 // four pairs at a time: the terms of pair_terms.hpp evaluated lane by lane (AVX2 where the
 // CPU has it: each lane does the scalar kernels' operations in their order, without fused
 // multiply-adds) and summed in four lanes, lane l taking partners l, l + 4, l + 8, ... in

@@ -1,5 +1,5 @@
 #pragma once
-// A fluid pair's terms in the two passes of sph::Fluid (DESIGN.md §13), from the kernels of
+// A fluid pair's terms in the two passes of sph::Fluid (docs/theory.md §11), from the kernels of
 // kernels.hpp: pure functions of the two particles' values (a = the particle whose sums take
 // them, b = its partner). Seen from b the terms are the same mirrored exactly: continuity
 // and the gradient products symmetric, diffusion and acceleration the same values negated.

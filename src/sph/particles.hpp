@@ -1,5 +1,5 @@
 #pragma once
-// SPH particles as structures of arrays (DESIGN.md §9, §13). Fluid particles move with the
+// SPH particles as structures of arrays (docs/developer-guide.md §7, docs/theory.md §11). Fluid particles move with the
 // flow; boundary particles make the walls and, when coupled, sit on a solid triangle's
 // exposed edge at a parametric position and move with it through its shape functions.
 #include <cstddef>

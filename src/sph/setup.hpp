@@ -1,5 +1,5 @@
 #pragma once
-// Initial particle layouts for SPH water (DESIGN.md §13): a rectangle of fluid on a
+// Initial particle layouts for SPH water (docs/theory.md §11): a rectangle of fluid on a
 // square lattice at hydrostatic density, and the walls of a rectangular tank as layers of
 // fixed boundary particles.
 #include "sph/fluid.hpp"

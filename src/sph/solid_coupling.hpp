@@ -1,5 +1,5 @@
 #pragma once
-// Two-way coupling of SPH water with a deforming solid (DESIGN.md §13): boundary particles
+// Two-way coupling of SPH water with a deforming solid (docs/theory.md §11): boundary particles
 // ride the solid's exposed edges, placed from the edge's two nodes through the linear shape
 // functions (1 - s, s), and the water's force on them goes back to the same two nodes
 // through the same functions (as contact does, paper eq. 5). The solid is seen only as node

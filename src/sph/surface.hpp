@@ -1,5 +1,5 @@
 #pragma once
-// What engineers read off the water (DESIGN.md §13): the free-surface elevation at a gauge,
+// What engineers read off the water (docs/theory.md §12): the free-surface elevation at a gauge,
 // the surface along the reservoir (the wave's amplitude, where and when), the run-up on a
 // bank, the volume that has passed a crest, the wave period at a gauge. Measured on the
 // fluid particles at output times, never in the time loop: each call scans the particles

@@ -41,7 +41,7 @@ ImpulseWave heller_hager(const SlideImpact& s) {
   w.amplitude_m = 4.0 / 9.0 * p45 * h;
   w.height_m = 5.0 / 9.0 * p45 * h;
   w.distance_m = 5.5 * std::sqrt(w.impulse_product) * h;
-  // The ranges of the experiments (Heller & Hager 2010; DESIGN.md §13).
+  // The ranges of the experiments (Heller & Hager 2010; docs/theory.md §12).
   w.checks[0] = {"F", w.froude, 0.86, 6.83};
   w.checks[1] = {"S", w.relative_thickness, 0.09, 1.64};
   w.checks[2] = {"M", w.relative_mass, 0.11, 10.02};

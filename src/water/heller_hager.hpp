@@ -1,6 +1,6 @@
 #pragma once
 // The engineering estimate of a landslide-generated impulse wave (Heller & Hager 2010,
-// VAW report 4257; DESIGN.md §13): the impulse product parameter of the slide where it
+// VAW report 4257; docs/theory.md §12): the impulse product parameter of the slide where it
 // meets the water and the 2D wave amplitude, height and their decay. Pure functions.
 namespace dsdem::water {
 

@@ -1,5 +1,5 @@
 #pragma once
-// Water at rest (DESIGN.md §11): the hydrostatic pressure below a piezometric line and
+// Water at rest (docs/theory.md §8): the hydrostatic pressure below a piezometric line and
 // the nodal forces it puts on a saturated solid in total stress (tension positive):
 // -p I in the elements, -p n on exposed edges and joint faces.
 #include <array>
@@ -66,7 +66,7 @@ struct TriangleWater {
   double level_unit_weight = 0.0;   // rho_w g of the water in cracks (EdgeWater::level), N/m^3
 };
 
-// All the water's nodal forces on one triangle (DESIGN.md §11, items 1-3): its pore
+// All the water's nodal forces on one triangle (docs/theory.md §8, items 1-3): its pore
 // pressure and the traction on its loaded edges; unit_weight scales the line's pressure. For p linear over a triangle whose three
 // edges are loaded by the line, the sum is the corner's share of the buoyancy,
 // rho_w g A / 3 upward each.

@@ -111,8 +111,8 @@ TEST(Cli, TooLargeFixedTimeStepIsRejectedNamingTheElement) {
   EXPECT_NE(c.output.find("exceeds the stable time step"), std::string::npos) << c.output;
 }
 
-// Regression: what model building logs (the penalty joint stiffness, which DESIGN §3
-// asks to report) went to the terminal before dsdem.log was opened: missing from the
+// Regression: what model building logs (the penalty joint stiffness, which docs/theory.md §3
+// says is logged) went to the terminal before dsdem.log was opened: missing from the
 // log, and printed even with -q. Now it is in the log, in `check`, and quiet stays quiet.
 TEST(Cli, ModelBuildingMessagesReachTheLogAndCheckButNotAQuietTerminal) {
   const fs::path dir = fresh_dir("cli_build_log");

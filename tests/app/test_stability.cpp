@@ -1,4 +1,4 @@
-// `dsdem stability` (DESIGN.md §12) against closed forms: Hoek & Bray plane failure
+// `dsdem stability` (docs/theory.md §9) against closed forms: Hoek & Bray plane failure
 // (examples/plane_failure) within 3 %, the vertical cut in cohesive ground
 // (examples/vertical_cut, Pastor et al. 2000) within 5 %; and its bad input.
 // The bounds are the closed form's FS times (1 -+ the tolerance) and the bisection
@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Hoek & Bray (1981) plane failure, DESIGN.md §12, per unit width, dry.
+// Hoek & Bray (1981) plane failure, examples/plane_failure/README.md, per unit width, dry.
 double hoek_bray(double H, double psi_f, double psi_p, double z, double c, double phi, double gamma) {
   const double d = std::numbers::pi / 180.0;
   const double A = (H - z) / std::sin(psi_p * d);
@@ -67,7 +67,7 @@ TEST(Stability, PlaneFailureDryTensionCrackWithinThreePercentOfHoekBray) {
   EXPECT_EQ(s["trials"][1]["result"], "failed");
 }
 
-// The crack full of water (DESIGN.md §11, §12): U = g_w z_w A / 2 on the plane and
+// The crack full of water (docs/theory.md §8, examples/plane_failure/README.md): U = g_w z_w A / 2 on the plane and
 // V = g_w z_w^2 / 2 in the crack, from the scenario's piezometric line.
 TEST(Stability, PlaneFailureWaterFilledCrackWithinThreePercentOfHoekBray) {
   const double d = std::numbers::pi / 180.0, H = 20, z = 8, zw = 8, gr = 2500 * 9.81, gw = 1000 * 9.81;
@@ -92,7 +92,7 @@ TEST(Stability, VerticalCutWithinFivePercentOfPastor) {
   EXPECT_EQ(s["trials"][1]["result"], "failed");
 }
 
-// The dynamic variant (DESIGN.md §12): the Dr2 column at 16 m under 4 s of the design
+// The dynamic variant (docs/theory.md §9): the Dr2 column at 16 m under 4 s of the design
 // earthquake from the static settled state survives at strengths 1/0.3 and falls apart at
 // 1/2; the two bound trials are the dynamic ones after the static pair. Without an
 // earthquake stage it is an error naming the key.

@@ -1,4 +1,4 @@
-// Free-field column heights of the viscous-spring boundary nodes (DESIGN.md §5).
+// Free-field column heights of the viscous-spring boundary nodes (docs/theory.md §5).
 #include <gtest/gtest.h>
 
 #include <cmath>

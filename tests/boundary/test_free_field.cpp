@@ -58,7 +58,7 @@ TEST(FreeField, IncidentMotionIsZeroBeforeStartAndScaled) {
   EXPECT_NEAR(m.at(0.3005).d, 0.5 * r.d(0.3005), 0.5 * 0.125e-6 * std::abs(r.a(0.3)) * 1.01);
 }
 
-// DESIGN.md §5: at a bottom node, SV gives
+// docs/theory.md §5: at a bottom node, SV gives
 //   Fx = A (aT G/R (u0(t) + u0(t - 2H/cs)) + 2 rho cs v0(t)),  Fy = 0,
 // and P gives the same in y with aN and cp.
 TEST(FreeField, BottomNodeReducesToDesignExpression) {
@@ -224,7 +224,7 @@ ColumnResult run_column(const ElasticMedium& md, double H, int N, double R, cons
 
 }  // namespace
 
-// DESIGN.md §5 check: a 1D column hit from below doubles the amplitude at the free
+// docs/theory.md §5 check: a 1D column hit from below doubles the amplitude at the free
 // surface and lets the reflected wave out through the base. 80 masses per dominant
 // wavelength: dispersion error ~1e-3, so 1% on the doubling and 99% of the energy out.
 TEST(FreeField, ColumnHitFromBelowDoublesAtSurfaceAndEmpties) {

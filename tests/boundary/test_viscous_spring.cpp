@@ -26,7 +26,7 @@ TEST(ViscousSpring, CoefficientsAreDesignFormulas) {
   EXPECT_NEAR(md.cp(), std::sqrt((lambda + 2 * G) / 2600.0), 1e-9);
   const double A = 2.5, R = 400.0;
   const ViscousSpringCoefficients c = viscous_spring_coefficients(A, md, R);
-  // DESIGN.md §5: kn = A aN G/R, kt = A aT G/R, cn = A rho cp, ct = A rho cs; aN = 1, aT = 0.5.
+  // docs/theory.md §5: kn = A aN G/R, kt = A aT G/R, cn = A rho cp, ct = A rho cs; aN = 1, aT = 0.5.
   EXPECT_NEAR(c.kn, A * 1.0 * G / R, 1e-6 * c.kn);
   EXPECT_NEAR(c.kt, A * 0.5 * G / R, 1e-6 * c.kt);
   EXPECT_NEAR(c.cn, A * 2600.0 * md.cp(), 1e-9 * c.cn);

@@ -1,5 +1,5 @@
 // Broad phase: exactly the brute-force pairs, complete under moves below half the
-// skin, O(N) grid, no allocation once warmed up (DESIGN.md §4).
+// skin, O(N) grid, no allocation once warmed up (docs/theory.md §4).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 // The contact phase driver: analytic single contact, conservation, per-step skip,
 // group parameters, tangential history, no allocation after warm-up, and identical
-// results with 1 and 2 OpenMP threads (DESIGN.md §4, §9).
+// results with 1 and 2 OpenMP threads (docs/theory.md §4, docs/developer-guide.md §3).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Contact history store: carried for persistent contacts, dropped when a contact
-// ends, deterministic lookups, no allocation once warm (DESIGN.md §4).
+// ends, deterministic lookups, no allocation once warm (docs/theory.md §4).
 #include <gtest/gtest.h>
 
 #include "common/alloc_counter.hpp"

@@ -1,5 +1,5 @@
 // Contact law: normal spring-dashpot without tension, incremental tangential spring
-// with the Coulomb cap, frame rotation, restitution (paper eqs. 2-4, DESIGN.md §4).
+// with the Coulomb cap, frame rotation, restitution (paper eqs. 2-4, docs/theory.md §4).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Dashpot mass of a contact (DESIGN.md §4): the shortcut that proves the cap inactive
+// Dashpot mass of a contact (docs/theory.md §4): the shortcut that proves the cap inactive
 // must give the chain's bits, and must never fire where the cap could bind.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Narrow phase: vertex-edge, vertex-vertex and edge-edge contacts against analytic
-// overlap, normal and contact point (DESIGN.md §4, paper eq. 1 and Fig. 4).
+// overlap, normal and contact point (docs/theory.md §4, paper eq. 1 and Fig. 4).
 #include <gtest/gtest.h>
 
 #include <algorithm>

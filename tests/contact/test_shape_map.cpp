@@ -1,4 +1,4 @@
-// Contact force to nodes by the linear shape functions (paper eq. 5, DESIGN.md §4).
+// Contact force to nodes by the linear shape functions (paper eq. 5, docs/theory.md §4).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Spheropolygon geometry: incircle, rounding radius, erosion (DESIGN.md §4, paper §1.1).
+// Spheropolygon geometry: incircle, rounding radius, erosion (docs/theory.md §4, paper §1.1).
 #include <gtest/gtest.h>
 
 #include <algorithm>

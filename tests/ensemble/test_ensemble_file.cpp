@@ -1,4 +1,4 @@
-// The ensemble file (DESIGN.md §14): validated as a whole, errors with file, line and key.
+// The ensemble file (docs/theory.md §13): validated as a whole, errors with file, line and key.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// dsdem ensemble end to end (DESIGN.md §14) on a block sliding down a 30-degree incline,
+// dsdem ensemble end to end (docs/theory.md §13) on a block sliding down a 30-degree incline,
 // a member taking a fraction of a second: the analytic ensemble, the same members.csv
 // however the members ran (--jobs 1, --jobs 2, mpirun -n 2, killed and rerun), failures.
 #include <gtest/gtest.h>

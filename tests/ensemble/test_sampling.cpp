@@ -1,4 +1,4 @@
-// Sampling of ensemble values (DESIGN.md §14): distributions, Latin hypercube, correlation.
+// Sampling of ensemble values (docs/theory.md §13): distributions, Latin hypercube, correlation.
 #include <gtest/gtest.h>
 
 #include <algorithm>

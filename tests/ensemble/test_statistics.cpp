@@ -1,4 +1,4 @@
-// Statistics of ensemble outputs (DESIGN.md §14).
+// Statistics of ensemble outputs (docs/theory.md §13).
 #include <gtest/gtest.h>
 
 #include <cmath>

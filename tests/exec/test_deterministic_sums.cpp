@@ -1,4 +1,4 @@
-// The execution layer's thread choice, splits and deterministic sums (DESIGN.md §9):
+// The execution layer's thread choice, splits and deterministic sums (docs/developer-guide.md §3):
 // the same bits for any thread count and chunk count.
 #include <gtest/gtest.h>
 

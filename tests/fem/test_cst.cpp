@@ -1,5 +1,5 @@
 #include <algorithm>
-// Unit tests of the CST kernel (DESIGN.md §2).
+// Unit tests of the CST kernel (docs/theory.md §2).
 #include <gtest/gtest.h>
 
 #include <cmath>

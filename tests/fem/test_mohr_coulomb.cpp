@@ -1,4 +1,4 @@
-// Verification of the Mohr-Coulomb return mapping (DESIGN.md §12) on a single material
+// Verification of the Mohr-Coulomb return mapping (docs/theory.md §10) on a single material
 // point driven by the Green strain. Tolerances: the returned stress lies on the envelope to
 // 1e-9 of (c + |p|); closed forms and flow directions to 1e-9 relative; round-off checks to
 // 1e-12 of the stress scale.

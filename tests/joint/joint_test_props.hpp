@@ -1,7 +1,7 @@
 #pragma once
 // Joint properties used by the joint tests: the paper's Brazilian-disc rock (§2.1:
 // E = 21 GPa, ft = 2.5 MPa, GI = 120 N/m, c = 20 MPa, phi = 45 deg, GII = 1500 N/m)
-// with the FDEM penalty kn = ks = p*E/h, p = 10, h = 5 mm (DESIGN.md §3).
+// with the FDEM penalty kn = ks = p*E/h, p = 10, h = 5 mm (docs/theory.md §3).
 #include "model/joints.hpp"
 
 namespace dsdem::test {

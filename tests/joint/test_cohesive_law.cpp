@@ -1,4 +1,4 @@
-// The joint law at one point against paper eqs. 6-9 / DESIGN.md §3.
+// The joint law at one point against paper eqs. 6-9 / docs/theory.md §3.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -127,7 +127,7 @@ TEST(CohesiveLaw, ModeIDissipatesGI) {
   append_linspace(dn, wt, wt + wn, 200);
   append_linspace(dn, wt + wn, 2 * (wt + wn), 20);
   const PathResult path = run_path(dn, std::vector<double>(dn.size(), 0.0), p);
-  // Softening area = GI by construction (DESIGN.md §3); the elastic branch adds
+  // Softening area = GI by construction (docs/theory.md §3); the elastic branch adds
   // ft^2/(2 kn), 0.06 % of GI for this penalty stiffness.
   const double exact = p.GI + p.ft * p.ft / (2 * p.kn);
   EXPECT_NEAR(path.work, exact, 1e-9 * exact);

@@ -148,7 +148,7 @@ TEST(JointPhase, JointsWithAnInitiallyBrokenPropertyStartBrokenAndCarryNothing) 
   EXPECT_EQ(tot.broken_now, 0);
 }
 
-// DESIGN.md §3: a penalty joint's stiffness follows its local element size. A joint with
+// docs/theory.md §3: a penalty joint's stiffness follows its local element size. A joint with
 // stiffness_scale s behaves as one whose property has kn, ks times s: s times the force
 // at the same small opening, and the same strength ft (reached at an opening 1/s).
 TEST(JointPhase, StiffnessScaleMultipliesPenaltyStiffnessButNotStrength) {

@@ -1,4 +1,4 @@
-// The law registries (DESIGN.md §9): lookup by name with a loud error, and declarations
+// The law registries (docs/developer-guide.md §5): lookup by name with a loud error, and declarations
 // complete enough to build the schema, the state arrays and the outputs from.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Strength reduction (DESIGN.md §12): every strength divided by F, the stiffnesses and
+// Strength reduction (docs/theory.md §9): every strength divided by F, the stiffnesses and
 // the softening lengths kept, the reduced properties still admissible.
 #include <gtest/gtest.h>
 

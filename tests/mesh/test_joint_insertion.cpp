@@ -1,4 +1,4 @@
-// Joint insertion (DESIGN.md §3, paper Fig. 3) on small hand-built meshes.
+// Joint insertion (docs/theory.md §3, paper Fig. 3) on small hand-built meshes.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Validation cases of DESIGN.md §7, fast coarse variants run through the CLI:
+// Validation cases of docs/validation.md §1-2, fast coarse variants (§3) run through the CLI:
 // the Brazilian disc and the four-point impact beam. The full runs are the examples
 // (examples/brazilian_disc, examples/beam_impact; docs/validation.md); these variants
 // use coarser meshes and, for the disc, a faster plate, and assert golden numbers of

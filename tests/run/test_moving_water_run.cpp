@@ -1,4 +1,4 @@
-// The reservoir as moving water from the scenario (DESIGN.md §13): a block sliding down a
+// The reservoir as moving water from the scenario (docs/theory.md §11): a block sliding down a
 // 45-degree bank into a closed flume of SPH water. The run lays the water out, settles it,
 // couples it with the solid and writes what engineers read off it (water.pvd, the gauges,
 // the wave's amplitude, run-up, overtopping, the force on the end wall, the energy handed to

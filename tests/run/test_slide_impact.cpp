@@ -1,4 +1,4 @@
-// A slide entering a reservoir (DESIGN.md §13): a block sliding without friction down a
+// A slide entering a reservoir (docs/theory.md §12): a block sliding without friction down a
 // 45-degree bank is measured where it meets the still level (time, speed, thickness,
 // mass, the bank's angle, the depth) against its closed form, and a restart before or
 // after the impact keeps the same record; a reservoir with no bank is an error at its key.

@@ -1,4 +1,4 @@
-// The equilibrium measure of `dsdem stability` (run/stability.hpp, DESIGN.md §12).
+// The equilibrium measure of `dsdem stability` (run/stability.hpp, docs/theory.md §9).
 #include <gtest/gtest.h>
 
 #include "run/stability.hpp"

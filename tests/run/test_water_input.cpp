@@ -1,4 +1,4 @@
-// The scenario's water (DESIGN.md §11) end to end: a wet slope's outputs carry the pore
+// The scenario's water (docs/theory.md §8) end to end: a wet slope's outputs carry the pore
 // pressure and the water's work; bad water input stops before step 0 with file, line
 // and key.
 #include <gtest/gtest.h>

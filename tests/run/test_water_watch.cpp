@@ -1,4 +1,4 @@
-// Where the moving water's wave is measured (DESIGN.md §13): beyond the slide's front, in
+// Where the moving water's wave is measured (docs/theory.md §12): beyond the slide's front, in
 // the direction the wave runs from the slide's bank, so that the splash over the slide and
 // the water it displaces as it sinks or lies on the bed are not taken for the impulse wave.
 #include <gtest/gtest.h>

@@ -20,7 +20,7 @@ using namespace dsdem::seismic;
 
 namespace {
 
-// The paper's case (DESIGN.md §5): beta spectrum, 0.05 g, Tg 0.35 s, dt 0.02 s, 10 s.
+// The paper's case (docs/theory.md §5): beta spectrum, 0.05 g, Tg 0.35 s, dt 0.02 s, 10 s.
 // Waves for seeds 1..3 are generated once for all tests of this file.
 const ArtificialWave& wave(std::uint64_t seed) {
   static std::map<std::uint64_t, ArtificialWave> cache;

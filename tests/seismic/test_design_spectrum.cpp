@@ -8,7 +8,7 @@
 using namespace dsdem;
 using namespace dsdem::seismic;
 
-// DESIGN.md §5: beta = 1 + 10(bmax - 1)T to 0.1 s, bmax to Tg, bmax (Tg/T)^0.6 after,
+// docs/theory.md §5: beta = 1 + 10(bmax - 1)T to 0.1 s, bmax to Tg, bmax (Tg/T)^0.6 after,
 // floor 0.2 bmax. Reference values computed by hand (bmax 2.25, Tg 0.35 s).
 TEST(DesignSpectrum, HydraulicBetaBranches) {
   EXPECT_DOUBLE_EQ(hydraulic_beta(0.0, 2.25, 0.35), 1.0);

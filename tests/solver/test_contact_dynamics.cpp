@@ -191,7 +191,7 @@ TEST(ContactDynamics, HeadOnCollisionOfBlocksConservesMomentumAndGainsNoEnergy) 
     previous_rebound = rebound;
     const double after = s.energy().kinetic + s.energy().strain;
     EXPECT_LE(after, ke0 * (1 + 1e-3)) << "energy gained " << after / ke0 - 1;
-    // The ledger books the dashpots as velocity Verlet applies them (DESIGN.md §1, §6);
+    // The ledger books the dashpots as velocity Verlet applies them (docs/theory.md §7);
     // what is left is the contact springs' own net work where contacts open and close
     // within a step, which no smaller time step removes.
     EXPECT_LT(s.energy().balance_error(), 2e-3);

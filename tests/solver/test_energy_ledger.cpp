@@ -1,5 +1,5 @@
 // The energy ledger books each contact dissipation as velocity Verlet applies it
-// (DESIGN.md §1, §6): a head-on collision of two meshed blocks with contact damping and a
+// (docs/theory.md §7): a head-on collision of two meshed blocks with contact damping and a
 // stack of blocks at rest close their balance at the default time step.
 #include <gtest/gtest.h>
 

@@ -129,7 +129,7 @@ TEST(Fracture, BrokenBarPushedBackTogetherCollidesWithoutOverlapExplosion) {
   EXPECT_LT(s.energy().balance_error(), 1e-2);
 }
 
-// DESIGN.md §3: the penalty stiffness uses the LOCAL element size. On a graded mesh
+// docs/theory.md §3: the penalty stiffness uses the LOCAL element size. On a graded mesh
 // (cells 7x narrower at one end) every joint has kn = p E / h_local, h_local the mean
 // sqrt(2A) of its two triangles, and the stable step sees those stiffnesses.
 TEST(Fracture, PenaltyStiffnessFollowsTheLocalElementSize) {

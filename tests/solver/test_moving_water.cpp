@@ -1,4 +1,4 @@
-// Moving (SPH) water coupled with meshed solids through the solver (DESIGN.md §13): a
+// Moving (SPH) water coupled with meshed solids through the solver (docs/theory.md §11): a
 // floating block at its Archimedes draft, a heavy block sinking to rest on the bed, the
 // momentum balance between water and nodes at every step, the solid's energy balance with
 // the water's work, the same bits for 1 and 2 threads and after a checkpoint restart.
@@ -342,7 +342,7 @@ TEST(MovingWater, OneAndTwoThreadsGiveTheSameBits) {
   EXPECT_EQ(run(1), run(2));
 }
 
-// Checkpoints of a coupled run (DESIGN.md §10, §13): the solid, the water and the coupling
+// Checkpoints of a coupled run (docs/user-guide.md, docs/theory.md §11): the solid, the water and the coupling
 // between them are saved whole, and a solver built the same way continues with the same bits.
 namespace {
 
@@ -432,7 +432,7 @@ TEST(MovingWater, CheckpointRestartContinuesBitIdentically) {
   std::printf("checkpoint restarts: %.1f s\n", seconds_since(t0));
 }
 
-// The water steps at its own stable step (DESIGN.md §13): a block a hundred times stiffer
+// The water steps at its own stable step (docs/theory.md §11): a block a hundred times stiffer
 // takes solid steps ten times shorter than the water's, and the water advances once over as
 // many of them as fit in its step, landing on the solid's time, its force on the nodes held in
 // between. The drop's energy balance closes as in the drop above, and a checkpoint taken

@@ -1,6 +1,6 @@
 // The node-force assembler and its booking rule (src/solver/node_forces.hpp): forces reach
 // the sum the same for 1 and 2 threads, and drift_work books exactly the kinetic energy
-// velocity Verlet gives a node (DESIGN.md §1, §7).
+// velocity Verlet gives a node (docs/theory.md §1, §7).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +37,7 @@ TEST(NodeForces, DriftWorkIsTheTrapezoidOnTheDrift) {
 
 // A node of mass m under a force that changes every step, integrated by velocity Verlet:
 // the kinetic energy it gains is the sum of drift_work plus dt^2/8 m (|a(n)|^2 - |a(0)|^2),
-// the Verlet offset the ledger books (DESIGN.md §1), to rounding.
+// the Verlet offset the ledger books (docs/theory.md §7), to rounding.
 TEST(NodeForces, DriftWorkBooksWhatVelocityVerletGives) {
   Nodes n;
   n.resize(1);

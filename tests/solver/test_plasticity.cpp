@@ -1,4 +1,4 @@
-// The Mohr-Coulomb bulk law in the time step (DESIGN.md §12): Prandtl's bearing capacity,
+// The Mohr-Coulomb bulk law in the time step (docs/theory.md §10): Prandtl's bearing capacity,
 // the plastic work in the energy balance, and the same bits on 1 and 2 threads and across
 // a checkpoint restart with plastic state.
 #include <gtest/gtest.h>
@@ -121,7 +121,7 @@ TEST_P(PrandtlBearingCapacity, OfAStripFootingWithinFivePercent) {
 INSTANTIATE_TEST_SUITE_P(Plasticity, PrandtlBearingCapacity, ::testing::Values("mohr_coulomb", "drucker_prager"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
-// Work put in by the footing = stored energy + plastic work + damping (DESIGN.md §1, §6):
+// Work put in by the footing = stored energy + plastic work + damping (docs/theory.md §7):
 // the plastic work is booked in the ledger, and it only grows.
 class PlasticWork : public ::testing::TestWithParam<const char*> {};
 

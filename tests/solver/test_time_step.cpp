@@ -1,4 +1,4 @@
-// The time step as joints break (DESIGN.md §6): dt = safety x the stable step of
+// The time step as joints break (docs/theory.md §6): dt = safety x the stable step of
 // the model as it is, taken again whenever joints break (Solver::set_time_step_rule).
 #include <gtest/gtest.h>
 

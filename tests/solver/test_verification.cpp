@@ -143,7 +143,7 @@ TEST(Verification, UndampedEnergyDriftBelowPointOnePercentOver1e4Steps) {
     model.nodes.v[n] = Vec2(0.01 * std::sin(kPi * X.x()), 0.02 * X.x() * X.y());  // deforming + spinning
   }
   solver::Solver s(model);
-  // The default safety factor 0.3 (DESIGN.md §6).
+  // The default safety factor 0.3 (docs/theory.md §6).
   s.set_settings({Vec2::Zero(), 0.0, 0.0, 0.3 * solver::stable_time_step(model, 0.0).dt});
   s.initialise();
   const double e0 = s.energy().mechanical();

@@ -1,4 +1,4 @@
-// Water at rest on meshed solids (DESIGN.md §11) through the solver: Archimedes and
+// Water at rest on meshed solids (docs/theory.md §8) through the solver: Archimedes and
 // Terzaghi at every node, a floating block at its draft, the water's work in the energy
 // balance, and the same bits for 1 and 2 threads and across a checkpoint.
 #include <gtest/gtest.h>
@@ -82,7 +82,7 @@ TEST(WaterOnSolids, EveryNodeOfASubmergedBlockCarriesItsBuoyancy) {
   }
 }
 
-// Where moving water covers the span (DESIGN.md §13) it replaces the static water on exposed
+// Where moving water covers the span (docs/theory.md §11) it replaces the static water on exposed
 // edges whose midpoint lies over that span; the pore pressure inside the solid stays. A
 // submerged block whose left half lies under the moving water keeps the pore pressure's
 // share (-p I in the elements: zero net force on a saturated block at rest, weightless here),

@@ -1,4 +1,4 @@
-// The SPH cell list (DESIGN.md §13): every pair closer than the support is a candidate,
+// The SPH cell list (docs/theory.md §11): every pair closer than the support is a candidate,
 // exactly once, against brute force; the order within a cell is the index order.
 #include <gtest/gtest.h>
 

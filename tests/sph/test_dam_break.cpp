@@ -1,4 +1,4 @@
-// The dam break (DESIGN.md §7, §13) against Koshizuka & Oka (1996) and Martin & Moyce
+// The dam break (docs/validation.md §5.2, docs/theory.md §11) against Koshizuka & Oka (1996) and Martin & Moyce
 // (1952), coarse (a / dp = 20); examples/dam_break runs it finer with the comparison plot.
 //
 // Reference data (dimensionless; Z = x_front / a, T = t sqrt(2 g / a), H = height / (n^2 a),

@@ -1,4 +1,4 @@
-// SPH water in a tank (DESIGN.md §13): hydrostatic pressure and settling, and the same
+// SPH water in a tank (docs/theory.md §11): hydrostatic pressure and settling, and the same
 // bits for 1 and 2 threads.
 #include <gtest/gtest.h>
 
@@ -38,7 +38,7 @@ Tank small_tank(double dp) {
   t.width = 0.2;
   t.depth = 0.2;
   t.par.dp = dp;
-  // Twice DESIGN.md §13's least c0: the density then varies by 0.25 % over the depth, and
+  // Twice docs/theory.md §11's least c0: the density then varies by 0.25 % over the depth, and
   // the (p_i + p_j) pressure term's error with it (p / (rho c0^2), 2 % at 10 sqrt(g H)).
   t.par.c0 = 2.0 * sound_speed_for(t.depth, 0.0, 9.81);
   t.par.alpha = 0.1;

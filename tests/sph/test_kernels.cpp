@@ -1,4 +1,4 @@
-// SPH pair kernels (DESIGN.md §13): Wendland C2 normalisation and gradient, Tait's
+// SPH pair kernels (docs/theory.md §11): Wendland C2 normalisation and gradient, Tait's
 // equation of state, the density diffusion's antisymmetry, the artificial viscosity.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// No allocation in the SPH time loop (DESIGN.md §9): after warm-up, steps of a collapsing
+// No allocation in the SPH time loop (docs/developer-guide.md §7): after warm-up, steps of a collapsing
 // water column (cell lists rebuilt, re-sorts, both passes, the boundary) allocate nothing
 // while the grid does not grow. Defines the counting operator new of the test_sph binary.
 #define DSDEM_DEFINE_ALLOC_COUNTER

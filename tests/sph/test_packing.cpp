@@ -1,4 +1,4 @@
-// Packing while the water settles (sph::Fluid::set_packing, DESIGN.md §13): particles move
+// Packing while the water settles (sph::Fluid::set_packing, docs/theory.md §11): particles move
 // down their concentration gradient into the gaps of the lattice, never at the free
 // surface, and the same on 1 and 2 threads.
 #include <gtest/gtest.h>

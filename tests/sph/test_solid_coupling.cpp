@@ -1,4 +1,4 @@
-// The coupling of SPH water with a solid's edges (DESIGN.md §13): the boundary particles'
+// The coupling of SPH water with a solid's edges (docs/theory.md §11): the boundary particles'
 // layout behind the edges, their placement from the nodes, the momentum balance between
 // the water and the nodes at every force evaluation, the same bits for 1 and 2 threads, and
 // the energy of water squeezed between a block and a corner against the block's work on it.

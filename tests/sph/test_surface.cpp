@@ -1,4 +1,4 @@
-// The water's surface measurements (DESIGN.md §13): gauges, the highest point, run-up,
+// The water's surface measurements (docs/theory.md §12): gauges, the highest point, run-up,
 // the volume past a crest, the period at a gauge, on particle layouts whose answer is known.
 #include <gtest/gtest.h>
 

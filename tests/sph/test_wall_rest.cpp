@@ -1,4 +1,4 @@
-// Water at rest against walls laid behind a solid's faces (DESIGN.md §13): the stations keep
+// Water at rest against walls laid behind a solid's faces (docs/theory.md §11): the stations keep
 // the fluid's spacing along a run of faces whatever the faces' lengths, and water held by
 // such a wall settles and stays at rest with the hydrostatic pressure on it.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The Heller & Hager (2010) impulse-wave estimate (DESIGN.md §13) against values worked by
+// The Heller & Hager (2010) impulse-wave estimate (docs/theory.md §12) against values worked by
 // hand from its equations, and its validity box.
 #include <gtest/gtest.h>
 

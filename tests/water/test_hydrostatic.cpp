@@ -1,4 +1,4 @@
-// Water at rest (DESIGN.md §11): the piezometric line, the exact edge tractions and a
+// Water at rest (docs/theory.md §8): the piezometric line, the exact edge tractions and a
 // triangle's water forces against closed forms and an independent quadrature.
 #include <gtest/gtest.h>
 
@@ -135,7 +135,7 @@ TEST(TriangleForces, FloatingSquareGetsTheWeightOfTheDisplacedWater) {
   EXPECT_NEAR(net.y(), kGamma * 0.37, 1e-12 * kGamma);
 }
 
-// Terzaghi on a joint (DESIGN.md §11 item 2): a horizontal joint under the total normal
+// Terzaghi on a joint (docs/theory.md §8 item 2): a horizontal joint under the total normal
 // stress sigma with water at pressure p in it. The water pushes its faces apart by p, so
 // in equilibrium the cohesive spring carries sigma + p, and the joint slips at
 // tau = c - (sigma + p) tan(phi) (tension positive).

@@ -1,6 +1,6 @@
 // Dr2 rock slope: SENSITIVITY CASE "gentle lower slope" (docs/dr2.md §4, "Sensitivity to
 // the lower-slope geometry (alternative profile)"). NOT a replacement of ../dr2.geo: the
-// main scenarios keep DESIGN.md §8's reconstructed profile. This file is ../dr2.geo with
+// main scenarios keep docs/dr2.md §1's reconstructed profile. This file is ../dr2.geo with
 // ONLY the lower slope below the slope toe (560, 900), deposit III's base below
 // (590, 850), the river bed, the left bank (moved right) and the model width changed.
 //
@@ -23,7 +23,7 @@
 //     mudstone block and the T1y3 contact layer are untouched; 52 deg over its upper
 //     40 m as before), then (590, 850) -> (700, 797) 25.7 deg -> (800, 752) 24.2 deg ->
 //     (840, 745) 9.9 deg (the toe, on the river terrace). Vertical thickness 11-34 m
-//     (reconstruction: 12-36 m; DESIGN §8: 20-35 m in its middle).
+//     (reconstruction: 12-36 m; docs/dr2.md §1: 20-35 m in its middle).
 //   * river bed at the same 745 m and the same 90 m width, moved 140 m outward:
 //     x = 860-950 m (was 720-810); the left bank is the original one shifted right by
 //     140 m: (1020, 860) (1120, 1040), and the model is widened from 1298 to 1450 m (the
@@ -53,7 +53,7 @@
 // The header of ../dr2.geo follows (its geometry notes apply above the slope toe).
 //
 // Dr2 rock slope, Suofengying hydropower station (Wujiang river, Guizhou): the
-// reconstructed 2D profile of DESIGN.md §8. x toward the river (m), y = elevation (m).
+// reconstructed 2D profile of docs/dr2.md §1. x toward the river (m), y = elevation (m).
 //
 // The paper (Mao Jia et al. 2026) gives no coordinates; this profile is rebuilt from the
 // numbers it does give: model 1298 m wide, up to 689 m tall (base at 480 m); crest
@@ -65,11 +65,11 @@
 // colluvium) on the lower slope down to the river; the river bed at 745 m and the
 // opposite (left) bank.
 //
-// Small deviations from DESIGN.md §8 (all < 2 m), so that curves meet exactly:
+// Small deviations from docs/dr2.md §1 (all < 2 m), so that curves meet exactly:
 //   * J1 carries the 3 deg dip all along: z = 960 + (474 - x) tan 3deg, so L1 ends at
 //     (441, 961.73) and L3 at (452, 961.15) on J1 instead of at z = 960;
-//   * L3 starts on the ground line at (425, 1075.74) (DESIGN: 1075);
-//   * the lower tip of L2 is at (435, 1000), midway between L1 and L3 (DESIGN: 440,
+//   * L3 starts on the ground line at (425, 1075.74) (docs/dr2.md §1: 1075);
+//   * the lower tip of L2 is at (435, 1000), midway between L1 and L3 (docs/dr2.md §1: 440,
 //     only 2.9 m from L3, which forced 1.8 m slivers and a 2x smaller time step);
 //   * J4 (905 m) reaches the face under deposit III, so it ends on the deposit base at
 //     (547.03, 905).
