@@ -14,7 +14,13 @@
 #include <random>
 #include <vector>
 
+#include <omp.h>
+
+#include "common/materials.hpp"
 #include "fem/tet4.hpp"
+#include "mesh/model_builder3d.hpp"
+#include "mesh/structured.hpp"
+#include "solver/continuum3d.hpp"
 
 using namespace dsdem;
 
@@ -130,3 +136,41 @@ void BM_TetInternalForce(benchmark::State& state) {
 BENCHMARK(BM_TetInternalForce)->Arg(12)->Arg(26)->Arg(55)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// Whole steps of the 3D continuum (solver/continuum3d): a box of N = 6 n^3 tetrahedra of
+// Mohr-Coulomb rock, fixed at its base, under gravity with Rayleigh damping, on 1 or 2
+// threads. Counters: tet-steps/s, and B/tet: the model's and the solver's arrays per
+// tetrahedron (nodes' share included).
+static void BM_Continuum3DStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  Model3 model = mesh::build_model_3d(mesh::box_mesh(n, n, n, 1.0, 1.0, 1.0),
+                                      test::mohr_coulomb_material("rock", 1e9, 0.25, 2500.0, 1e5, 35.0, 0.0));
+  solver::Solver3 s(model);
+  std::vector<solver::PrescribedDof> base;
+  for (const Index v : model.groups[static_cast<std::size_t>(model.find_group("zmin"))].nodes)
+    for (int d = 0; d < 3; ++d) {
+      solver::PrescribedDof dof;
+      dof.node = v;
+      dof.dir = d;
+      base.push_back(dof);
+    }
+  s.set_constraints(base);
+  solver::StepSettings3 st;
+  st.alpha = 1.0;
+  s.set_settings(st);
+  s.set_parallel(threads > 1);
+  omp_set_num_threads(threads);
+  s.initialise();
+  for (int k = 0; k < 5; ++k) s.step();  // warm-up
+  for (auto _ : state) s.step();
+  omp_set_num_threads(1);
+  const double ne = static_cast<double>(model.tetrahedra.size());
+  state.counters["tets"] = ne;
+  state.counters["tet-steps/s"] =
+      benchmark::Counter(ne * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["B/tet"] = static_cast<double>(s.memory_bytes()) / ne;
+}
+BENCHMARK(BM_Continuum3DStep)
+    ->Args({12, 1})->Args({12, 2})->Args({26, 1})->Args({26, 2})->Args({55, 1})->Args({55, 2})
+    ->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(2.0);

@@ -134,9 +134,9 @@ std::vector<BoundaryNode> build_viscous_boundary(const Model& model, const std::
   const SurfaceProfile surface(nodes.X, model.triangles.conn);
   for (auto& bn : out) {
     const Vec2 X = nodes.X[bn.node];
-    bn.y = X.y() - y_base;
+    bn.height = X.y() - y_base;
     bn.H = surface.top(X.x()) - y_base;
-    bn.y = std::clamp(bn.y, 0.0, bn.H);
+    bn.height = std::clamp(bn.height, 0.0, bn.H);
   }
   return out;
 }

@@ -12,19 +12,23 @@
 
 namespace dsdem::boundary {
 
-struct BoundaryNode {
+// A node of the viscous-spring boundary of a model of dimension D (2 or 3).
+template <int D>
+struct BoundaryNodeD {
+  using Vec = VecD<D>;
   Index node = kNoIndex;
-  Vec2 normal = Vec2::Zero();  // unit outward normal
-  double area = 0.0;           // tributary length x thickness, m^2 (per unit thickness: m)
+  Vec normal = Vec::Zero();  // unit outward normal
+  double area = 0.0;         // tributary area, m^2 (2D: tributary length x thickness; per unit thickness: m)
   ViscousSpringCoefficients coef;
   ElasticMedium medium;
-  double y = 0.0;  // height above the model base, m
-  double H = 0.0;  // height of the free-field column above this point's base, m
+  double height = 0.0;  // height above the model base (along y in 2D, z in 3D), m
+  double H = 0.0;       // height of the free-field column above this point's base, m
   bool free_field = true;
-  Vec2 static_force = Vec2::Zero();  // reaction of the previous stage's supports, kept as a load, N
-  Vec2 u_ref = Vec2::Zero();         // displacement when the boundary was attached, m
-  Vec2 u_prev = Vec2::Zero();        // displacement before this step's drift, m (solver scratch, for the work)
+  Vec static_force = Vec::Zero();  // reaction of the previous stage's supports, kept as a load, N
+  Vec u_ref = Vec::Zero();         // displacement when the boundary was attached, m
+  Vec u_prev = Vec::Zero();        // displacement before this step's drift, m (solver scratch, for the work)
 };
+using BoundaryNode = BoundaryNodeD<2>;
 
 // Height of the model's top outline above each x, in the reference configuration: the
 // highest point where the vertical line at x meets a triangle edge (docs/theory.md §5: the

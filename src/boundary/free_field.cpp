@@ -37,4 +37,25 @@ FreeFieldState free_field_column(IncidentWave wave, const IncidentMotion& motion
   return ff;
 }
 
+FreeFieldState3 free_field_column_3d(IncidentWave wave, int direction, const IncidentMotion& motion,
+                                     const ElasticMedium& medium, double z, double H, double t) {
+  if (wave == IncidentWave::SV && direction != 0 && direction != 1)
+    throw std::invalid_argument(fmt::format("free field: an SV wave moves along x (0) or y (1), not {}", direction));
+  // The column's 1D field with the height along the 2D column's y.
+  const FreeFieldState f = free_field_column(wave, motion, medium, z, H, t);
+  FreeFieldState3 ff;
+  if (wave == IncidentWave::SV) {
+    ff.u[direction] = f.u.x();
+    ff.v[direction] = f.v.x();
+    ff.stress[direction == 0 ? 4 : 3] = f.stress[2];  // sigma_xz or sigma_yz
+  } else {
+    ff.u.z() = f.u.y();
+    ff.v.z() = f.v.y();
+    ff.stress[0] = f.stress[0];
+    ff.stress[1] = f.stress[0];
+    ff.stress[2] = f.stress[1];
+  }
+  return ff;
+}
+
 }  // namespace dsdem::boundary

@@ -63,4 +63,35 @@ inline Vec2 free_field_input_force(const ViscousSpringCoefficients& c, double A,
   return fn * n + ft * t + A * traction;
 }
 
+// The free field of a 3D model: a vertical column along z, SV waves moving in x or y, P
+// waves in z (docs/theory.md §5, §14). Stress Voigt (xx, yy, zz, yz, xz, xy).
+struct FreeFieldState3 {
+  Vec3 u = Vec3::Zero();
+  Vec3 v = Vec3::Zero();
+  Vec6 stress = Vec6::Zero();
+  FreeFieldState3& operator+=(const FreeFieldState3& o) {
+    u += o.u;
+    v += o.v;
+    stress += o.stress;
+    return *this;
+  }
+};
+
+// The column's field at height z in [0, H] at time t: free_field_column's, its motion along
+// x (direction 0) or y (1) for SV and along z for P, with sigma_xz or sigma_yz for SV and
+// sigma_zz, sigma_xx = sigma_yy for P. Throws as free_field_column, and
+// std::invalid_argument for an SV direction other than 0 or 1.
+FreeFieldState3 free_field_column_3d(IncidentWave wave, int direction, const IncidentMotion& motion,
+                                     const ElasticMedium& medium, double z, double H, double t);
+
+// F = K u_ff + C v_ff + A sigma_ff.n in 3D, split as viscous_spring_force (3D) splits.
+inline Vec3 free_field_input_force(const ViscousSpringCoefficients& c, double A, const Vec3& n,
+                                   const FreeFieldState3& ff) {
+  const double un = ff.u.dot(n), vn = ff.v.dot(n);
+  const Vec6& s = ff.stress;
+  const Vec3 traction(s[0] * n.x() + s[5] * n.y() + s[4] * n.z(), s[5] * n.x() + s[1] * n.y() + s[3] * n.z(),
+                      s[4] * n.x() + s[3] * n.y() + s[2] * n.z());
+  return (c.kn * un + c.cn * vn) * n + c.kt * (ff.u - un * n) + c.ct * (ff.v - vn * n) + A * traction;
+}
+
 }  // namespace dsdem::boundary

@@ -11,6 +11,9 @@ namespace dsdem::boundary {
 // Kb = G/(2 rb) is the tangential one).
 constexpr double kAlphaNormal = 1.0;
 constexpr double kAlphaTangential = 0.5;
+// 3D correction factors (Liu Jingbo et al. 2006): aN = 4/3, aT = 2/3.
+constexpr double kAlphaNormal3D = 4.0 / 3.0;
+constexpr double kAlphaTangential3D = 2.0 / 3.0;
 
 // Elastic medium outside the boundary (plane strain moduli).
 struct ElasticMedium {
@@ -48,6 +51,13 @@ inline Vec2 viscous_spring_force(const ViscousSpringCoefficients& c, const Vec2&
   const double fn = -(c.kn * u.dot(n) + c.cn * v.dot(n));
   const double ft = -(c.kt * u.dot(t) + c.ct * v.dot(t));
   return fn * n + ft * t;
+}
+
+// The same in 3D: the tangential part is the motion's projection on the boundary's plane.
+// (Its own name: Eigen expressions convert to either vector, so overloads would be ambiguous.)
+inline Vec3 viscous_spring_force_3d(const ViscousSpringCoefficients& c, const Vec3& n, const Vec3& u, const Vec3& v) {
+  const double un = u.dot(n), vn = v.dot(n);
+  return -(c.kn * un + c.cn * vn) * n - c.kt * (u - un * n) - c.ct * (v - vn * n);
 }
 
 }  // namespace dsdem::boundary

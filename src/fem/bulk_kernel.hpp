@@ -15,8 +15,12 @@
 //   update(model, E, S0, S0_zz, start, end)   from the Green strain E (xx, yy, 2xy) at the
 //                 step's end, the initial stress and the state at the step's start: the
 //                 BulkResponse, and the state at the step's end into `end`
-// A law without state (linear elastic) has the whole triangle's kernel of cst.hpp instead
-// of update.
+// and, for a law that also runs in 3D (the tetrahedron, tet4.hpp),
+//   State3D, kDissipation3D   its state in 3D and the dissipation's position in it
+//   update_3d(model, E, S0, start, end)   the same from the 3D Green strain (Voigt xx, yy,
+//                 zz, 2yz, 2xz, 2xy): the BulkResponse3D
+// A law without state (linear elastic) has the whole element's kernels of cst.hpp and
+// tet4.hpp instead of update and update_3d.
 #include <cstddef>
 
 #include "model/types.hpp"
@@ -31,7 +35,15 @@ struct BulkResponse {
   double dissipation = 0.0;    // plastic work of this update, J/m^3, >= 0
 };
 
+// The same in 3D: no out-of-plane stress.
+struct BulkResponse3D {
+  Vec6 S = Vec6::Zero();       // second Piola-Kirchhoff stress, Voigt (xx, yy, zz, yz, xz, xy), Pa
+  double strain_energy = 0.0;  // J/m^3
+  double dissipation = 0.0;    // J/m^3, >= 0
+};
+
 // The most state variables a bulk law may declare (the element loop's fixed arrays).
 inline constexpr std::size_t kMaxBulkState = 8;
+inline constexpr std::size_t kMaxBulkState3D = 8;
 
 }  // namespace dsdem::fem

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <exception>
 #include <span>
 #include <string_view>
 #include <tuple>
@@ -16,6 +17,7 @@
 #include "fem/cst.hpp"
 #include "fem/drucker_prager.hpp"
 #include "fem/mohr_coulomb.hpp"
+#include "fem/tet4.hpp"
 #include "law/laws.hpp"
 
 namespace dsdem::fem {
@@ -36,6 +38,27 @@ using BulkKernels = KernelList<LinearElasticKernel, MohrCoulombKernel, DruckerPr
 
 template <class K>
 concept StatefulKernel = requires { typename K::State; };
+// A law's kernel runs in 3D: the elastic tetrahedron, or a 3D update of its state.
+template <class K>
+concept Stateful3DKernel = requires { typename K::State3D; };
+template <class K>
+constexpr bool runs_in_3d() {
+  return Stateful3DKernel<K> || !StatefulKernel<K>;
+}
+template <class K>
+constexpr std::size_t state_size_3d() {
+  if constexpr (Stateful3DKernel<K>) {
+    static_assert(K::kState3D <= kMaxBulkState3D);
+    return K::kState3D;
+  } else {
+    return 0;
+  }
+}
+template <class K>
+constexpr int dissipation_3d() {
+  if constexpr (Stateful3DKernel<K>) return K::kDissipation3D;
+  else return -1;
+}
 
 // How many doubles a kernel's state holds.
 template <class K>
@@ -59,6 +82,10 @@ struct KernelList {
   static constexpr std::array<std::string_view, size> names{Kernels::name...};
   static constexpr std::array<std::size_t, size> state_sizes{fem::state_size<Kernels>()...};
   static constexpr std::array<int, size> dissipations{Kernels::kDissipation...};
+  // The same in 3D (the tetrahedron); a law whose kernel does not run in 3D is refused there.
+  static constexpr std::array<bool, size> in_3d{fem::runs_in_3d<Kernels>()...};
+  static constexpr std::array<std::size_t, size> state_sizes_3d{fem::state_size_3d<Kernels>()...};
+  static constexpr std::array<int, size> dissipations_3d{fem::dissipation_3d<Kernels>()...};
 };
 
 // A material's bulk law as the element loop sees it: its kernel's position in BulkKernels
@@ -77,6 +104,10 @@ class BulkLaw {
   std::size_t state_size() const { return BulkKernels::state_sizes[index()]; }
   // The position in the state of the accumulated dissipation, or -1.
   int dissipation() const { return BulkKernels::dissipations[index()]; }
+  // The same for the tetrahedron (3D); runs_in_3d() false: the law is plane-only.
+  bool runs_in_3d() const { return BulkKernels::in_3d[index()]; }
+  std::size_t state_size_3d() const { return BulkKernels::state_sizes_3d[index()]; }
+  int dissipation_3d() const { return BulkKernels::dissipations_3d[index()]; }
 
  private:
   BulkKernels::Model model_;
@@ -156,6 +187,54 @@ template <std::size_t I = 0, class F>
     if (law.index() != I) return with_state_size<I + 1>(law, f);
   }
   f(std::integral_constant<std::size_t, fem::state_size<BulkKernels::Kernel<I>>()>{});
+}
+
+// The tetrahedron (tet4.hpp) with a bulk law that has a 3D state: the same deformation
+// gradient, nodal forces P = F S and Cauchy stress as the elastic kernel, with S from the
+// law's 3D update from `start` (the state at the step's start) to `end`. Stiffness-
+// proportional Rayleigh damping stays the viscous stress beta D Edot on the elastic D.
+template <class K>
+[[gnu::always_inline]] inline BulkResponse3D tet_internal_force_law(const TetInput& in, const typename K::Model& m,
+                                                                    const typename K::State3D& start,
+                                                                    typename K::State3D& end, TetResponse& out,
+                                                                    std::array<Vec3, 4>& damping_force) {
+  const Mat3 F = deformation_gradient(in.x[0], in.x[1], in.x[2], in.x[3], in.Dm_inv);
+  out.detF = F.determinant();
+  const Vec6 E = green_strain(F);
+  const BulkResponse3D r = K::update_3d(m, E, in.S0, start, end);
+  detail::tet_nodal_forces(F * detail::to_tensor(r.S), in.Dm_inv, in.volume0, out.force);
+  out.green = E;
+  if (in.cauchy) out.cauchy = cauchy_from_pk2(F, r.S);
+  out.strain_energy = in.volume0 * r.strain_energy;
+  if (in.beta > 0.0) {
+    const Mat3 Fdot = deformation_gradient(in.v[0], in.v[1], in.v[2], in.v[3], in.Dm_inv);
+    const Vec6 Sd = in.beta * svk_stress(strain_rate(F, Fdot), m.elastic);
+    detail::tet_nodal_forces(F * detail::to_tensor(Sd), in.Dm_inv, in.volume0, damping_force);
+  } else {
+    damping_force = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  }
+  return r;
+}
+
+// One tetrahedron through its material's law, as triangle_response: the elastic kernel, or
+// the law's 3D update from `start` (state_size_3d() doubles) to `end` (as many).
+template <std::size_t I = 0>
+[[gnu::always_inline]] inline void tet_response(const BulkLaw& law, const TetInput& in, const double* start,
+                                                double* end, TetResponse& out, std::array<Vec3, 4>& damping_force) {
+  using K = BulkKernels::Kernel<I>;
+  if constexpr (I + 1 < BulkKernels::size) {
+    if (law.index() != I) return tet_response<I + 1>(law, in, start, end, out, damping_force);
+  }
+  const typename K::Model& m = law.template model<I>();
+  if constexpr (Stateful3DKernel<K>) {
+    typename K::State3D s_end;
+    tet_internal_force_law<K>(in, m, K::load_3d(start), s_end, out, damping_force);
+    K::store_3d(s_end, end);
+  } else if constexpr (!StatefulKernel<K>) {
+    tet_internal_force(in, m, out, damping_force);
+  } else {
+    std::terminate();  // a plane-only law: refused before any tetrahedron is built with it
+  }
 }
 
 }  // namespace dsdem::fem

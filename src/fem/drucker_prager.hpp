@@ -88,7 +88,8 @@ DruckerPragerResult3D drucker_prager_update_3d(const DruckerPragerModel& m, cons
 double drucker_prager_yield(const DruckerPragerModel& m, const Vec6& S);
 
 // The law's kernel for the element loop (bulk_law.hpp).
-struct DruckerPragerKernel : PlasticKernel<DruckerPragerModel, DruckerPragerResult, drucker_prager_update> {
+struct DruckerPragerKernel : PlasticKernel<DruckerPragerModel, DruckerPragerResult, drucker_prager_update>,
+                             PlasticKernel3D<DruckerPragerModel, DruckerPragerResult3D, drucker_prager_update_3d> {
   static constexpr std::string_view name = law::drucker_prager::kName;
   static Model make(std::span<const double> params, const ElasticConstants& elastic, bool plane_stress);
 };

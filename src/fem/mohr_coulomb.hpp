@@ -140,7 +140,8 @@ MohrCoulombResult3D mohr_coulomb_update_3d(const MohrCoulombModel& mc, const Vec
 
 // The law's kernel for the element loop (bulk_law.hpp): its model from the parameters
 // law/laws.cpp declares, and its update.
-struct MohrCoulombKernel : PlasticKernel<MohrCoulombModel, MohrCoulombResult, mohr_coulomb_update> {
+struct MohrCoulombKernel : PlasticKernel<MohrCoulombModel, MohrCoulombResult, mohr_coulomb_update>,
+                           PlasticKernel3D<MohrCoulombModel, MohrCoulombResult3D, mohr_coulomb_update_3d> {
   static constexpr std::string_view name = law::mohr_coulomb::kName;
   static Model make(std::span<const double> params, const ElasticConstants& elastic, bool plane_stress);
 };

@@ -5,6 +5,7 @@
 // shears, stresses with tensor components. Tension positive.
 #include <cmath>
 
+#include "fem/bulk_kernel.hpp"
 #include "fem/cst.hpp"
 #include "fem/plastic_point.hpp"
 #include "fem/tet4.hpp"
@@ -83,5 +84,34 @@ inline double plastic_work(const Vec6& dep, const Vec6& S) {
   const double w = S.dot(dep);
   return w > 0.0 ? w : 0.0;
 }
+
+// What the tetrahedron's element loop (bulk_law.hpp) needs of a plastic law that runs in
+// 3D, with the update Update3D(model, E, S0, start, end): the 3D plastic point's state, its
+// plastic work the accumulated dissipation. A law's kernel derives from this beside
+// PlasticKernel.
+template <class M, class Result3D,
+          Result3D (*Update3D)(const M&, const Vec6&, const Vec6&, const PlasticState3D&, PlasticState3D&)>
+struct PlasticKernel3D {
+  using State3D = PlasticState3D;
+  // The state as doubles (the element's record): the six plastic strains, then the work.
+  static constexpr std::size_t kState3D = 7;
+  static constexpr int kDissipation3D = 6;
+  static State3D load_3d(const double* p) {
+    State3D s;
+    s.ep = Eigen::Map<const Vec6>(p);
+    s.plastic_work = p[6];
+    return s;
+  }
+  static void store_3d(const State3D& s, double* p) {
+    Eigen::Map<Vec6> ep(p);
+    ep = s.ep;
+    p[6] = s.plastic_work;
+  }
+  [[gnu::always_inline]] static BulkResponse3D update_3d(const M& m, const Vec6& E, const Vec6& S0,
+                                                         const State3D& start, State3D& end) {
+    const Result3D r = Update3D(m, E, S0, start, end);
+    return {r.S, r.strain_energy, r.dissipation};
+  }
+};
 
 }  // namespace dsdem::fem

@@ -11,7 +11,7 @@
 
 namespace dsdem::fem {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;  // symmetric 3D tensor, Voigt (xx, yy, zz, yz, xz, xy)
+using Vec6 = dsdem::Vec6;  // symmetric 3D tensor, Voigt (xx, yy, zz, yz, xz, xy)
 
 // Reference geometry of a tetrahedron: inverse edge matrix and signed volume.
 struct TetReferenceGeometry {

@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 // The views below reinterpret arrays of Eigen fixed-size vectors as arrays of doubles.
 static_assert(sizeof(Vec2) == 2 * sizeof(double), "Vec2 must be two packed doubles");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+static_assert(sizeof(Vec6) == 6 * sizeof(double), "Vec6 must be six packed doubles");
 static_assert(sizeof(Index) == sizeof(std::int32_t));
 
 namespace {
@@ -98,20 +99,21 @@ void add_fields(vtkDataSetAttributes* attributes, const FieldSet& fields, std::s
   for (const Field& f : fields) attributes->AddArray(make_array(f, entities));
 }
 
-// A grid whose points are `xy` (2 doubles per point, z = 0) and whose cells all have the
-// same type and `nodes_per_cell` point ids taken in order from `connectivity`.
+// A grid whose points are `xy` (`dim` doubles per point: 2, z = 0, or 3) and whose cells
+// all have the same type and `nodes_per_cell` point ids taken in order from `connectivity`.
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(std::span<const double> xy, int cell_type,
                                                int nodes_per_cell,
-                                               std::span<const vtkIdType> connectivity) {
-  const std::size_t n_points = xy.size() / 2;
+                                               std::span<const vtkIdType> connectivity, int dim = 2) {
+  const std::size_t d = static_cast<std::size_t>(dim);
+  const std::size_t n_points = xy.size() / d;
   vtkNew<vtkDoubleArray> coords;
   coords->SetNumberOfComponents(3);
   coords->SetNumberOfTuples(static_cast<vtkIdType>(n_points));
   double* p = coords->GetPointer(0);
   for (std::size_t i = 0; i < n_points; ++i) {
-    p[3 * i] = xy[2 * i];
-    p[3 * i + 1] = xy[2 * i + 1];
-    p[3 * i + 2] = 0.0;
+    p[3 * i] = xy[d * i];
+    p[3 * i + 1] = xy[d * i + 1];
+    p[3 * i + 2] = d == 3 ? xy[d * i + 2] : 0.0;
   }
   vtkNew<vtkPoints> points;
   points->SetData(coords);
@@ -232,6 +234,10 @@ Field vector_field(std::string quantity, std::string unit, std::span<const Vec2>
   return Field{std::move(quantity), std::move(unit), 2, flat_doubles(values), {}};
 }
 
+Field vector_field(std::string quantity, std::string unit, std::span<const Vec3> values) {
+  return Field{std::move(quantity), std::move(unit), 3, flat_doubles(values), {}};
+}
+
 void write_triangles_vtu(const fs::path& path, const Nodes& nodes, const Triangles& triangles,
                          std::span<const Material> materials, const FieldSet& extra_point_fields,
                          const FieldSet& extra_cell_fields, const VtuOptions& options) {
@@ -294,6 +300,68 @@ void write_triangles_vtu(const fs::path& path, const Nodes& nodes, const Triangl
   add_fields(grid->GetCellData(), cell_fields, n_tri, "cell", cell_names);
   add_fields(grid->GetCellData(), state_fields, n_tri, "cell", cell_names);
   add_fields(grid->GetCellData(), extra_cell_fields, n_tri, "cell", cell_names);
+  write_grid(path, grid, options);
+}
+
+void write_tetrahedra_vtu(const fs::path& path, const NodeArrays<3>& nodes, const Tetrahedra& tetrahedra,
+                          std::span<const Material> materials, const FieldSet& extra_point_fields,
+                          const FieldSet& extra_cell_fields, const VtuOptions& options) {
+  const std::size_t n_nodes = nodes.size(), n_tet = tetrahedra.size();
+  if (tetrahedra.group.size() != n_tet || tetrahedra.material.size() != n_tet || tetrahedra.stress.size() != n_tet ||
+      tetrahedra.strain.size() != n_tet)
+    throw std::invalid_argument("VTU: tetrahedron arrays of different lengths (stress and strain filled?)");
+  if (nodes.u.size() != n_nodes || nodes.v.size() != n_nodes || nodes.a.size() != n_nodes)
+    throw std::invalid_argument("VTU: node arrays of different lengths");
+  std::vector<double> current(3 * n_nodes);
+  for (std::size_t i = 0; i < n_nodes; ++i)
+    for (int k = 0; k < 3; ++k) current[3 * i + k] = nodes.X[i][k] + nodes.u[i][k];
+  std::vector<vtkIdType> conn(4 * n_tet);
+  for (std::size_t e = 0; e < n_tet; ++e) {
+    for (int k = 0; k < 4; ++k) {
+      const Index i = tetrahedra.conn[e][k];
+      if (i < 0 || static_cast<std::size_t>(i) >= n_nodes)
+        throw std::invalid_argument(fmt::format("VTU: tetrahedron {} refers to node {} of {}", e, i, n_nodes));
+      conn[4 * e + k] = i;
+    }
+    if (tetrahedra.material[e] < 0 || static_cast<std::size_t>(tetrahedra.material[e]) >= materials.size())
+      throw std::invalid_argument(fmt::format("VTU: tetrahedron {} has material {} of {}", e, tetrahedra.material[e],
+                                              materials.size()));
+  }
+  auto grid = make_grid(current, VTK_TETRA, 4, conn, 3);
+
+  // Principal stresses (tension positive) and von Mises of each tetrahedron's stress.
+  std::vector<double> s_max(n_tet), s_min(n_tet), von_mises(n_tet);
+  for (std::size_t e = 0; e < n_tet; ++e) {
+    const Vec6& s = tetrahedra.stress[e];
+    Mat3 m;
+    m << s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2];
+    const Vec3 ev = Eigen::SelfAdjointEigenSolver<Mat3>(m, Eigen::EigenvaluesOnly).eigenvalues();
+    s_min[e] = ev[0];
+    s_max[e] = ev[2];
+    const double a = ev[0] - ev[1], b = ev[1] - ev[2], c = ev[2] - ev[0];
+    von_mises[e] = std::sqrt(0.5 * (a * a + b * b + c * c));
+  }
+  const FieldSet point_fields = {
+      vector_field("displacement", "m", nodes.u),
+      vector_field("velocity", "m_per_s", nodes.v),
+      vector_field("acceleration", "m_per_s2", nodes.a),
+  };
+  const FieldSet cell_fields = {
+      Field{"stress", "Pa", 6, flat_doubles(std::span<const Vec6>(tetrahedra.stress)),
+            {"xx", "yy", "zz", "yz", "xz", "xy"}},
+      scalar_field("von_mises_stress", "Pa", von_mises),
+      scalar_field("max_principal_stress", "Pa", s_max),
+      scalar_field("min_principal_stress", "Pa", s_min),
+      Field{"strain", "", 6, flat_doubles(std::span<const Vec6>(tetrahedra.strain)),
+            {"xx", "yy", "zz", "gamma_yz", "gamma_xz", "gamma_xy"}},
+      scalar_field("group_id", "", std::span<const std::int32_t>(tetrahedra.group)),
+      scalar_field("material_id", "", std::span<const std::int32_t>(tetrahedra.material)),
+  };
+  std::vector<std::string> point_names, cell_names;
+  add_fields(grid->GetPointData(), point_fields, n_nodes, "point", point_names);
+  add_fields(grid->GetPointData(), extra_point_fields, n_nodes, "point", point_names);
+  add_fields(grid->GetCellData(), cell_fields, n_tet, "cell", cell_names);
+  add_fields(grid->GetCellData(), extra_cell_fields, n_tet, "cell", cell_names);
   write_grid(path, grid, options);
 }
 

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "model/model3d.hpp"
 
 namespace dsdem::io {
 
@@ -63,6 +64,7 @@ using FieldSet = std::vector<Field>;
 Field scalar_field(std::string quantity, std::string unit, std::span<const double> values);
 Field scalar_field(std::string quantity, std::string unit, std::span<const std::int32_t> values);
 Field vector_field(std::string quantity, std::string unit, std::span<const Vec2> values);
+Field vector_field(std::string quantity, std::string unit, std::span<const Vec3> values);
 
 // The triangles of the model at the current configuration.
 //   Points: x = X + u (z = 0), one per node, in node order.
@@ -86,6 +88,17 @@ void write_triangles_vtu(const std::filesystem::path& path, const Nodes& nodes,
                          const Triangles& triangles, std::span<const Material> materials,
                          const FieldSet& extra_point_fields = {},
                          const FieldSet& extra_cell_fields = {}, const VtuOptions& options = {});
+
+// The tetrahedra of a 3D model at the current configuration (docs/theory.md §14), as
+// write_triangles_vtu: points x = X + u, one VTK_TETRA per tetrahedron in order; point data
+// displacement_m, velocity_m_per_s, acceleration_m_per_s2; cell data stress_Pa (xx, yy, zz,
+// yz, xz, xy), von_mises_stress_Pa, max_ and min_principal_stress_Pa (tension positive),
+// strain (Green-Lagrange with engineering shears), group_id, material_id. The stress and
+// strain must be filled (Solver3::update_stress). Throws as write_triangles_vtu.
+void write_tetrahedra_vtu(const std::filesystem::path& path, const NodeArrays<3>& nodes,
+                          const Tetrahedra& tetrahedra, std::span<const Material> materials,
+                          const FieldSet& extra_point_fields = {}, const FieldSet& extra_cell_fields = {},
+                          const VtuOptions& options = {});
 
 // Line segments, one VTK_LINE cell each with its own two points (segments share no
 // points, so a broken joint's faces can be drawn apart). For cracks the caller passes,

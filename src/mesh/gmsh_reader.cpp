@@ -13,17 +13,28 @@
 
 namespace dsdem::mesh {
 
-RawMesh read_msh(const std::string& path, bool crossed) {
+namespace {
+MshFile parse_msh_file(const std::string& path) {
   if (const std::string problem = io::input_file_problem(path); !problem.empty())  // only regular files
     throw std::runtime_error(fmt::format("mesh: {}", problem));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw std::runtime_error(fmt::format("{}: cannot read the mesh file", path));
-  return to_raw_mesh(parse_msh(text, path), crossed);
+  return parse_msh(text, path);
+}
+}  // namespace
+
+RawMesh read_msh(const std::string& path, bool crossed) { return to_raw_mesh(parse_msh_file(path), crossed); }
+
+std::variant<RawMesh, RawMesh3> read_msh_any(const std::string& path, bool crossed) {
+  const MshFile file = parse_msh_file(path);
+  if (is_volume_mesh(file)) return to_raw_mesh_3d(file);
+  return to_raw_mesh(file, crossed);
 }
 
-void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed) {
+void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed,
+              int dimension) {
   if (const std::string problem = io::input_file_problem(geo_path); !problem.empty())
     throw std::runtime_error(fmt::format("geometry: {}", problem));
   std::string gmsh_exe = DSDEM_GMSH_EXECUTABLE;
@@ -34,8 +45,9 @@ void mesh_geo(const std::string& geo_path, double element_size, const std::strin
   // -clmax and to the .geo's own sizes), each split into three quadrilaterals of about the size.
   const std::string crossed_options =
       crossed ? " -setnumber Mesh.MeshSizeFactor 2 -setnumber Mesh.SubdivisionAlgorithm 1" : "";
-  const std::string cmd = fmt::format("\"{}\" -2 -format msh41 -clmax {:.17g}{} -o \"{}\" \"{}\" > \"{}\" 2>&1",
-                                      gmsh_exe, element_size, crossed_options, out_msh, geo_path, log);
+  const std::string cmd = fmt::format("\"{}\" -{} -format msh41 -clmax {:.17g}{} -o \"{}\" \"{}\" > \"{}\" 2>&1",
+                                      gmsh_exe, dimension == 3 ? 3 : 2, element_size, crossed_options, out_msh,
+                                      geo_path, log);
   const int rc = std::system(cmd.c_str());
   if (rc != 0 || !io::input_file_problem(out_msh).empty()) {
     std::string tail;

@@ -3,6 +3,7 @@
 // (mesh/msh_format); a .geo is first meshed by the gmsh command line with the element
 // size the scenario gives.
 #include <string>
+#include <variant>
 
 #include "mesh/raw_mesh.hpp"
 
@@ -17,11 +18,17 @@ namespace dsdem::mesh {
 // degenerate or inverted (folded) elements.
 RawMesh read_msh(const std::string& path, bool crossed = false);
 
+// Reads a Gmsh .msh file of either dimension: a volume mesh (some volume holds elements,
+// docs/theory.md §14) as RawMesh3, else as read_msh. Throws as read_msh and to_raw_mesh_3d.
+std::variant<RawMesh, RawMesh3> read_msh_any(const std::string& path, bool crossed = false);
+
 // Meshes a .geo with `gmsh -2` at the given maximum element size (m) into out_msh.
 // With `crossed`, an all-quadrilateral mesh for read_msh(..., true): Gmsh meshes
 // triangles at twice every size (Mesh.MeshSizeFactor 2, so .geo-local sizes scale too)
 // and splits each into three quadrilaterals (Mesh.SubdivisionAlgorithm 1), whose edges
 // along the curves are then about element_size. Throws with gmsh's own message on failure.
-void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed = false);
+// With dimension 3, `gmsh -3`: the geometry's volumes meshed into tetrahedra.
+void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed = false,
+              int dimension = 2);
 
 }  // namespace dsdem::mesh

@@ -321,9 +321,9 @@ class Parser {
   }
   void add_node_xyz(Section& s, std::string_view tx, std::string_view ty, std::string_view tz) {
     const double x = s.real(tx, "node coordinate"), y = s.real(ty, "node coordinate"), z = s.real(tz, "node coordinate");
-    if (z != 0.0)
-      s.fail(fmt::format("node {} has z = {} ; dsdem is 2D (x, y only)", file_.node_tags[file_.node_xy.size()], z));
-    file_.node_xy.push_back({x, y});
+    if (z != 0.0 && file_.first_off_plane.line == 0)
+      file_.first_off_plane = {lines_.line_no(), file_.node_tags[file_.node_xyz.size()], z};
+    file_.node_xyz.push_back({x, y, z});
   }
 
   void nodes41() {
@@ -337,7 +337,7 @@ class Parser {
     if (total > 0 && (lo < 1 || hi < lo || static_cast<std::uint64_t>(hi - lo) + 1 < total))
       s.fail(fmt::format("node tags {}..{} cannot hold {} nodes", lo, hi, total));
     file_.node_tags.reserve(total);
-    file_.node_xy.reserve(total);
+    file_.node_xyz.reserve(total);
     node_index_.reserve(total);
     for (std::size_t b = 0; b < blocks; ++b) {
       const auto& bh = s.line(4, "entityDim entityTag parametric numNodesInBlock");
@@ -366,7 +366,7 @@ class Parser {
     Section s(lines_, "Nodes");
     const std::size_t total = s.count(s.line(1, "the number of nodes")[0], "number of nodes", 8);
     file_.node_tags.reserve(total);
-    file_.node_xy.reserve(total);
+    file_.node_xyz.reserve(total);
     node_index_.reserve(total);
     for (std::size_t i = 0; i < total; ++i) {
       const auto& t = s.line(4, "tag x y z");

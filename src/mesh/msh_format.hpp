@@ -20,6 +20,7 @@ namespace dsdem::mesh {
 constexpr int kMshLine2 = 1;
 constexpr int kMshTriangle3 = 2;
 constexpr int kMshQuad4 = 3;  // only with crossed: split in four triangles (to_raw_mesh)
+constexpr int kMshTetrahedron4 = 4;
 constexpr int kMshPoint = 15;
 
 struct MshElementType {
@@ -50,7 +51,13 @@ struct MshFile {
   std::map<std::pair<int, int>, std::string> physical_names;  // (dim, tag) -> name
   std::map<std::pair<int, int>, MshEntity> entities;          // (dim, tag), Gmsh's order
   std::vector<std::int64_t> node_tags;                        // file order
-  std::vector<std::array<double, 2>> node_xy;                 // m (z is checked to be 0)
+  std::vector<std::array<double, 3>> node_xyz;                // m
+  // The first node off the plane z = 0 (line 0: none), which a 2D mesh may not have.
+  struct OffPlane {
+    long line = 0;
+    std::int64_t tag = 0;
+    double z = 0.0;
+  } first_off_plane;
   std::vector<MshElement> elements;                           // file order
   std::vector<std::size_t> element_nodes;
 };
@@ -68,5 +75,17 @@ MshFile parse_msh(std::string_view text, const std::string& path);
 // without `crossed`), degenerate or folded elements, quadrilaterals that are not
 // strictly convex and triangles outside every physical surface.
 RawMesh to_raw_mesh(const MshFile& file, bool crossed = false);
+
+// Whether the file holds a volume mesh: some volume entity holds elements. The mesh decides
+// the model's dimension (docs/theory.md §14).
+bool is_volume_mesh(const MshFile& file);
+
+// Nodes, right-handed tetrahedra (positive volume) and physical groups of a volume mesh,
+// in the order the Gmsh API gave them: physical volumes name materials and zones, physical
+// surfaces boundaries (their triangles must be faces of the tetrahedra), physical points
+// gauges. Throws std::runtime_error "PATH:LINE: ..." for elements other than 4-node
+// tetrahedra in volumes, degenerate or folded tetrahedra, tetrahedra outside every
+// physical volume, surface triangles that are no tetrahedron's face (loose surfaces).
+RawMesh3 to_raw_mesh_3d(const MshFile& file);
 
 }  // namespace dsdem::mesh

@@ -24,7 +24,7 @@ std::vector<Index> read_nodes(const MshFile& f, RawMesh& mesh) {
   for (const auto& [key, e] : f.entities)
     for (std::size_t i : e.nodes) {
       index_of[i] = static_cast<Index>(mesh.nodes.size());
-      mesh.nodes.emplace_back(f.node_xy[i][0], f.node_xy[i][1]);
+      mesh.nodes.emplace_back(f.node_xyz[i][0], f.node_xyz[i][1]);
     }
   if (mesh.nodes.empty()) fail(f, f.last_line, "the mesh has no nodes (was it meshed?)");
   return index_of;
@@ -134,7 +134,8 @@ RawPhysicalGroup make_group(const MshFile& f, const std::vector<Index>& index_of
   g.name = name != f.physical_names.end() && !name->second.empty() ? name->second : fmt::format("physical_{}_{}", dim, tag);
   const Index gi = static_cast<Index>(mesh.groups.size());
   for (int ent : ents) {
-    if (dim == 3) fail(f, f.last_line, fmt::format("3D physical group '{}': dsdem is 2D", g.name));
+    if (dim == 3)
+      fail(f, f.last_line, fmt::format("3D physical group '{}' in a plane mesh (a volume mesh holds tetrahedra)", g.name));
     if (dim == 2) {
       for (Index t : entity_triangles[ent]) {
         g.triangles.push_back(t);
@@ -186,6 +187,10 @@ void check_orphans(const MshFile& f, const EntityTriangles& entity_triangles,
 }  // namespace
 
 RawMesh to_raw_mesh(const MshFile& f, bool crossed) {
+  if (f.first_off_plane.line > 0)
+    fail(f, f.first_off_plane.line,
+         fmt::format("node {} has z = {} ; a plane mesh lies in z = 0 (a 3D model is meshed as volumes)",
+                     f.first_off_plane.tag, f.first_off_plane.z));
   RawMesh mesh;
   mesh.source = f.path;
   mesh.msh_file = f.path;

@@ -89,3 +89,71 @@ void append_mesh(RawMesh& mesh, const RawMesh& other) {
 }
 
 }  // namespace dsdem::mesh
+
+namespace dsdem::mesh {
+
+RawMesh3 box_mesh(int nx, int ny, int nz, double lx, double ly, double lz, const Vec3& origin) {
+  RawMesh3 m;
+  m.source = "box_mesh";
+  const int n[3] = {nx, ny, nz};
+  auto id = [&](int i, int j, int k) { return static_cast<Index>((k * (ny + 1) + j) * (nx + 1) + i); };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i)
+        m.nodes.emplace_back(origin.x() + lx * i / nx, origin.y() + ly * j / ny, origin.z() + lz * k / nz);
+  RawPhysicalGroup3 dom;
+  dom.name = "domain";
+  dom.dim = 3;
+  dom.tag = 1;
+  // Kuhn's six tetrahedra: from corner 000 to 111 by unit steps along the axes in each order.
+  constexpr int kOrders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        for (const auto& order : kOrders) {
+          std::array<Index, 4> t;
+          int c[3] = {i, j, k};
+          t[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s) {
+            ++c[order[s]];
+            t[static_cast<std::size_t>(s) + 1] = id(c[0], c[1], c[2]);
+          }
+          const Vec3 a = m.nodes[t[1]] - m.nodes[t[0]], b = m.nodes[t[2]] - m.nodes[t[0]],
+                     d = m.nodes[t[3]] - m.nodes[t[0]];
+          if (a.dot(b.cross(d)) < 0.0) std::swap(t[1], t[2]);
+          dom.tetrahedra.push_back(static_cast<Index>(m.tetrahedra.size()));
+          m.tetrahedra.push_back(t);
+        }
+  m.tetrahedron_volume_group.assign(m.tetrahedra.size(), 0);
+  m.groups.push_back(std::move(dom));
+  // The six faces: each cell face split along its diagonal from its lowest corner, as the
+  // cells' tetrahedra split it.
+  const char* names[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      RawPhysicalGroup3 g;
+      g.name = names[axis][side];
+      g.dim = 2;
+      g.tag = 2 + 2 * axis + side;
+      const int p = (axis + 1) % 3, q = (axis + 2) % 3;
+      for (int b = 0; b < n[q]; ++b)
+        for (int a = 0; a < n[p]; ++a) {
+          auto node = [&](int da, int db) {
+            int c[3];
+            c[axis] = side ? n[axis] : 0;
+            c[p] = a + da;
+            c[q] = b + db;
+            return id(c[0], c[1], c[2]);
+          };
+          g.faces.push_back({node(0, 0), node(1, 0), node(1, 1)});
+          g.faces.push_back({node(0, 0), node(1, 1), node(0, 1)});
+          for (const Index v : {node(0, 0), node(1, 0), node(1, 1), node(0, 1)}) g.nodes.push_back(v);
+        }
+      std::sort(g.nodes.begin(), g.nodes.end());
+      g.nodes.erase(std::unique(g.nodes.begin(), g.nodes.end()), g.nodes.end());
+      m.groups.push_back(std::move(g));
+    }
+  return m;
+}
+
+}  // namespace dsdem::mesh

@@ -16,3 +16,14 @@ RawMesh rectangle_mesh(int nx, int ny, double lx, double ly, Diagonal diagonal =
 void append_mesh(RawMesh& mesh, const RawMesh& other);
 
 }  // namespace dsdem::mesh
+
+namespace dsdem::mesh {
+
+// A structured tetrahedral mesh of a box, for tests, benchmarks and quick examples without
+// Gmsh: nx x ny x nz cells over [x0, x0+lx] x [y0, y0+ly] x [z0, z0+lz], each cell split
+// into six tetrahedra around its diagonal from the lowest to the highest corner (Kuhn's
+// split: neighbouring cells share their faces' diagonals, so the mesh is conforming).
+// Groups: "domain" (volume), "xmin", "xmax", "ymin", "ymax", "zmin", "zmax" (surfaces).
+RawMesh3 box_mesh(int nx, int ny, int nz, double lx, double ly, double lz, const Vec3& origin = Vec3::Zero());
+
+}  // namespace dsdem::mesh

@@ -16,31 +16,36 @@ namespace dsdem {
 // whose surface takes part in contact.
 enum class Zone : std::uint8_t { Discrete = 0, Bedrock = 1, ContactBedrock = 2 };
 
-struct Nodes {
-  std::vector<Vec2> X;    // reference position, m
-  std::vector<Vec2> u;    // displacement, m (current position x = X + u)
-  std::vector<Vec2> v;    // velocity, m/s
+// The nodes of a model of dimension D (2 or 3): the same arrays and the same integrator
+// (solver/integrator.hpp) in both.
+template <int D>
+struct NodeArrays {
+  using Vec = VecD<D>;
+  std::vector<Vec> X;    // reference position, m
+  std::vector<Vec> u;    // displacement, m (current position x = X + u)
+  std::vector<Vec> v;    // velocity, m/s
   // Acceleration, m/s^2, between steps (outputs, gauges, checkpoint, the next step's
   // first half-kick). During a step the solver sums the nodal forces in this same array
-  // (N, per unit thickness in plane strain) and finish_velocities() divides them by the
+  // (N; per unit thickness in plane strain) and finish_velocities() divides them by the
   // masses in place: the force of a step is dead once its acceleration exists, so one
-  // array holds both (16 B per node).
-  std::vector<Vec2> a;
+  // array holds both (8 D bytes per node).
+  std::vector<Vec> a;
   std::vector<double> m;  // lumped mass, kg
   std::vector<Index> origin;       // the mesh node this node was split from (joint insertion)
   // Prescribed motions are solver::PrescribedDof lists (per stage), not per-node arrays.
 
   std::size_t size() const { return X.size(); }
   void resize(std::size_t n) {
-    X.resize(n, Vec2::Zero());
-    u.resize(n, Vec2::Zero());
-    v.resize(n, Vec2::Zero());
-    a.resize(n, Vec2::Zero());
+    X.resize(n, Vec::Zero());
+    u.resize(n, Vec::Zero());
+    v.resize(n, Vec::Zero());
+    a.resize(n, Vec::Zero());
     m.resize(n, 0.0);
     origin.resize(n, kNoIndex);
   }
-  Vec2 x(Index i) const { return X[i] + u[i]; }
+  Vec x(Index i) const { return X[i] + u[i]; }
 };
+using Nodes = NodeArrays<2>;
 
 struct Triangles {
   std::vector<std::array<Index, 3>> conn;  // counter-clockwise node indices

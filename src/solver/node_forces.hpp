@@ -31,30 +31,35 @@ namespace dsdem::solver {
 // The work a force does over one step as velocity Verlet applies it: F(n) and F(n+1) each
 // kick half a step around the drift du = u(n+1) - u(n) = dt v(n+1/2) (docs/theory.md §1, §7).
 inline double drift_work(const Vec2& f_prev, const Vec2& f, const Vec2& du) { return 0.5 * (f_prev + f).dot(du); }
+inline double drift_work(const Vec3& f_prev, const Vec3& f, const Vec3& du) { return 0.5 * (f_prev + f).dot(du); }
 // The same for one direction of a node (a prescribed dof's reaction).
 inline double drift_work(double f_prev, double f, double du) { return 0.5 * (f_prev + f) * du; }
 
-class NodeForces {
+// For nodes of dimension D (2 or 3).
+template <int D>
+class NodeForcesD {
  public:
-  explicit NodeForces(std::vector<Vec2>& sum) : sum_(sum) {}
+  using Vec = VecD<D>;
+  explicit NodeForcesD(std::vector<Vec>& sum) : sum_(sum) {}
 
   // sum[i] += f(i) for every node: node-local, on the team's threads.
   template <class F>
   void add_per_node(const exec::Team& team, F&& f) {
-    std::vector<Vec2>& s = sum_;
+    std::vector<Vec>& s = sum_;
     exec::parallel_for(team, s.size(), [&](std::size_t i) { s[i] += f(i); });
   }
   // One listed node's force (call in the list's order).
-  void add_at(Index node, const Vec2& f) { sum_[node] += f; }
+  void add_at(Index node, const Vec& f) { sum_[node] += f; }
   // One direction of a listed node (a prescribed dof's reaction).
   void add_at(Index node, int dir, double f) { sum_[node][dir] += f; }
   // The sum at a node so far (a reaction balances it).
-  const Vec2& at(Index node) const { return sum_[node]; }
+  const Vec& at(Index node) const { return sum_[node]; }
   // The sum for the scatters of the element region and of the contact phase.
-  std::vector<Vec2>& scatter() { return sum_; }
+  std::vector<Vec>& scatter() { return sum_; }
 
  private:
-  std::vector<Vec2>& sum_;
+  std::vector<Vec>& sum_;
 };
+using NodeForces = NodeForcesD<2>;
 
 }  // namespace dsdem::solver

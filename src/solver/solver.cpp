@@ -313,8 +313,8 @@ void Solver::add_boundary_forces() {
     Vec2 F = bn.static_force + boundary::viscous_spring_force(bn.coef, bn.normal, n.u[i] - bn.u_ref, n.v[i]);
     if (quake && bn.free_field) {
       boundary::FreeFieldState ff;
-      if (quake_h_.record) ff += boundary::free_field_column(boundary::IncidentWave::SV, quake_h_, bn.medium, bn.y, bn.H, tq);
-      if (quake_v_.record) ff += boundary::free_field_column(boundary::IncidentWave::P, quake_v_, bn.medium, bn.y, bn.H, tq);
+      if (quake_h_.record) ff += boundary::free_field_column(boundary::IncidentWave::SV, quake_h_, bn.medium, bn.height, bn.H, tq);
+      if (quake_v_.record) ff += boundary::free_field_column(boundary::IncidentWave::P, quake_v_, bn.medium, bn.height, bn.H, tq);
       F += boundary::free_field_input_force(bn.coef, bn.area, bn.normal, ff);
     }
     forces_.add_at(i, F);

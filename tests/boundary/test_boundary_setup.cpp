@@ -52,7 +52,7 @@ TEST(BoundarySetup, FreeFieldColumnReachesTheSurfaceDirectlyAbove) {
     for (int k = 0; k + 1 < 5; ++k)
       if (x >= xs[k] && x <= xs[k + 1]) expected = ys[k] + (x - xs[k]) * (ys[k + 1] - ys[k]) / (xs[k + 1] - xs[k]);
     EXPECT_NEAR(bn.H, expected, 1e-9) << "base node at x = " << x;
-    EXPECT_DOUBLE_EQ(bn.y, 0.0);
+    EXPECT_DOUBLE_EQ(bn.height, 0.0);
     ++checked;
   }
   EXPECT_EQ(checked, 5);

@@ -106,3 +106,38 @@ $EndElements
   const std::string msg = error_of([&] { mesh::read_msh(p.string()); });
   EXPECT_NE(msg.find("inverted"), std::string::npos) << msg;
 }
+
+// A .geo of two boxes meshed into tetrahedra by `gmsh -3`: a volume mesh, read as such.
+TEST(GmshReader, MeshesVolumesAndReadsThemAsA3DMesh) {
+  const std::string msh = (temp_dir() / "cube.msh").string();
+  mesh::mesh_geo(data("cube.geo"), 0.25, msh, false, 3);
+  const auto any = mesh::read_msh_any(msh);
+  ASSERT_TRUE(std::holds_alternative<RawMesh3>(any));
+  const RawMesh3& m = std::get<RawMesh3>(any);
+  ASSERT_GT(m.tetrahedra.size(), 100u);
+  double volume = 0.0;
+  for (const auto& t : m.tetrahedra) {
+    const double v6 = (m.nodes[t[1]] - m.nodes[t[0]]).dot((m.nodes[t[2]] - m.nodes[t[0]]).cross(m.nodes[t[3]] - m.nodes[t[0]]));
+    EXPECT_GT(v6, 0.0);
+    volume += v6 / 6.0;
+  }
+  EXPECT_NEAR(volume, 2.0, 1e-12);
+  const auto* rock = m.find("rock");
+  const auto* soil = m.find("soil");
+  ASSERT_NE(rock, nullptr);
+  ASSERT_NE(soil, nullptr);
+  EXPECT_EQ(rock->tetrahedra.size() + soil->tetrahedra.size(), m.tetrahedra.size());
+  const auto* base = m.find("base");
+  ASSERT_NE(base, nullptr);
+  double area = 0.0;
+  for (const auto& f : base->faces) area += 0.5 * (m.nodes[f[1]] - m.nodes[f[0]]).cross(m.nodes[f[2]] - m.nodes[f[0]]).norm();
+  EXPECT_NEAR(area, 2.0, 1e-12);
+  for (const Index n : base->nodes) EXPECT_NEAR(m.nodes[n].z(), 0.0, 1e-12);
+  const auto* gauge = m.find("gauge");
+  ASSERT_NE(gauge, nullptr);
+  ASSERT_EQ(gauge->nodes.size(), 1u);
+  EXPECT_LT((m.nodes[gauge->nodes[0]] - Vec3(1.0, 0.5, 1.0)).norm(), 1e-12);
+  // The plane reader names what it was given.
+  const std::string msg = error_of([&] { mesh::read_msh(msh); });
+  EXPECT_NE(msg.find("plane mesh"), std::string::npos) << msg;
+}

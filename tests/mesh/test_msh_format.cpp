@@ -253,7 +253,7 @@ TEST(MshFormat, NumbersMustParseFullyAndBeFinite) {
   EXPECT_ERROR(with(kMsh22, "3 1 1 0\n", "3 1 1.0.0 0\n"), "t.msh:", "is not a finite number");
   EXPECT_ERROR(with(kMsh22, "$Nodes\n4\n", "$Nodes\n99999999999999999999999\n"), "t.msh:", "is not an integer");
   EXPECT_ERROR(with(kMsh22, "$Nodes\n4\n", "$Nodes\n-4\n"), "t.msh:", "number of nodes -4 in $Nodes is out of range");
-  EXPECT_ERROR(with(kMsh22, "3 1 1 0\n", "3 1 1 0.5\n"), "t.msh:", "node 3 has z = 0.5 ; dsdem is 2D");
+  EXPECT_ERROR(with(kMsh22, "3 1 1 0\n", "3 1 1 0.5\n"), "t.msh:", "node 3 has z = 0.5 ; a plane mesh lies in z = 0");
   EXPECT_ERROR(with(kMsh41, "4.1 0 8", "4.1 0 8 extra"), "t.msh:2:", "expected 'version file-type data-size'");
 }
 
