@@ -267,6 +267,9 @@ def impulse_wave_section(summary: dict) -> str:
     h = summary.get("heller_hager")
     if not isinstance(h, dict):
         return ""
+    if h.get("applicable") is False:  # water alone: nothing enters the water
+        return (kv_table([("reservoir level", "m", h.get("still_level_m"))]) +
+                f'<p class="note">Not applicable: {esc(h.get("reason") or "no slide")}.</p>')
     rows = [("reservoir level", "m", h.get("still_level_m")), ("water depth", "m", h.get("depth_m")),
             ("bank slope", "deg", h.get("bank_slope_deg"))]
     if not h.get("slide_entered_water"):
@@ -311,6 +314,9 @@ def heller_hager_missing(h) -> str:
     """Why there is no Heller & Hager estimate to compare with, or "" when there is one."""
     if not isinstance(h, dict):
         return "summary.json has no heller_hager block, so there is no Heller &amp; Hager estimate to compare with."
+    if h.get("applicable") is False:
+        return (f"Water alone ({esc(h.get('reason') or 'no slide')}): there is no Heller &amp; Hager estimate "
+                "to compare with.")
     if not h.get("slide_entered_water"):
         return ("The slide did not enter the reservoir during the run, so there is no Heller &amp; Hager estimate "
                 "(it needs the slide's speed, thickness and mass where it enters the water).")
@@ -485,8 +491,10 @@ def reservoir_wave_section(out: Path, summary: dict, plots: list[Path]) -> str:
     parts = [f'<p class="sub">Moving water (SPH): {esc(lib.fmt_num(mw.get("particles", "?")))} particles '
              f'{esc(lib.fmt_num(mw.get("spacing_m", "?")))} m apart, {esc(lib.fmt_num(mw.get("depth_m", "?")))} m deep'
              + (f", reservoir level {esc(lib.fmt_num(level))} m" if isinstance(level, (int, float)) else "")
-             + (f"; settled, the water stood at {esc(lib.fmt_num(mw['still_level_m']))} m before the slide met it "
-                "(the still level the wave's amplitude and the primary waves at the gauges are measured from; the "
+             + (f"; settled, the water stood at {esc(lib.fmt_num(mw['still_level_m']))} m "
+                + ("at step 0 (water alone: no slide) " if isinstance(h, dict) and h.get("applicable") is False
+                   else "before the slide met it ")
+                + "(the still level the wave's amplitude and the primary waves at the gauges are measured from; the "
                 "gauges' highest and lowest surface and the run-up are given above the reservoir level)"
                 if isinstance(mw.get("still_level_m"), (int, float)) else "") + ".</p>"]
     if isinstance(mw.get("escaped_particles"), int) and mw["escaped_particles"] > 0:

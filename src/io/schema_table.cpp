@@ -294,7 +294,8 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
   s.push_back(of(b, KeyType::Map, "",
                  "The reservoir as moving water: weakly compressible SPH, coupled both ways with the solid (the "
                  "bedrock's surface near the water and every face of the discrete zone), replacing the static "
-                 "water's pressure on faces over the reservoir's x range. Absent: the Heller & Hager estimate only."));
+                 "water's pressure on faces over the reservoir's x range. Absent: the Heller & Hager estimate only "
+                 "(required without a discrete zone)."));
   s.push_back(num(b + ".spacing", "m", "required", 0, kInf, "Particle spacing dp.", true));
   s.push_back(num(b + ".smoothing", "", "1.5", 1.3, 2.0, "Smoothing length h / dp."));
   s.push_back(num(b + ".sound_speed", "m/s", "0", 0, kInf,
@@ -327,7 +328,7 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
                  "Free-surface gauges: the surface elevation at x in history.csv (<name>_eta_m, above the level). "
                  "The wave's amplitude (history wave_amplitude_m, summary max_wave_amplitude_m) is sought over water at "
                  "least a quarter of the deepest beyond the slide's front, above the still level measured just before "
-                 "the slide enters."));
+                 "the slide enters (water alone: over all of it, above the level at step 0)."));
   s.push_back(of(b + ".gauges[]", KeyType::Map, "", "One gauge."));
   s.push_back(of(b + ".gauges[].name", KeyType::String, "required", "Gauge name (history column prefix)."));
   s.push_back(num(b + ".gauges[].x", "m", "required", -kInf, kInf, "Where along the section."));
@@ -358,11 +359,14 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
 void add_reservoir(std::vector<KeySpec>& s) {
   s.push_back(of("reservoir", KeyType::Map, "",
                  "The reservoir at its still level: the run measures the slide where it enters the water (speed, "
-                 "thickness, mass, slope) and gives the Heller & Hager (2010) estimate of the impulse wave."));
+                 "thickness, mass, slope) and gives the Heller & Hager (2010) estimate of the impulse wave. Without a "
+                 "discrete zone it is water alone (a tank, a pool shaken by its walls): it then needs `sph`, the water "
+                 "moves against the faces of the continuous and contact zones (fixed, or driven by `boundaries`), and "
+                 "summary.json heller_hager says `applicable: false`."));
   s.push_back(num("reservoir.level", "m", "required", -kInf, kInf, "Still water level."));
   s.push_back(of("reservoir.x", KeyType::Range, "required",
                  "The reservoir's extent [x_min, x_max] along the section; the bank the slide enters is where the "
-                 "ground surface crosses the level at one end.",
+                 "ground surface crosses the level at one end (water alone: the span the default fill covers).",
                  "m"));
   s.push_back(num("reservoir.density", "kg/m^3", "1000", 0, kInf, "Water density.", true));
   add_reservoir_sph(s);

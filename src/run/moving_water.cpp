@@ -323,6 +323,14 @@ MovingWaterLayout lay_out_moving_water(const io::Scenario& sc, const Model& mode
   out.coupled_x1 = out.x_max + width + reach;
   out.coupled_bottom = lowest - reach;
   out.edges = coupled_faces(model, out.coupled_x0, out.coupled_x1, out.coupled_bottom, out.coupled_top);
+  // Water with no face to hold it (no discrete zone, no bedrock around it) would fall through the
+  // model at once: refused at the section (docs/theory.md §11: the walls ride the solid's faces).
+  if (out.edges.empty())
+    throw io::ScenarioError({w.where.describe(fmt::format(
+        "no solid face holds the water: no face of a discrete zone and no bedrock surface within x {:.6g} to {:.6g} m, "
+        "y {:.6g} to {:.6g} m (the water's span widened by its width, up to the freeboard): the water needs walls, the "
+        "surface of a continuous or contact zone around it (a tank, a valley) or a discrete zone in it",
+        out.coupled_x0, out.coupled_x1, out.coupled_bottom, out.coupled_top))});
   std::vector<Vec2> x(model.nodes.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = model.nodes.x(static_cast<Index>(i));
   sph::lay_edge_particles(out.walls, out.edges, x, layers, out.parameters, level);

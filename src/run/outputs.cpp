@@ -134,7 +134,9 @@ void RunOutputs::write_history(int stage_index) {
   if (water_watch_) {
     row_[k++] = e.moving_water_work;
     const double front = prepared_.shore ? slide_front(model_, *prepared_.shore) : std::numeric_limits<double>::quiet_NaN();
-    const bool entered = slide_watch_ && slide_watch_->impact().has_value();
+    // Water alone (no slide can enter it): the water at step 0, after its settle, is the water at
+    // rest the still level and the readings at rest are taken from (docs/theory.md §12).
+    const bool entered = slide_watch_ ? slide_watch_->impact().has_value() : water_watch_->observed();
     water_watch_->observe(*solver_.moving_water(), solver_.time(), std::span<double>(row_).subspan(k, water_columns_), front,
                           entered, model_);
     k += water_columns_;

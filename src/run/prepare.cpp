@@ -175,6 +175,25 @@ void warn_of_a_piezometric_line_off_the_pool(const io::Scenario& sc, const Movin
   }
 }
 
+// The reservoir's shore where a slide may enter it. Without a discrete zone there is no slide:
+// the reservoir is water alone (docs/theory.md §12), which only moving water makes something to
+// compute, so a still reservoir with nothing to enter it is refused at its key.
+void find_reservoir_shore(PreparedRun& run) {
+  const io::ReservoirSpec& res = run.scenario.reservoir;
+  if (has_slide(run.model)) {
+    run.shore = find_shore(run.model, res);
+    return;
+  }
+  if (!res.sph.present)
+    throw io::ScenarioError({res.where.describe(
+        "the model has no discrete zone, so no slide can enter the reservoir, and without reservoir.sph its water does "
+        "not move: there is nothing to compute (give reservoir.sph for moving water alone against the solid's faces, "
+        "a region with zone: discrete for a slide, or the water: section for water at rest in the slope)")});
+  run.build_log.push_back({2, "reservoir: water alone (the model has no discrete zone): no slide enters it, so no "
+                              "impact, slide speed or Heller & Hager estimate (summary.json heller_hager.applicable: "
+                              "false)"});
+}
+
 // Rows of water over its depth below which the run warns.
 constexpr double kFewestRows = 10.0;
 
@@ -240,7 +259,7 @@ PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_di
   load_model(run, work_dir);
   locate_gauges(run);
   check_water(run.scenario, run.model);
-  if (run.scenario.reservoir.present) run.shore = find_shore(run.model, run.scenario.reservoir);
+  if (run.scenario.reservoir.present) find_reservoir_shore(run);
   if (run.scenario.reservoir.sph.present) lay_out_water(run);
   choose_time_step(run);
   run.estimated_steps = static_cast<long>(std::ceil(scenario.end_time() / run.dt));

@@ -30,6 +30,10 @@ bool moving_discrete(const Model& m, std::size_t t) {
 
 }  // namespace
 
+bool has_slide(const Model& model) {
+  return std::any_of(model.triangles.zone.begin(), model.triangles.zone.end(), [](Zone z) { return z == Zone::Discrete; });
+}
+
 Shore find_shore(const Model& model, const io::ReservoirSpec& spec) {
   Shore s;
   s.level = spec.level;

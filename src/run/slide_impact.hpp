@@ -23,6 +23,10 @@ struct Shore {
   Vec2 downslope = Vec2::Zero();    // unit vector down the bank
 };
 
+// Whether the model has a discrete zone: a slide that may enter the reservoir. Without one the
+// reservoir is water alone (docs/theory.md §12): no shore, no slide, no Heller & Hager estimate.
+bool has_slide(const Model& model);
+
 // The bank facing the discrete zone (the end of the reservoir nearer its centroid) on the
 // surface of the triangles outside the discrete zone. Throws io::ScenarioError at the
 // reservoir's key when the model has no discrete zone, no bed below the level inside the

@@ -210,12 +210,15 @@ Json moving_water_summary(const PreparedRun& prepared, const WaterWatch& w, cons
   for (const auto& [name, T] : w.gauge_periods()) periods[name] = std::isnan(T) ? Json(nullptr) : Json(T);
   m["wave_period_s"] = periods;
   // When the slide's rock rose to each gauge's surface: its record after that is not the wave.
-  Json overrun = Json::object();
-  for (std::size_t g = 0; g < w.gauge_overrun_times().size(); ++g) {
-    const double t = w.gauge_overrun_times()[g];
-    overrun[prepared.scenario.reservoir.sph.gauges[g].name] = std::isnan(t) ? Json(nullptr) : Json(t);
+  // Water alone has no slide: no such times.
+  if (prepared.shore) {
+    Json overrun = Json::object();
+    for (std::size_t g = 0; g < w.gauge_overrun_times().size(); ++g) {
+      const double t = w.gauge_overrun_times()[g];
+      overrun[prepared.scenario.reservoir.sph.gauges[g].name] = std::isnan(t) ? Json(nullptr) : Json(t);
+    }
+    m["slide_at_gauges_s"] = overrun;
   }
-  m["slide_at_gauges_s"] = overrun;
   m["energy_gain_" + energy_unit] = w.energy_gain().value;
   m["moving_water_work_" + energy_unit] = solver.energy().moving_water_work;
   // The energy the modified boundary's wall pressure put into the water (no wall stores it).
@@ -283,7 +286,14 @@ Json make_summary(const PreparedRun& prepared, const solver::Solver& solver, con
   s["final_energies"] = final_energies(solver.energy(), f.energy_unit);
   s["gauges"] = gauge_summaries(prepared, gauges);
   if (has_water(sc)) s["water"] = water_stages(sc);
-  if (prepared.shore) s["heller_hager"] = heller_hager_summary(*prepared.shore, f.slide_impact, f.water);
+  if (prepared.shore) {
+    s["heller_hager"] = heller_hager_summary(*prepared.shore, f.slide_impact, f.water);
+  } else if (sc.reservoir.present) {
+    // Water alone: nothing enters the water, so there is no impact, slide or estimate to give.
+    s["heller_hager"] = Json::object({{"applicable", false},
+                                      {"reason", "the model has no discrete zone: no slide enters the water"},
+                                      {"still_level_m", sc.reservoir.level}});
+  }
   if (f.water) {
     const WaterWatch& w = *f.water;
     s["max_wave_amplitude_m"] = w.max_amplitude().seen ? Json(w.max_amplitude().value) : Json(nullptr);

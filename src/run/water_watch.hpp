@@ -129,6 +129,8 @@ class WaterWatch {
   // True when this peak came at the last row observed: the quantity may still have been
   // growing when the run ended.
   bool at_last_row(const Peak& p) const { return p.seen && p.t >= last_t_; }
+  // Whether a row has been observed (restored from a checkpoint included).
+  bool observed() const { return std::isfinite(last_t_); }
   double coupled_top() const { return top_; }
   double level() const { return level_; }
   // The still level the wave's amplitude is measured from (m): the water's mean surface at
