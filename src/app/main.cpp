@@ -17,6 +17,8 @@
 #include "ensemble/ensemble_file.hpp"
 #include "io/scenario.hpp"
 #include "io/schema.hpp"
+#include "mesh/model_builder3d.hpp"
+#include "run/run3d.hpp"
 #include "run/runner.hpp"
 #include "run/stability.hpp"
 #include "solver/solver.hpp"
@@ -96,6 +98,31 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       ->check(CLI::PositiveNumber);
 }
 
+// `dsdem run` on a volume mesh: the 3D continuum (no restart yet).
+int run_3d_command(RunArgs& a, const dsdem::io::Scenario& sc, const dsdem::RawMesh3& mesh,
+                   const std::filesystem::path& work) {
+  if (!a.restart_path.empty() || a.stop_at_step > 0)
+    throw dsdem::io::ScenarioError({fmt::format("{}: --restart and --stop-at-step are not in 3D runs yet", sc.file)});
+  auto prepared = dsdem::run::prepare_run_3d(sc, mesh);
+  std::error_code ec;
+  std::filesystem::remove_all(work, ec);
+  dsdem::run::RunOptions options;
+  options.output_dir = a.out_dir.empty() ? "." : a.out_dir;
+  options.threads = a.threads;
+  options.quiet = a.quiet;
+  options.write_fields = !a.no_fields;
+  options.stop_signal = &g_stop_signal;
+  const auto result = dsdem::run::run_3d(prepared, options);
+  if (result.stopped_by_signal) {
+    fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}\n", result.stopped_by_signal,
+               options.output_dir);
+    return 128 + result.stopped_by_signal;
+  }
+  fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", options.output_dir, result.steps,
+             result.wall_time_s, result.energy_balance_error);
+  return 0;
+}
+
 int run_command(RunArgs& a) {
   install_stop_handlers();
   const auto sc = dsdem::io::load_scenario(a.scenario_path, a.sets);
@@ -103,6 +130,8 @@ int run_command(RunArgs& a) {
   // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
   const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-run-{}", ::getpid());
   ScratchDir cleanup{work};
+  // A volume mesh makes a 3D model (docs/theory.md §14).
+  if (auto mesh3 = dsdem::mesh::load_volume_mesh(sc, work.string())) return run_3d_command(a, sc, *mesh3, work);
   auto prepared = dsdem::run::prepare_run(sc, work.string());
   // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
   // run killed outright later on.
@@ -154,6 +183,11 @@ int check_command(const CheckArgs& a) {
   const auto sc = dsdem::io::load_scenario(a.scenario_path, a.sets);
   const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-check-{}", ::getpid());
   ScratchDir cleanup{work};
+  if (auto mesh3 = dsdem::mesh::load_volume_mesh(sc, work.string())) {
+    fmt::print("{}", dsdem::run::check_report_3d(dsdem::run::prepare_run_3d(sc, *mesh3)));
+    fmt::print("scenario OK\n");
+    return 0;
+  }
   auto prepared = dsdem::run::prepare_run(sc, work.string());
   fmt::print("{}", dsdem::run::check_report(prepared));
   fmt::print("scenario OK\n");

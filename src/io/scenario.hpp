@@ -47,13 +47,16 @@ enum class BoundaryType { Fixed, Roller, Velocity, Displacement, Free, ViscousSp
 struct BoundarySpec {
   std::string group;
   BoundaryType type = BoundaryType::Fixed;
-  int direction = 0;  // roller: 0 = x held, 1 = y held
+  int direction = 0;  // roller: 0 = x held, 1 = y held, 2 = z held (3D)
   std::optional<TimeHistory> x, y;
   // viscous_spring (docs/theory.md §5)
   std::optional<double> R;
-  std::optional<Vec2> scattering_centre;
+  std::optional<Vec2> scattering_centre;  // as given, its x and y
   bool free_field = true;
   SourceLocation where;
+  // 3D models: the z history, the scattering centre given as [x, y, z].
+  std::optional<TimeHistory> z;
+  std::optional<Vec3> scattering_centre_3d;
 };
 
 // One component of the earthquake: a record file or a generated artificial wave.
@@ -67,6 +70,9 @@ struct MotionSpec {
   double pga_g = 0.05, Tg = 0.35, beta_max = 2.25, damping = 0.05, duration = 10.0, dt = 0.02;
   double t1 = 1.5, t2 = 6.5, c = 1.0;
   std::uint64_t seed = 1;
+  // The horizontal record's direction in a 3D model: degrees from x toward y (x: 0, y: 90).
+  double azimuth_deg = 0.0;
+  bool direction_given = false;
   SourceLocation where;
 };
 
@@ -133,6 +139,7 @@ struct ContactPairSpec {
 };
 
 struct ContactSpec {
+  bool present = false;  // the scenario has a contact section
   std::string law = "spring_dashpot_coulomb";  // contact law by name (law/registry)
   double penalty = 1.0;
   std::optional<double> kn;
@@ -283,6 +290,11 @@ struct Scenario {
   std::map<std::string, Material> materials;
   std::vector<RegionSpec> regions;
   Vec2 gravity = Vec2(0.0, -9.81);
+  // gravity as given: 0 components (absent: the default of the mesh's dimension), 2 (a plane
+  // model: gravity) or 3 (a 3D model: gravity_3d).
+  int gravity_components = 0;
+  Vec3 gravity_3d = Vec3(0.0, 0.0, -9.81);
+  SourceLocation where_gravity;
   std::optional<double> dt;
   double safety = 0.3;
   // Take the step again as joints break (safety x the stable step of the model as it is,

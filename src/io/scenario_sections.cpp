@@ -55,34 +55,39 @@ std::vector<BoundarySpec> read_boundaries(SchemaReader& r, const YAML::Node& lis
     const auto dir = r.string(b, p, "direction");
     auto x = r.table(b, p, "x");
     auto y = r.table(b, p, "y");
+    auto z = r.table(b, p, "z");
     if (x) spec.x = to_history(*x);
     if (y) spec.y = to_history(*y);
+    if (z) spec.z = to_history(*z);
     if (type == "fixed") {
       spec.type = BoundaryType::Fixed;
     } else if (type == "free") {
       spec.type = BoundaryType::Free;
     } else if (type == "roller") {
       spec.type = BoundaryType::Roller;
-      if (!dir) r.error(b, p.child("direction").actual, "a roller needs the direction it holds: x or y");
-      spec.direction = dir && *dir == "y" ? 1 : 0;
+      if (!dir) r.error(b, p.child("direction").actual, "a roller needs the direction it holds: x, y or z");
+      spec.direction = dir && *dir == "z" ? 2 : dir && *dir == "y" ? 1 : 0;
     } else if (type == "viscous_spring") {
       spec.type = BoundaryType::ViscousSpring;
       spec.R = r.number(b, p, "R");
-      if (auto c = r.vector2(b, p, "scattering_centre")) spec.scattering_centre = Vec2((*c)[0], (*c)[1]);
+      if (auto c = r.vector(b, p, "scattering_centre")) {
+        spec.scattering_centre = Vec2((*c)[0], (*c)[1]);
+        if (c->size() == 3) spec.scattering_centre_3d = Vec3((*c)[0], (*c)[1], (*c)[2]);
+      }
       spec.free_field = r.boolean(b, p, "free_field").value_or(true);
       if (!spec.R && !spec.scattering_centre)
         r.error(b, p.actual, "a viscous_spring boundary needs R (m) or scattering_centre ([x, y] m)");
     } else if (type == "velocity" || type == "displacement") {
       spec.type = type == "velocity" ? BoundaryType::Velocity : BoundaryType::Displacement;
-      if (!spec.x && !spec.y)
-        r.error(b, p.actual, fmt::format("a {} condition needs x and/or y (a number or [[t, value], ...])", type));
+      if (!spec.x && !spec.y && !spec.z)
+        r.error(b, p.actual, fmt::format("a {} condition needs x, y and/or z (a number or [[t, value], ...])", type));
     }
     if (spec.type != BoundaryType::ViscousSpring && (b["R"].IsDefined() || b["scattering_centre"].IsDefined()))
       r.error(b, p.actual, "R and scattering_centre belong to type viscous_spring");
     if ((spec.type == BoundaryType::Fixed || spec.type == BoundaryType::Roller || spec.type == BoundaryType::Free ||
          spec.type == BoundaryType::ViscousSpring) &&
-        (spec.x || spec.y))
-      r.error(b, p.actual, fmt::format("'{}' takes no x/y values; use type velocity or displacement", type));
+        (spec.x || spec.y || spec.z))
+      r.error(b, p.actual, fmt::format("'{}' takes no x/y/z values; use type velocity or displacement", type));
     out.push_back(std::move(spec));
   }
   return out;
@@ -321,7 +326,12 @@ void read_time_and_stages(SchemaReader& r, YAML::Node& root, Scenario& sc) {
   if (YAML::Node b = r.section(root, top, "boundaries", YAML::NodeType::Sequence); b.IsDefined())
     boundaries = read_boundaries(r, b, top.child("boundaries"));
 
-  if (auto g = r.vector2(root, top, "gravity")) sc.gravity = Vec2((*g)[0], (*g)[1]);
+  if (auto g = r.vector(root, top, "gravity")) {
+    sc.gravity_components = static_cast<int>(g->size());
+    sc.where_gravity = location(r, root["gravity"], top.child("gravity").actual);
+    if (g->size() == 2) sc.gravity = Vec2((*g)[0], (*g)[1]);
+    else sc.gravity_3d = Vec3((*g)[0], (*g)[1], (*g)[2]);
+  }
   DampingSpec damping;
   if (YAML::Node d = r.section(root, top, "damping", YAML::NodeType::Map); d.IsDefined())
     damping = read_damping(r, d, top.child("damping"), damping);
@@ -420,6 +430,7 @@ void read_contact(SchemaReader& r, YAML::Node& root, Scenario& sc) {
     const KeyPath p = top.child("contact");
     r.check_keys(c, p);
     ContactSpec& cs = sc.contact;
+    cs.present = true;
     cs.law = r.string(c, p, "law").value_or(std::string(law::kDefaultContactLaw));
     if (const law::LawDecl* decl = law::contact_laws().find(cs.law))
       check_law_keys(r, c, p, *decl, law::contact_laws(), "law");
@@ -473,6 +484,18 @@ void read_earthquake(SchemaReader& r, YAML::Node& root, Scenario& sc) {
       spec->present = true;
       spec->where = location(r, m, mp.actual);
       spec->scale = r.number(m, mp, "scale").value_or(1.0);
+      if (m["direction"].IsDefined()) {
+        spec->direction_given = true;
+        const std::string d = r.string(m, mp, "direction").value_or("x");
+        char* end = nullptr;
+        const double az = std::strtod(d.c_str(), &end);
+        if (d == "x") spec->azimuth_deg = 0.0;
+        else if (d == "y") spec->azimuth_deg = 90.0;
+        else if (end != d.c_str() && *end == '\0' && std::isfinite(az) && az >= 0.0 && az < 360.0) spec->azimuth_deg = az;
+        else
+          r.error(m["direction"], mp.child("direction").actual,
+                  fmt::format("'{}' is not a direction: x, y or an azimuth in degrees from x toward y in [0, 360)", d));
+      }
       spec->units = r.string(m, mp, "units").value_or("g");
       if (auto f = r.string(m, mp, "file")) {
         spec->file = sc.resolve(*f);

@@ -26,6 +26,7 @@ std::string type_name(KeyType t) {
     case KeyType::String: return "string";
     case KeyType::Boolean: return "boolean";
     case KeyType::Vector2: return "[x, y]";
+    case KeyType::Vector: return "[x, y] or [x, y, z]";
     case KeyType::Range: return "[min, max]";
     case KeyType::Map: return "map";
     case KeyType::List: return "list";
@@ -292,6 +293,26 @@ std::optional<std::array<double, 2>> SchemaReader::vector2(const YAML::Node& map
   if (!n.IsSequence() || n.size() != 2 || !parse_double(n[0], v[0]) || !parse_double(n[1], v[1]) ||
       !std::isfinite(v[0]) || !std::isfinite(v[1])) {
     error(n, p.actual, fmt::format("expected two numbers [x, y]{}", s.unit.empty() ? "" : " in " + s.unit));
+    return std::nullopt;
+  }
+  return v;
+}
+
+std::optional<std::vector<double>> SchemaReader::vector(const YAML::Node& map, const KeyPath& parent,
+                                                       const std::string& key) {
+  const KeyPath p = parent.child(key);
+  const KeySpec& s = spec(p);
+  const YAML::Node n = map[key];
+  if (!n.IsDefined() || n.IsNull()) {
+    if (s.required()) error(map, p.actual, fmt::format("missing value ({}, [x, y] or [x, y, z] in {})", brief(s.doc), s.unit));
+    return std::nullopt;
+  }
+  std::vector<double> v(n.IsSequence() ? n.size() : 0);
+  bool ok = n.IsSequence() && (n.size() == 2 || n.size() == 3);
+  for (std::size_t i = 0; ok && i < v.size(); ++i) ok = parse_double(n[i], v[i]) && std::isfinite(v[i]);
+  if (!ok) {
+    error(n, p.actual, fmt::format("expected [x, y] (a plane model) or [x, y, z] (a 3D model){}",
+                                   s.unit.empty() ? "" : " in " + s.unit));
     return std::nullopt;
   }
   return v;

@@ -14,7 +14,7 @@
 namespace dsdem::io {
 
 // Range: two numbers [min, max] (a Vector2 read the same way, documented as a range).
-enum class KeyType { Number, Integer, String, Boolean, Vector2, Map, List, Table, Choice, NumberOrTable, Polyline, Points, Range };
+enum class KeyType { Number, Integer, String, Boolean, Vector2, Vector, Map, List, Table, Choice, NumberOrTable, Polyline, Points, Range };
 
 struct KeySpec {
   std::string pattern;  // e.g. "materials.*.E", "regions[].group"
@@ -60,6 +60,8 @@ class SchemaReader {
   std::optional<std::string> string(const YAML::Node& map, const KeyPath& parent, const std::string& key);
   std::optional<bool> boolean(const YAML::Node& map, const KeyPath& parent, const std::string& key);
   std::optional<std::array<double, 2>> vector2(const YAML::Node& map, const KeyPath& parent, const std::string& key);
+  // Two or three numbers: a point or vector of a plane or a 3D model.
+  std::optional<std::vector<double>> vector(const YAML::Node& map, const KeyPath& parent, const std::string& key);
   // A list of [t, value] rows, strictly increasing in t.
   std::optional<std::vector<std::array<double, 2>>> table(const YAML::Node& map, const KeyPath& parent,
                                                           const std::string& key);

@@ -129,18 +129,22 @@ void add_boundaries_time_stages(std::vector<KeySpec>& s) {
                      "components prescribed (constant or history); free: nothing (overrides an earlier stage); "
                      "viscous_spring: absorbing boundary with the free-field earthquake input (docs/theory.md §5)."));
   s.push_back(num("boundaries[].R", "m", "", 0, kInf, "viscous_spring: distance from the scattering source to the boundary.", true));
-  s.push_back(of("boundaries[].scattering_centre", KeyType::Vector2, "",
+  s.push_back(of("boundaries[].scattering_centre", KeyType::Vector, "",
                  "viscous_spring: point of the scattering source; R is then each node's distance to it.", "m"));
   s.push_back(of("boundaries[].free_field", KeyType::Boolean, "true",
                  "viscous_spring: apply the free-field seismic input forces on this boundary."));
-  s.push_back(choice("boundaries[].direction", {"x", "y"}, "",
-                     "For a roller: the direction that is held (x for a vertical side, y for a base)."));
+  s.push_back(choice("boundaries[].direction", {"x", "y", "z"}, "",
+                     "For a roller: the direction that is held (a plane model: x for a vertical side, y for a base; a "
+                     "3D model: z for a base)."));
   s.push_back(of("boundaries[].x", KeyType::NumberOrTable, "",
                  "Prescribed x component: a number, or a history [[t, value], ...] (linear in between, held after).",
                  "m/s or m"));
   s.push_back(of("boundaries[].y", KeyType::NumberOrTable, "", "Prescribed y component, as for x.", "m/s or m"));
+  s.push_back(of("boundaries[].z", KeyType::NumberOrTable, "", "Prescribed z component, as for x (3D models).", "m/s or m"));
 
-  s.push_back(of("gravity", KeyType::Vector2, "[0, -9.81]", "Gravitational acceleration.", "m/s^2"));
+  s.push_back(of("gravity", KeyType::Vector, "[0, -9.81] or [0, 0, -9.81]",
+                 "Gravitational acceleration: [x, y] for a plane model, [x, y, z] for a 3D one (the mesh decides).",
+                 "m/s^2"));
   s.push_back(of("damping", KeyType::Map, "", "Rayleigh damping C = alpha M + beta K (docs/theory.md §6)."));
   s.push_back(num("damping.alpha", "1/s", "0", 0, kInf, "Mass-proportional coefficient."));
   s.push_back(num("damping.beta", "s", "0", 0, kInf, "Stiffness-proportional coefficient."));
@@ -165,7 +169,7 @@ void add_boundaries_time_stages(std::vector<KeySpec>& s) {
   s.push_back(of("stages[].boundaries", KeyType::List, "",
                  "Boundary conditions during this stage (else the top-level ones)."));
   s.push_back(of("stages[].boundaries[]", KeyType::Map, "", "One boundary condition."));
-  for (const char* k : {"group", "type", "direction", "x", "y", "R", "scattering_centre", "free_field"}) {
+  for (const char* k : {"group", "type", "direction", "x", "y", "z", "R", "scattering_centre", "free_field"}) {
     KeySpec copy = *std::find_if(s.begin(), s.end(), [&](const KeySpec& q) { return q.pattern == std::string("boundaries[].") + k; });
     copy.pattern = std::string("stages[].boundaries[].") + k;
     s.push_back(copy);
@@ -231,6 +235,10 @@ void add_earthquake(std::vector<KeySpec>& s) {
     s.push_back(of(base + ".file", KeyType::String, "", "Accelerogram: CSV (t, a) or PEER .AT2, relative to the scenario."));
     s.push_back(choice(base + ".units", {"g", "m/s2"}, "g", "Units of a CSV accelerogram (AT2 is always g)."));
     s.push_back(num(base + ".scale", "", "1", -kInf, kInf, "Factor applied to the record (e.g. to scale it to a PGA)."));
+    if (comp == "horizontal")
+      s.push_back(of(base + ".direction", KeyType::String, "x",
+                     "A 3D model's horizontal direction of motion: x, y or an azimuth in degrees from x toward y (a "
+                     "plane model moves along x)."));
     s.push_back(of(base + ".generate", KeyType::Map, "", "Generate an artificial accelerogram (GB 17741 method) instead of a file."));
     s.push_back(choice(base + ".generate.spectrum", {"hydraulic", "gb50011"}, "hydraulic", "Target spectrum."));
     s.push_back(num(base + ".generate.pga", "g", "0.05", 0, kInf, "Peak ground acceleration.", true));

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -46,7 +47,7 @@ void mesh_geo(const std::string& geo_path, double element_size, const std::strin
   const std::string crossed_options =
       crossed ? " -setnumber Mesh.MeshSizeFactor 2 -setnumber Mesh.SubdivisionAlgorithm 1" : "";
   const std::string cmd = fmt::format("\"{}\" -{} -format msh41 -clmax {:.17g}{} -o \"{}\" \"{}\" > \"{}\" 2>&1",
-                                      gmsh_exe, dimension == 3 ? 3 : 2, element_size, crossed_options, out_msh,
+                                      gmsh_exe, std::clamp(dimension, 1, 3), element_size, crossed_options, out_msh,
                                       geo_path, log);
   const int rc = std::system(cmd.c_str());
   if (rc != 0 || !io::input_file_problem(out_msh).empty()) {

@@ -27,7 +27,8 @@ std::variant<RawMesh, RawMesh3> read_msh_any(const std::string& path, bool cross
 // triangles at twice every size (Mesh.MeshSizeFactor 2, so .geo-local sizes scale too)
 // and splits each into three quadrilaterals (Mesh.SubdivisionAlgorithm 1), whose edges
 // along the curves are then about element_size. Throws with gmsh's own message on failure.
-// With dimension 3, `gmsh -3`: the geometry's volumes meshed into tetrahedra.
+// With dimension 3, `gmsh -3`: the geometry's volumes meshed into tetrahedra (1: the curves
+// only, enough to list the geometry's entities).
 void mesh_geo(const std::string& geo_path, double element_size, const std::string& out_msh, bool crossed = false,
               int dimension = 2);
 

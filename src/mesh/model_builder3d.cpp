@@ -2,10 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 #include "fem/tet4.hpp"
+#include "io/schema.hpp"
 #include "law/registry.hpp"
+#include "mesh/gmsh_reader.hpp"
 
 namespace dsdem::mesh {
 
@@ -81,6 +88,83 @@ void compute_lumped_masses(Model3& model) {
   for (std::size_t t = 0; t < tet.size(); ++t) {
     const double mt = fem::tet_lumped_mass(model.materials[static_cast<std::size_t>(tet.material[t])].rho, tet.volume0[t]);
     for (const Index v : tet.conn[t]) m[static_cast<std::size_t>(v)] += mt;
+  }
+}
+
+namespace fs = std::filesystem;
+
+std::optional<RawMesh3> load_volume_mesh(const io::Scenario& sc, const std::string& work_dir) {
+  const std::string path = sc.resolve(sc.mesh_file);
+  try {
+    if (fs::path(path).extension() == ".geo") {
+      // A 1D mesh is enough to list the geometry's entities: volumes make it a 3D model.
+      fs::create_directories(work_dir);
+      const std::string probe = (fs::path(work_dir) / (fs::path(path).stem().string() + ".entities.msh")).string();
+      mesh_geo(path, *sc.element_size, probe, false, 1);
+      const std::string text = [&] {
+        std::ifstream in(probe, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      }();
+      fs::remove(probe);
+      // The header of $Entities counts points, curves, surfaces and volumes (the 1D mesh
+      // itself may hold no nodes: only physical groups' elements are saved).
+      const std::size_t at = text.find("$Entities\n");
+      std::istringstream counts(at == std::string::npos ? std::string() : text.substr(at + 10, 200));
+      long points = 0, curves = 0, surfaces = 0, volumes = 0;
+      if (!(counts >> points >> curves >> surfaces >> volumes))
+        throw std::runtime_error(fmt::format("{}: gmsh listed no entities of the geometry", path));
+      if (volumes == 0) return std::nullopt;
+      const std::string msh = (fs::path(work_dir) / (fs::path(path).stem().string() + ".msh")).string();
+      mesh_geo(path, *sc.element_size, msh, false, 3);
+      RawMesh3 m = std::get<RawMesh3>(read_msh_any(msh));
+      m.source = path;
+      return m;
+    }
+    auto any = read_msh_any(path, sc.crossed_mesh);
+    if (auto* m = std::get_if<RawMesh3>(&any)) return std::move(*m);
+    return std::nullopt;
+  } catch (const io::ScenarioError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw io::ScenarioError({sc.where_mesh.describe(e.what())});
+  }
+}
+
+Model3 build_model_3d(const io::Scenario& sc, const RawMesh3& mesh) {
+  std::vector<std::string> errors;
+  std::vector<std::string> volumes;
+  for (const auto& g : mesh.groups)
+    if (g.dim == 3) volumes.push_back(g.name);
+  std::string list;
+  for (const auto& v : volumes) list += (list.empty() ? "" : ", ") + v;
+  std::map<std::string, Material> by_volume;
+  for (const auto& r : sc.regions) {
+    const RawPhysicalGroup3* g = mesh.find(r.group);
+    if (!g || g->dim != 3) {
+      const std::string near = io::nearest(r.group, volumes);
+      errors.push_back(r.where_group.describe(fmt::format(
+          "the mesh {} has no volume group '{}'{}; its volumes are: {}", mesh.source, r.group,
+          near.empty() ? "" : " (did you mean '" + near + "'?)", list.empty() ? "(none)" : list)));
+      continue;
+    }
+    const auto m = sc.materials.find(r.material);
+    if (m == sc.materials.end()) continue;  // the scenario's own check names it
+    by_volume[r.group] = m->second;
+  }
+  for (const auto& v : volumes)
+    if (!by_volume.count(v))
+      errors.push_back(fmt::format("{}: regions: the mesh's volume '{}' has no region (give it a material)", sc.file, v));
+  if (!errors.empty()) throw io::ScenarioError(errors);
+  try {
+    // Materials under the scenario's names, each volume group taking its region's.
+    std::map<std::string, Material> materials;
+    Model3 model = build_model_3d(mesh, by_volume);
+    for (auto& mat : model.materials)  // build_model_3d named them after the volumes
+      for (const auto& r : sc.regions)
+        if (r.group == mat.name) mat.name = r.material;
+    return model;
+  } catch (const std::invalid_argument& e) {
+    throw io::ScenarioError({fmt::format("{}: {}", sc.file, e.what())});
   }
 }
 

@@ -253,7 +253,31 @@ void lay_out_water(PreparedRun& run) {
 
 }  // namespace
 
+namespace {
+// The keys of a 3D model in a plane scenario (docs/theory.md §14: the mesh decides).
+void refuse_3d_keys(const io::Scenario& sc) {
+  std::vector<std::string> errors;
+  if (sc.gravity_components == 3)
+    errors.push_back(sc.where_gravity.describe("a plane model (the mesh has no volumes) takes gravity as [x, y] in m/s^2"));
+  for (const auto& st : sc.stages)
+    for (const auto& b : st.boundaries) {
+      if (b.z) errors.push_back(b.where.describe(fmt::format("boundary '{}': z belongs to 3D models; a plane model "
+                                                             "moves in x and y", b.group)));
+      if (b.type == io::BoundaryType::Roller && b.direction == 2)
+        errors.push_back(b.where.describe(fmt::format("boundary '{}': a plane model's roller holds x or y", b.group)));
+      if (b.scattering_centre_3d)
+        errors.push_back(b.where.describe(fmt::format("boundary '{}': a plane model takes scattering_centre as [x, y]",
+                                                      b.group)));
+    }
+  const io::MotionSpec& h = sc.earthquake.horizontal;
+  if (h.present && h.direction_given && h.azimuth_deg != 0.0)
+    errors.push_back(h.where.describe("direction: a plane model's horizontal record moves along x"));
+  if (!errors.empty()) throw io::ScenarioError(errors);
+}
+}  // namespace
+
 PreparedRun prepare_run(const io::Scenario& scenario, const std::string& work_dir) {
+  refuse_3d_keys(scenario);
   PreparedRun run;
   run.scenario = scenario;
   load_model(run, work_dir);

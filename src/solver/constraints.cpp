@@ -1,11 +1,14 @@
 #include "solver/constraints.hpp"
 
 #include <map>
+#include <type_traits>
 
 namespace dsdem::solver {
 
-std::vector<PrescribedDof> build_constraints(const Model& model, const std::vector<io::BoundarySpec>& boundaries,
+template <class M>
+std::vector<PrescribedDof> build_constraints(const M& model, const std::vector<io::BoundarySpec>& boundaries,
                                              double t_start) {
+  constexpr int D = std::remove_cvref_t<decltype(model.nodes.X[0])>::RowsAtCompileTime;
   // (node, dir) -> dof; std::map keeps the output order deterministic.
   std::map<std::pair<Index, int>, PrescribedDof> dofs;
   for (const auto& b : boundaries) {
@@ -13,7 +16,8 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
     if (g == kNoIndex) continue;  // validated before: cannot happen
     const auto hx = b.x ? std::make_shared<const io::TimeHistory>(*b.x) : nullptr;
     const auto hy = b.y ? std::make_shared<const io::TimeHistory>(*b.y) : nullptr;
-    for (Index n : model.groups[g].nodes) {
+    const auto hz = b.z ? std::make_shared<const io::TimeHistory>(*b.z) : nullptr;
+    for (Index n : model.groups[static_cast<std::size_t>(g)].nodes) {
       auto set = [&](int dir, PrescribedDof::Kind kind, std::shared_ptr<const io::TimeHistory> h) {
         PrescribedDof d;
         d.node = n;
@@ -26,8 +30,7 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
       };
       switch (b.type) {
         case io::BoundaryType::Fixed:
-          set(0, PrescribedDof::Fixed, nullptr);
-          set(1, PrescribedDof::Fixed, nullptr);
+          for (int dir = 0; dir < D; ++dir) set(dir, PrescribedDof::Fixed, nullptr);
           break;
         case io::BoundaryType::Roller:
           set(b.direction, PrescribedDof::Fixed, nullptr);
@@ -37,12 +40,12 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
           const auto kind = b.type == io::BoundaryType::Velocity ? PrescribedDof::Velocity : PrescribedDof::Displacement;
           if (hx) set(0, kind, hx);
           if (hy) set(1, kind, hy);
+          if (D == 3 && hz) set(2, kind, hz);
           break;
         }
         case io::BoundaryType::Free:
         case io::BoundaryType::ViscousSpring:  // released: the boundary module acts on it
-          dofs.erase({n, 0});
-          dofs.erase({n, 1});
+          for (int dir = 0; dir < D; ++dir) dofs.erase({n, dir});
           break;
       }
     }
@@ -52,6 +55,9 @@ std::vector<PrescribedDof> build_constraints(const Model& model, const std::vect
   for (auto& [key, d] : dofs) out.push_back(d);
   return out;
 }
+
+template std::vector<PrescribedDof> build_constraints(const Model&, const std::vector<io::BoundarySpec>&, double);
+template std::vector<PrescribedDof> build_constraints(const Model3&, const std::vector<io::BoundarySpec>&, double);
 
 double prescribed_velocity(const PrescribedDof& d, double t) {
   switch (d.kind) {

@@ -6,6 +6,7 @@
 
 #include "io/scenario.hpp"
 #include "model/model.hpp"
+#include "model/model3d.hpp"
 
 namespace dsdem::solver {
 
@@ -21,8 +22,11 @@ struct PrescribedDof {
   double u_prev = 0.0;         // the dof's displacement before this step's drift, m (solver scratch)
 };
 
-// Later conditions in the list override earlier ones on shared nodes; "free" releases.
-std::vector<PrescribedDof> build_constraints(const Model& model, const std::vector<io::BoundarySpec>& boundaries,
+// Later conditions in the list override earlier ones on shared nodes; "free" releases. For a
+// plane Model or a 3D Model3 (fixed holds every direction, x, y and z histories by the
+// model's dimension).
+template <class M>
+std::vector<PrescribedDof> build_constraints(const M& model, const std::vector<io::BoundarySpec>& boundaries,
                                              double t_start);
 
 // Prescribed velocity and acceleration of a dof at time t.

@@ -19,7 +19,10 @@ namespace {
 constexpr std::size_t kNodeChunk = 4096;  // nodes per chunk of the node loops
 }  // namespace
 
-Solver3::Solver3(Model3& model) : model_(model), team_(model.tetrahedra.size() > kParallelThreshold, false) {
+// On OpenMP above kParallelThreshold tetrahedra, checked by timing now and then (exec::Team):
+// on a busy machine one thread can be many times faster; the bits are the same either way.
+Solver3::Solver3(Model3& model)
+    : model_(model), team_(model.tetrahedra.size() > kParallelThreshold, /*automatic=*/true) {
   const Tetrahedra& tet = model_.tetrahedra;
   const std::size_t nt = tet.size(), nn = model_.nodes.size();
   setup_laws();
@@ -72,12 +75,13 @@ double Solver3::stable_time_step() const {
     const double cp = model_.materials[static_cast<std::size_t>(tet.material[t])].cp();
     dt = std::min(dt, fem::tet_critical_time_step(n.x(c[0]), n.x(c[1]), n.x(c[2]), n.x(c[3]), cp, settings_.beta));
   }
-  return 0.5 * dt;
+  return dt;
 }
 
 void Solver3::set_settings(const StepSettings3& s) {
-  if (!(s.dt >= 0.0) || !(s.safety > 0.0 && s.safety <= 1.0))
-    throw std::invalid_argument(fmt::format("Solver3: dt {} s and safety {} (dt >= 0, 0 < safety <= 1)", s.dt, s.safety));
+  if (!(s.dt >= 0.0) || !(s.safety > 0.0 && s.safety <= kMaxSafety3D))
+    throw std::invalid_argument(
+        fmt::format("Solver3: dt {} s and safety {} (dt >= 0, 0 < safety <= {})", s.dt, s.safety, kMaxSafety3D));
   settings_ = s;
   dt_ = s.dt > 0.0 ? s.dt : s.safety * stable_time_step();
   const std::size_t nn = model_.nodes.size();
@@ -133,9 +137,11 @@ void Solver3::step() {
   update_energy();
   check_stability();
   ++step_;
+  team_.end_step(step_);
 }
 
 void Solver3::begin_step() {
+  team_.begin_step();
   if (any_law_state_) std::swap(law_start_, law_end_);  // the last step's end state starts this one
   const auto& n = model_.nodes;
   for (auto& d : constraints_) d.u_prev = n.u[d.node][d.dir];

@@ -20,12 +20,16 @@
 
 namespace dsdem::solver {
 
+// The largest safety factor of a 3D step: the altitude step h / cp can exceed a tetrahedron's
+// own stability limit by up to 1.87 times, and half of it never does (docs/theory.md §2).
+inline constexpr double kMaxSafety3D = 0.5;
+
 struct StepSettings3 {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // m/s^2
   double alpha = 0.0;  // Rayleigh mass coefficient, 1/s
   double beta = 0.0;   // Rayleigh stiffness coefficient, s
   double dt = 0.0;     // s; 0: safety x the stable step (stable_time_step())
-  double safety = 0.6; // of the stable step, when dt is 0 (0.3 of the altitude step, as in 2D)
+  double safety = 0.3; // of the stable step, when dt is 0; at most kMaxSafety3D
 };
 
 class Solver3 {
@@ -37,9 +41,9 @@ class Solver3 {
   void set_settings(const StepSettings3& s);
   const StepSettings3& settings() const { return settings_; }
   double dt() const { return dt_; }
-  // A stable step of the model as it is, s: half the smallest altitude over cp (with the
-  // stiffness damping's reduction, docs/theory.md §6), which is within every tetrahedron's
-  // own limit, where the whole altitude step is not (docs/theory.md §2).
+  // The stable step of the model as it is, s, as in 2D: the smallest altitude over cp, with
+  // the stiffness damping's reduction (docs/theory.md §2, §6). Only kMaxSafety3D of it is
+  // within every tetrahedron's own limit.
   double stable_time_step() const;
   void set_constraints(std::vector<PrescribedDof> dofs) { constraints_ = std::move(dofs); }
   const std::vector<PrescribedDof>& constraints() const { return constraints_; }
@@ -65,7 +69,9 @@ class Solver3 {
 
   double time() const { return time_; }
   long step_count() const { return step_; }
+  // The ledger at the current state (its Verlet offset an O(N) sum on each call).
   const EnergyLedger& energy() const;
+  double kinetic_energy() const { return energy_.kinetic; }  // for per-step checks: no sum
   Model3& model() { return model_; }
   const Model3& model() const { return model_; }
   // Sum of the reactions at the prescribed dofs of `nodes`, N.
@@ -73,6 +79,7 @@ class Solver3 {
   // Cauchy stress and Green strain of every tetrahedron at the current state, into the
   // model's arrays (the step's kernel from the step's start: the same bits).
   void update_stress();
+  // OpenMP on or off by hand (turns the automatic choice by timing off).
   void set_parallel(bool on) { team_.set_parallel(on); }
   // Bytes held by the model's and this solver's arrays (capacity), for the memory budget.
   std::size_t memory_bytes() const;

@@ -160,7 +160,7 @@ TEST(Scenario, FileNamesTheSystemRefusesAreInputErrorsNotCrashes) {
 
 TEST(Scenario, RollerNeedsDirectionAndVelocityNeedsValues) {
   EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: roller")), "a roller needs the direction"));
-  EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: velocity")), "needs x and/or y"));
+  EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: velocity")), "needs x, y and/or z"));
   EXPECT_TRUE(has_error(errors_of(replace(good(), "type: fixed", "type: velocity\n    y: [[0, 0], [0, 1]]")),
                         "times must increase"));
 }

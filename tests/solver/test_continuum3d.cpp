@@ -250,7 +250,7 @@ TEST(Continuum3D, CantileverFirstFrequencyWithinTwoPercentOfBeamTheory) {
   s.set_constraints(fixed(model, "xmin", {0, 1, 2}));
   solver::StepSettings3 st;
   st.gravity = Vec3::Zero();
-  st.safety = 0.9;  // 0.45 of the altitude step
+  st.safety = 0.45;
   s.set_settings(st);
   const double bl = 1.8751040687;
   const double sigma = (std::cosh(bl) + std::cos(bl)) / (std::sinh(bl) + std::sin(bl));
