@@ -8,6 +8,7 @@
 
 #include "model/model.hpp"
 #include "solver/constraints.hpp"
+#include "solver/node_forces.hpp"
 
 namespace dsdem::solver {
 
@@ -103,6 +104,20 @@ inline void finish_kick(NodeArrays<D>& n, double dt, double t_end, std::span<con
     v[i] += 0.5 * dt * a[i];
   }
   prescribe_velocity_end(n, t_end, constraints, begin, end);
+}
+
+// The reactions at the prescribed dofs, at the step's end (t): each makes its node follow its
+// prescribed acceleration; their work as velocity Verlet applies it (drift_work) is added to
+// `work`, dof by dof, in list order.
+template <int D>
+inline void add_reactions(NodeArrays<D>& n, NodeForcesD<D>& forces, std::span<PrescribedDof> dofs, double t,
+                          double& work) {
+  for (auto& d : dofs) {
+    const double reaction = n.m[d.node] * prescribed_acceleration(d, t) - forces.at(d.node)[d.dir];
+    forces.add_at(d.node, d.dir, reaction);
+    work += drift_work(d.reaction_prev, reaction, n.u[d.node][d.dir] - d.u_prev);
+    d.reaction_prev = reaction;
+  }
 }
 
 }  // namespace dsdem::solver

@@ -346,14 +346,7 @@ void Solver::add_damping_forces() {
 }
 
 void Solver::apply_constraints() {
-  auto& n = model_.nodes;
-  for (auto& d : constraints_) {
-    // The reaction makes the node follow its prescribed acceleration.
-    const double reaction = n.m[d.node] * prescribed_acceleration(d, time_) - forces_.at(d.node)[d.dir];
-    forces_.add_at(d.node, d.dir, reaction);
-    energy_.external_work += drift_work(d.reaction_prev, reaction, n.u[d.node][d.dir] - d.u_prev);
-    d.reaction_prev = reaction;
-  }
+  add_reactions(model_.nodes, forces_, std::span(constraints_), time_, energy_.external_work);
 }
 
 void Solver::update_energy() {
