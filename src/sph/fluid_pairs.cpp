@@ -236,14 +236,16 @@ void Fluid::forces_within(std::size_t lo, std::size_t hi) {
 }
 
 // The renormalised gradient, the walls' pressure and viscosity (a gather; the fluid away
-// from the walls skips it), gravity.
+// from the walls skips it; a free-slip wall's viscosity along its normal, docs/theory.md §11),
+// gravity.
 template <bool grad>
 void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
   const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const double alpha_c = par_.alpha * par_.c0, mb = b_.mass, gx = par_.gravity.x(), gy = par_.gravity.y();
   const auto border = boundary_cells_.order();
   const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
-  const double *brho = b_.rho.data(), *bp = b_.p.data();
+  const double *brho = b_.rho.data(), *bp = b_.p.data(), *bnx = b_.nx.data(), *bny = b_.ny.data();
+  const bool free_slip = par_.wall_viscosity == WallViscosity::FreeSlip;
   for (std::size_t i = lo; i < hi; ++i) {
     const ForceSums& s = sums_[i];
     if constexpr (grad) {
@@ -263,6 +265,15 @@ void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
           const double r2 = dx * dx + dy * dy;
           if (r2 >= s2) continue;
           const double f = wendland_gradient_factor(r2, inv_h, gc);
+          if (free_slip) {
+            const double nx = bnx[j], ny = bny[j];
+            const double visc = wall_normal_viscosity((vxi - bvx[j]) * nx + (vyi - bvy[j]) * ny, dx * nx + dy * ny,
+                                                      r2, rhoi, brho[j], h, alpha_c);
+            const double coef = -mb * pressure_term(pi, bp[j], rhoi, brho[j]) * f, vcoef = -mb * visc * f;
+            ax += coef * dx + vcoef * nx;
+            ay += coef * dy + vcoef * ny;
+            continue;
+          }
           const double visc =
               artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
           const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
