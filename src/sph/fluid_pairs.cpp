@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "sph/fluid.hpp"
 #include "sph/pair_lanes.hpp"
@@ -257,7 +258,9 @@ void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
     const double xi = f_.x[i], yi = f_.y[i], vxi = f_.vx[i], vyi = f_.vy[i], rhoi = f_.rho[i], pi = f_.p[i];
     double ax = s.ax, ay = s.ay;
     const int cell = fluid_cells_.cell(i);
-    if (near_wall_[static_cast<std::size_t>(cell)]) {
+    // The walls' loop in two copies, the choice made once per particle: the no-slip one is the
+    // fluid pairs' term as it always was.
+    auto walls = [&](auto free) {
       boundary_cells_.for_each_range(cell, [&](std::int32_t k0, std::int32_t k1) {
         for (std::int32_t kk = k0; kk < k1; ++kk) {
           const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(kk)]);
@@ -265,22 +268,28 @@ void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
           const double r2 = dx * dx + dy * dy;
           if (r2 >= s2) continue;
           const double f = wendland_gradient_factor(r2, inv_h, gc);
-          if (free_slip) {
+          if constexpr (decltype(free)::value) {
             const double nx = bnx[j], ny = bny[j];
             const double visc = wall_normal_viscosity((vxi - bvx[j]) * nx + (vyi - bvy[j]) * ny, dx * nx + dy * ny,
                                                       r2, rhoi, brho[j], h, alpha_c);
             const double coef = -mb * pressure_term(pi, bp[j], rhoi, brho[j]) * f, vcoef = -mb * visc * f;
             ax += coef * dx + vcoef * nx;
             ay += coef * dy + vcoef * ny;
-            continue;
+          } else {
+            const double visc =
+                artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
+            const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
+            ax += coef * dx;
+            ay += coef * dy;
           }
-          const double visc =
-              artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
-          const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
-          ax += coef * dx;
-          ay += coef * dy;
         }
       });
+    };
+    if (near_wall_[static_cast<std::size_t>(cell)]) {
+      if (free_slip)
+        walls(std::true_type{});
+      else
+        walls(std::false_type{});
     }
     f_.ax[i] = ax + gx;
     f_.ay[i] = ay + gy;
