@@ -234,6 +234,7 @@ struct SphSpec {
   double sound_speed = 0.0;          // m/s; 0: 10 max(sqrt(g H), expected_speed)
   double expected_speed = 0.0;       // m/s, the fastest flow expected (a slide's entry speed)
   double viscosity = 0.02;           // the artificial viscosity alpha
+  bool wall_free_slip = false;       // wall_viscosity: free_slip (sph::WallViscosity)
   double excluded_limit = 0.01;      // fraction of the particles that may be taken out of the water
   double density_diffusion = 0.1;    // delta
   double settle = 0.0;               // s of damped settling with the solid held, before step 0

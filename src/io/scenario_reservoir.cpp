@@ -83,6 +83,7 @@ void read_sph(SchemaReader& r, const YAML::Node& res, const KeyPath& top, SphSpe
   w.sound_speed = r.number(s, p, "sound_speed").value_or(0.0);
   w.expected_speed = r.number(s, p, "expected_speed").value_or(0.0);
   w.viscosity = r.number(s, p, "viscosity").value_or(0.02);
+  w.wall_free_slip = r.string(s, p, "wall_viscosity").value_or("no_slip") == "free_slip";
   w.excluded_limit = r.number(s, p, "excluded_limit").value_or(0.01);
   w.density_diffusion = r.number(s, p, "density_diffusion").value_or(0.1);
   w.settle = r.number(s, p, "settle").value_or(0.0);

@@ -312,6 +312,11 @@ void add_reservoir_sph(std::vector<KeySpec>& s) {
                   "The fastest flow expected (a slide's entry speed), for the sound speed; the run warns when the "
                   "water goes faster than c0 / 10."));
   s.push_back(num(b + ".viscosity", "", "0.02", 0, 1, "Artificial viscosity alpha (docs/theory.md §11: 0.01-0.1)."));
+  s.push_back(choice(b + ".wall_viscosity", {"no_slip", "free_slip"}, "no_slip",
+                     "The artificial viscosity between the water and its walls: no_slip, as between two water "
+                     "particles (the wall holds the water still at its face, a viscous layer about a particle thick); "
+                     "free_slip, along the wall's normal only (it resists the approach, not the sliding: water whose "
+                     "motion along a wall is not to be damped, as a sloshing tank's; docs/theory.md §11)."));
   s.push_back(num(b + ".excluded_limit", "", "0.01", 0, 0.5,
                   "Water particles that leave the weakly compressible range (faster than the sound speed, or "
                   "density off by half: one flung out of a squeeze) are taken out of the water, up to this fraction "

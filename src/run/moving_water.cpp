@@ -155,6 +155,7 @@ sph::FluidParameters fluid_parameters(const io::Scenario& sc, double depth) {
   par.dp = w.spacing;
   par.h_over_dp = w.smoothing;
   par.alpha = w.viscosity;
+  par.wall_viscosity = w.wall_free_slip ? sph::WallViscosity::FreeSlip : sph::WallViscosity::NoSlip;
   par.delta = w.density_diffusion;
   par.excluded_limit = w.excluded_limit;
   par.gravity = sc.gravity;

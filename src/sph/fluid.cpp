@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "sph/kernels.hpp"
 
@@ -415,6 +416,7 @@ void Fluid::gather_boundary_forces(std::span<double> out_x, std::span<double> ou
   const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const double alpha_c = par_.alpha * par_.c0;
   const double mf = f_.mass, mb = b_.mass;
+  const bool free_slip = par_.wall_viscosity == WallViscosity::FreeSlip;
   const auto forder = fluid_cells_.order();
   const double *fx = f_.x.data(), *fy = f_.y.data(), *fvx = f_.vx.data(), *fvy = f_.vy.data();
   const double *frho = f_.rho.data(), *fp = f_.p.data();
@@ -426,21 +428,37 @@ void Fluid::gather_boundary_forces(std::span<double> out_x, std::span<double> ou
       return;
     }
     const double xb = b_.x[b], yb = b_.y[b], vxb = b_.vx[b], vyb = b_.vy[b], rhob = b_.rho[b], pb = b_.p[b];
-    fluid_cells_.for_each_range(boundary_cells_.cell(b), [&](std::int32_t k0, std::int32_t k1) {
-      for (std::int32_t k = k0; k < k1; ++k) {
-        const auto i = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
-        const double dx = fx[i] - xb, dy = fy[i] - yb;  // r_ib
-        const double r2 = dx * dx + dy * dy;
-        if (r2 >= s2) continue;
-        const double f = wendland_gradient_factor(r2, inv_h, gc);
-        const double visc =
-            artificial_viscosity((fvx[i] - vxb) * dx + (fvy[i] - vyb) * dy, r2, frho[i], rhob, h, alpha_c);
-        // Fluid particle i gains m_i (-m_b (P + Pi) F r_ib); the wall particle the opposite.
-        const double coef = mf * mb * (pressure_term(fp[i], pb, frho[i], rhob) + visc) * f;
-        sx += coef * dx;
-        sy += coef * dy;
-      }
-    });
+    const double nxb = b_.nx[b], nyb = b_.ny[b];
+    // Two copies of the loop, the choice made once per wall particle (as the fluid's gather).
+    auto gather = [&](auto free) {
+      fluid_cells_.for_each_range(boundary_cells_.cell(b), [&](std::int32_t k0, std::int32_t k1) {
+        for (std::int32_t k = k0; k < k1; ++k) {
+          const auto i = static_cast<std::size_t>(forder[static_cast<std::size_t>(k)]);
+          const double dx = fx[i] - xb, dy = fy[i] - yb;  // r_ib
+          const double r2 = dx * dx + dy * dy;
+          if (r2 >= s2) continue;
+          const double f = wendland_gradient_factor(r2, inv_h, gc);
+          if constexpr (decltype(free)::value) {  // m_i (-m_b (P F r_ib + Pi_n F n)): the same pair by pair
+            const double visc = wall_normal_viscosity((fvx[i] - vxb) * nxb + (fvy[i] - vyb) * nyb,
+                                                      dx * nxb + dy * nyb, r2, frho[i], rhob, h, alpha_c);
+            const double coef = mf * mb * pressure_term(fp[i], pb, frho[i], rhob) * f, vcoef = mf * mb * visc * f;
+            sx += coef * dx + vcoef * nxb;
+            sy += coef * dy + vcoef * nyb;
+          } else {
+            const double visc =
+                artificial_viscosity((fvx[i] - vxb) * dx + (fvy[i] - vyb) * dy, r2, frho[i], rhob, h, alpha_c);
+            // Fluid particle i gains m_i (-m_b (P + Pi) F r_ib); the wall particle the opposite.
+            const double coef = mf * mb * (pressure_term(fp[i], pb, frho[i], rhob) + visc) * f;
+            sx += coef * dx;
+            sy += coef * dy;
+          }
+        }
+      });
+    };
+    if (free_slip)
+      gather(std::true_type{});
+    else
+      gather(std::false_type{});
     out_x[b] = sx;
     out_y[b] = sy;
   });

@@ -41,6 +41,14 @@ enum class BoundaryCondition { Dynamic, ModifiedDynamic };
 // hydrostatics, and Fourtakas' term keeps stirring it).
 enum class DensityDiffusion { Fourtakas, DeltaSph };
 
+// The artificial viscosity between the water and its walls (docs/theory.md §11, "Walls").
+// NoSlip: Monaghan's term along r_ib with the wall's velocity, as between two fluid
+// particles: the wall holds the water still at its face, a viscous layer of alpha h c0 / 8
+// (2000 times water's at dp = 0.025 m) about a particle thick. FreeSlip: the term along the
+// wall's normal alone (wall_normal_viscosity): it resists the approach through the face, not
+// the sliding along it.
+enum class WallViscosity { NoSlip, FreeSlip };
+
 struct FluidParameters {
   double rho0 = 1000.0;   // kg/m^3, the rest density
   double dp = 0.0;        // m, the initial particle spacing
@@ -58,6 +66,7 @@ struct FluidParameters {
   // order), for 1.3 times the neighbours as candidates.
   double verlet_skin = 0.3;
   BoundaryCondition boundary = BoundaryCondition::ModifiedDynamic;
+  WallViscosity wall_viscosity = WallViscosity::NoSlip;
   // Particles that leave the weakly compressible range (sound()) are taken out of the water,
   // up to this fraction of the particles the fluid was built with (DualSPHysics excludes
   // them likewise, by density and position): a particle flung out of a squeeze does not end

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "sph/fluid.hpp"
 #include "sph/pair_lanes.hpp"
@@ -236,14 +237,16 @@ void Fluid::forces_within(std::size_t lo, std::size_t hi) {
 }
 
 // The renormalised gradient, the walls' pressure and viscosity (a gather; the fluid away
-// from the walls skips it), gravity.
+// from the walls skips it; a free-slip wall's viscosity along its normal, docs/theory.md §11),
+// gravity.
 template <bool grad>
 void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
   const double h = h_, inv_h = 1.0 / h_, gc = grad_c_, s2 = support2_;
   const double alpha_c = par_.alpha * par_.c0, mb = b_.mass, gx = par_.gravity.x(), gy = par_.gravity.y();
   const auto border = boundary_cells_.order();
   const double *bx = b_.x.data(), *by = b_.y.data(), *bvx = b_.vx.data(), *bvy = b_.vy.data();
-  const double *brho = b_.rho.data(), *bp = b_.p.data();
+  const double *brho = b_.rho.data(), *bp = b_.p.data(), *bnx = b_.nx.data(), *bny = b_.ny.data();
+  const bool free_slip = par_.wall_viscosity == WallViscosity::FreeSlip;
   for (std::size_t i = lo; i < hi; ++i) {
     const ForceSums& s = sums_[i];
     if constexpr (grad) {
@@ -255,7 +258,9 @@ void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
     const double xi = f_.x[i], yi = f_.y[i], vxi = f_.vx[i], vyi = f_.vy[i], rhoi = f_.rho[i], pi = f_.p[i];
     double ax = s.ax, ay = s.ay;
     const int cell = fluid_cells_.cell(i);
-    if (near_wall_[static_cast<std::size_t>(cell)]) {
+    // The walls' loop in two copies, the choice made once per particle: the no-slip one is the
+    // fluid pairs' term as it always was.
+    auto walls = [&](auto free) {
       boundary_cells_.for_each_range(cell, [&](std::int32_t k0, std::int32_t k1) {
         for (std::int32_t kk = k0; kk < k1; ++kk) {
           const auto j = static_cast<std::size_t>(border[static_cast<std::size_t>(kk)]);
@@ -263,13 +268,28 @@ void Fluid::finish_accelerations(std::size_t lo, std::size_t hi) {
           const double r2 = dx * dx + dy * dy;
           if (r2 >= s2) continue;
           const double f = wendland_gradient_factor(r2, inv_h, gc);
-          const double visc =
-              artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
-          const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
-          ax += coef * dx;
-          ay += coef * dy;
+          if constexpr (decltype(free)::value) {
+            const double nx = bnx[j], ny = bny[j];
+            const double visc = wall_normal_viscosity((vxi - bvx[j]) * nx + (vyi - bvy[j]) * ny, dx * nx + dy * ny,
+                                                      r2, rhoi, brho[j], h, alpha_c);
+            const double coef = -mb * pressure_term(pi, bp[j], rhoi, brho[j]) * f, vcoef = -mb * visc * f;
+            ax += coef * dx + vcoef * nx;
+            ay += coef * dy + vcoef * ny;
+          } else {
+            const double visc =
+                artificial_viscosity((vxi - bvx[j]) * dx + (vyi - bvy[j]) * dy, r2, rhoi, brho[j], h, alpha_c);
+            const double coef = -mb * (pressure_term(pi, bp[j], rhoi, brho[j]) + visc) * f;
+            ax += coef * dx;
+            ay += coef * dy;
+          }
         }
       });
+    };
+    if (near_wall_[static_cast<std::size_t>(cell)]) {
+      if (free_slip)
+        walls(std::true_type{});
+      else
+        walls(std::false_type{});
     }
     f_.ax[i] = ax + gx;
     f_.ay[i] = ay + gy;

@@ -62,6 +62,17 @@ inline double artificial_viscosity(double vr, double r2, double rho_i, double rh
   return -2.0 * alpha_c * h * (0.5 * (vr - std::fabs(vr))) / ((r2 + 0.01 * h * h) * (rho_i + rho_j));
 }
 
+// The artificial viscosity of a free-slip wall (docs/theory.md §11, "Walls"): Monaghan's term
+// for the pair's motion along the wall's normal n alone, vn = v_ib . n, rn = r_ib . n, acting
+// along n: dv_i/dt gains -m_b f F n, the wall the reaction. It resists the approach through
+// the face and never the sliding along it, and it only dissipates (the power is -m_i m_b f F vn
+// with f vn <= 0). Along r_ib with the full v_ib the wall would hold the water still at its face
+// (the no-slip wall, WallViscosity::NoSlip).
+inline double wall_normal_viscosity(double vn, double rn, double r2, double rho_i, double rho_b, double h,
+                                    double alpha_c) {
+  return artificial_viscosity(vn * rn, r2, rho_i, rho_b, h, alpha_c) * rn;
+}
+
 // Pressure part of the momentum equation (DualSPHysics' form): -m_j (p_i + p_j) / (rho_i
 // rho_j) grad_i W_ij is dv_i/dt; the factor returned multiplies -m_j grad_i W_ij.
 // Symmetric in i and j, so the pair's forces are equal and opposite.
