@@ -187,6 +187,9 @@ void check_orphans(const MshFile& f, const EntityTriangles& entity_triangles,
 }  // namespace
 
 RawMesh to_raw_mesh(const MshFile& f, bool crossed) {
+  if (is_volume_mesh(f))
+    fail(f, f.last_line, "the mesh holds volumes (tetrahedra): a 3D model, which only dsdem run and dsdem check "
+                         "take so far (docs/theory.md §14)");
   if (f.first_off_plane.line > 0)
     fail(f, f.first_off_plane.line,
          fmt::format("node {} has z = {} ; a plane mesh lies in z = 0 (a 3D model is meshed as volumes)",

@@ -213,8 +213,10 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
   const auto wall_start = Clock::now();
   io::PvdSeries pvd(out / "fields.pvd");
   std::size_t frame = 0;
+  double last_history = -1.0, last_field = -1.0;  // s: the end writes only what the steps did not
   auto write_fields = [&] {
-    if (!options.write_fields) return;
+    if (!options.write_fields || solver.time() == last_field) return;
+    last_field = solver.time();
     solver.update_stress();
     const fs::path f = pvd.frame_path(frame++);
     io::write_tetrahedra_vtu(f, model.nodes, model.tetrahedra, model.materials, {}, {}, {.time_s = solver.time()});
@@ -228,6 +230,8 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
   double max_balance = 0.0, max_displacement = 0.0;
   Index max_displacement_node = kNoIndex;
   auto write_history = [&](std::size_t si) {
+    if (solver.time() == last_history) return;
+    last_history = solver.time();
     const auto& e = solver.energy();
     double umax = 0.0, vmax = 0.0;
     for (std::size_t i = 0; i < model.nodes.size(); ++i) {

@@ -139,5 +139,5 @@ TEST(GmshReader, MeshesVolumesAndReadsThemAsA3DMesh) {
   EXPECT_LT((m.nodes[gauge->nodes[0]] - Vec3(1.0, 0.5, 1.0)).norm(), 1e-12);
   // The plane reader names what it was given.
   const std::string msg = error_of([&] { mesh::read_msh(msh); });
-  EXPECT_NE(msg.find("plane mesh"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("the mesh holds volumes (tetrahedra): a 3D model"), std::string::npos) << msg;
 }

@@ -296,8 +296,8 @@ TEST(MshFormat, UnsupportedElementTypesAreNamed) {
   EXPECT_ERROR(with(kMsh41, "1 1\n1 1 1 1\n", "1 1\n1 1 99 1\n"), "t.msh:35:", "element type 99 is not a Gmsh element type dsdem knows");
   EXPECT_ERROR(with(kMsh22, "1 15 2 3 1 1\n", "1 0 2 3 1 1\n"), "t.msh:19:", "element type 0 in $Elements is out of range");
   EXPECT_ERROR(with(kMsh41, "1 1\n1 1 1 1\n", "1 1\n1 1 2 1\n"), "t.msh:35:", "'Triangle 3' elements (type 2) in a block of curve entity 1");
-  // A volume group: dsdem is 2D.
-  EXPECT_ERROR(with(with(kMsh22, "$Elements\n4\n", "$Elements\n5\n"), "4 2 2 1 1 1 3 4\n", "4 2 2 1 1 1 3 4\n5 4 2 9 1 1 2 3 4\n"), "t.msh:", "3D physical group 'physical_3_9'");
+  // A volume mesh read as a plane one.
+  EXPECT_ERROR(with(with(kMsh22, "$Elements\n4\n", "$Elements\n5\n"), "4 2 2 1 1 1 3 4\n", "4 2 2 1 1 1 3 4\n5 4 2 9 1 1 2 3 4\n"), "t.msh:", "the mesh holds volumes (tetrahedra)");
 }
 
 TEST(MshFormat, FormatHeaderAndSectionOrderAreChecked) {
