@@ -320,6 +320,19 @@ MohrCoulombResult mohr_coulomb_return(const MohrCoulombModel& mc, const Vec3& E,
 MohrCoulombResult3D mohr_coulomb_update_3d(const MohrCoulombModel& mc, const Vec6& E, const Vec6& S0,
                                            const PlasticState3D& start, PlasticState3D& end) {
   const ElasticTrial3D t = elastic_trial(mc.elastic, E, S0, start);
+  // Elastic for sure, without the eigensystem: the principal stresses lie within
+  // p +- 2 sqrt(J2 / 3) of the mean p, so k s1 - s3 - sc <= k (p + r) - (p - r) - sc (k >= 1).
+  // The margin keeps states within rounding of the envelope on the exact check below.
+  {
+    const Vec6& s = t.S;
+    const double p = (s[0] + s[1] + s[2]) / 3.0;
+    const double dx = s[0] - p, dy = s[1] - p, dz = s[2] - p;
+    const double j2 = 0.5 * (dx * dx + dy * dy + dz * dz) + s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
+    const double r = 2.0 * std::sqrt(j2 / 3.0);
+    const double margin = 1e-12 * (std::abs(p) + r + mc.sc);
+    if (mc.k * (p + r) - (p - r) - mc.sc <= -margin && p + r <= mc.ft - margin)
+      return elastic_result<MohrCoulombResult3D>(t, S0, start, end);
+  }
   // Eigenvalues ascending, eigenvectors as columns: s1 >= s2 >= s3 is the reverse order.
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(detail::to_tensor(t.S));
   const Vec3& ev = eig.eigenvalues();

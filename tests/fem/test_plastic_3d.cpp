@@ -185,3 +185,35 @@ TEST(DruckerPrager3D, RandomPathsStayOnTheConeAndMatchPlaneStrain) {
   EXPECT_GT(cone, 100);
   EXPECT_GT(apex, 0);
 }
+
+// The elastic check from the invariants (a bound on the principal stresses) never decides
+// for a trial the principal-stress check finds outside: every trial strictly inside the
+// envelope comes back unchanged and every one outside is returned.
+TEST(MohrCoulomb3D, TheInvariantsShortcutAgreesWithThePrincipalStressCheck) {
+  const fem::MohrCoulombModel mc = mohr_coulomb(1e5, 35.0, 5.0, 5e4);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int inside = 0, outside = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Vec6 E;
+    for (int k = 0; k < 6; ++k) E[k] = 4e-4 * u(rng);
+    E.head<3>().array() -= 3e-4 * (1.0 + u(rng));  // mostly compression, around the envelope
+    const fem::PlasticState3D start;
+    fem::PlasticState3D end;
+    const Vec6 S0 = Vec6::Zero();
+    const fem::ElasticTrial3D t = fem::elastic_trial(mc.elastic, E, S0, start);
+    const auto s = principal(t.S);
+    const bool elastic = mc.k * s[0] - s[2] - mc.sc <= 0.0 && s[0] <= mc.ft;
+    const auto r = fem::mohr_coulomb_update_3d(mc, E, S0, start, end);
+    if (elastic) {
+      ++inside;
+      EXPECT_FALSE(r.yielded()) << i;
+      for (int k = 0; k < 6; ++k) ASSERT_EQ(r.S[k], t.S[k]) << i;
+    } else {
+      ++outside;
+      EXPECT_TRUE(r.yielded()) << i;
+    }
+  }
+  EXPECT_GT(inside, 2000);
+  EXPECT_GT(outside, 2000);
+}
