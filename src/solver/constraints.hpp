@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "boundary/boundary_setup.hpp"
 #include "io/scenario.hpp"
 #include "model/model.hpp"
 #include "model/model3d.hpp"
@@ -28,6 +29,20 @@ struct PrescribedDof {
 template <class M>
 std::vector<PrescribedDof> build_constraints(const M& model, const std::vector<io::BoundarySpec>& boundaries,
                                              double t_start);
+
+// Viscous-spring boundary nodes for a new stage (docs/theory.md §6, stage 2): their springs
+// start from the displacement u, and a node supported in the previous stage keeps that
+// support's reaction as a constant load.
+template <int D>
+void attach_boundary_nodes(std::vector<boundary::BoundaryNodeD<D>>& nodes, const std::vector<VecD<D>>& u,
+                           const std::vector<PrescribedDof>& previous_constraints) {
+  for (auto& bn : nodes) {
+    bn.u_ref = u[static_cast<std::size_t>(bn.node)];
+    bn.static_force.setZero();
+    for (const auto& d : previous_constraints)
+      if (d.node == bn.node) bn.static_force[d.dir] += d.reaction_prev;
+  }
+}
 
 // Prescribed velocity and acceleration of a dof at time t.
 double prescribed_velocity(const PrescribedDof& d, double t);

@@ -218,12 +218,7 @@ void Solver3::add_element_forces() {
 
 void Solver3::set_viscous_boundary(std::vector<boundary::BoundaryNode3> nodes,
                                    const std::vector<PrescribedDof>& previous_constraints) {
-  for (auto& bn : nodes) {
-    bn.u_ref = model_.nodes.u[bn.node];
-    bn.static_force.setZero();
-    for (const auto& d : previous_constraints)
-      if (d.node == bn.node) bn.static_force[d.dir] += d.reaction_prev;
-  }
+  attach_boundary_nodes(nodes, model_.nodes.u, previous_constraints);
   boundary_ = std::move(nodes);
   boundary_force_prev_.resize(boundary_.size());
   for (std::size_t k = 0; k < boundary_.size(); ++k) boundary_force_prev_[k] = boundary_[k].static_force;

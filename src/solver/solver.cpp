@@ -283,12 +283,7 @@ void Solver::apply_moving_water_forces(bool book) {
 
 void Solver::set_viscous_boundary(std::vector<boundary::BoundaryNode> nodes,
                                   const std::vector<PrescribedDof>& previous_constraints) {
-  for (auto& bn : nodes) {
-    bn.u_ref = model_.nodes.u[bn.node];
-    bn.static_force.setZero();
-    for (const auto& d : previous_constraints)
-      if (d.node == bn.node) bn.static_force[d.dir] += d.reaction_prev;
-  }
+  attach_boundary_nodes(nodes, model_.nodes.u, previous_constraints);
   boundary_ = std::move(nodes);
   boundary_force_prev_.assign(boundary_.size(), Vec2::Zero());
   for (std::size_t k = 0; k < boundary_.size(); ++k) boundary_force_prev_[k] = boundary_[k].static_force;
