@@ -157,7 +157,6 @@ Model3 build_model_3d(const io::Scenario& sc, const RawMesh3& mesh) {
   if (!errors.empty()) throw io::ScenarioError(errors);
   try {
     // Materials under the scenario's names, each volume group taking its region's.
-    std::map<std::string, Material> materials;
     Model3 model = build_model_3d(mesh, by_volume);
     for (auto& mat : model.materials)  // build_model_3d named them after the volumes
       for (const auto& r : sc.regions)
