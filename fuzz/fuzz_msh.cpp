@@ -1,4 +1,4 @@
-// Fuzz target: the Gmsh .msh reader. The bytes go to a temporary .msh file (the reader
+// Fuzz target: the Gmsh .msh reader of both dimensions (plane and volume meshes). The bytes go to a temporary .msh file (the reader
 // takes a path); every bad file must end in std::runtime_error naming the file.
 #include <unistd.h>
 
@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::fwrite(data, 1, size, f);
   std::fclose(f);
   try {
-    (void)dsdem::mesh::read_msh(path);
+    (void)dsdem::mesh::read_msh_any(path);
   } catch (const std::runtime_error&) {
   }
   std::remove(path.c_str());
