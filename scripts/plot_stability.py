@@ -104,6 +104,48 @@ def plot_trials(out: Path, s: dict) -> None:
     plt.close(fig)
 
 
+def outer_faces(tet: np.ndarray) -> np.ndarray:
+    """The triangles that bound a tetrahedral mesh: the faces only one tetrahedron has."""
+    faces = np.concatenate([tet[:, [0, 1, 2]], tet[:, [0, 1, 3]], tet[:, [0, 2, 3]], tet[:, [1, 2, 3]]])
+    key = np.sort(faces, axis=1)
+    _, first, count = np.unique(key, axis=0, return_index=True, return_counts=True)
+    return faces[first[count == 1]]
+
+
+def plot_mechanism_3d(out: Path, suffix: str, m, tet: np.ndarray) -> None:
+    """A 3D model's mechanism: its outer surface in perspective, coloured by the displacement
+    since the settled state."""
+    from matplotlib import cm, colors
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    mag = np.linalg.norm(m.point_data["displacement_since_settled_m"], axis=1)
+    faces = outer_faces(tet)
+    norm = colors.Normalize(vmin=0.0, vmax=max(float(mag.max()), 1e-30))
+    fig = plt.figure(figsize=(9, 6), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    poly = Poly3DCollection(m.points[faces], facecolors=cm.viridis(norm(mag[faces].mean(axis=1))),
+                            edgecolors="none")
+    ax.add_collection3d(poly)
+    lo, hi = m.points.min(axis=0), m.points.max(axis=0)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_zlim(lo[2], hi[2])
+    ax.set_box_aspect(np.maximum(hi - lo, 1e-9 * max(hi - lo)))
+    ax.view_init(elev=25, azim=-60)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # a thin model gets no crowded ticks
+        axis.set_major_locator(plt.MaxNLocator(4))
+    fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, shrink=0.7,
+                 label="displacement since the settled state [m]")
+    F = m.field_data.get("TimeValue")
+    ftxt = f" at F = {float(np.ravel(F)[0]):.3f}" if F is not None else ""
+    ax.set_title(f"Mechanism{ftxt} ({suffix.strip('_') or 'static'}), 3D: the outer surface")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    fig.savefig(out / f"mechanism{suffix}.png", dpi=120)
+    plt.close(fig)
+
+
 def plot_mechanism(out: Path, suffix: str, s: dict) -> None:
     try:
         import meshio
@@ -113,6 +155,10 @@ def plot_mechanism(out: Path, suffix: str, s: dict) -> None:
     if not vtu.exists():
         return
     m = meshio.read(vtu)
+    tet = next((c.data for c in m.cells if c.type == "tetra"), None)
+    if tet is not None:
+        plot_mechanism_3d(out, suffix, m, tet)
+        return
     tri = next(c.data for c in m.cells if c.type == "triangle")
     du = m.point_data["displacement_since_settled_m"][:, :2]
     mag = np.linalg.norm(du, axis=1)

@@ -261,15 +261,23 @@ int stability_command(StabilityArgs& a) {
   if (a.threads > 0) omp_set_num_threads(a.threads);
   const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-stability-mesh-{}", ::getpid());
   ScratchDir cleanup{work};
-  auto prepared = dsdem::run::prepare_run(sc, work.string());
-  std::error_code ec;
-  std::filesystem::remove_all(work, ec);
   dsdem::run::StabilityOptions options;
   options.output_dir = a.out_dir.empty() ? "." : a.out_dir;
   options.threads = a.threads;
   options.quiet = a.quiet;
   options.stop_signal = &g_stop_signal;
-  const auto result = dsdem::run::find_factor_of_safety(prepared, options);
+  // A volume mesh makes a 3D model (docs/theory.md §14); the procedure is the same.
+  const auto result = [&] {
+    std::error_code ec;
+    if (auto mesh3 = dsdem::mesh::load_volume_mesh(sc, work.string())) {
+      auto prepared = dsdem::run::prepare_run_3d(sc, *mesh3);
+      std::filesystem::remove_all(work, ec);
+      return dsdem::run::find_factor_of_safety(prepared, options);
+    }
+    auto prepared = dsdem::run::prepare_run(sc, work.string());
+    std::filesystem::remove_all(work, ec);
+    return dsdem::run::find_factor_of_safety(prepared, options);
+  }();
   if (result.stopped_by_signal) return 128 + result.stopped_by_signal;
   fmt::print("factor of safety {:.3f}", result.factor_of_safety);
   if (result.factor_of_safety_pseudo_static)

@@ -48,9 +48,25 @@ FullStrengths full_strengths(const Model& model) {
   return s;
 }
 
+FullStrengths full_strengths(const Model3& model) {
+  FullStrengths s;
+  s.materials = model.materials;
+  return s;
+}
+
+namespace {
+void reduce_materials(const FullStrengths& full, double F, const ReductionOptions& o, std::vector<Material>& out) {
+  for (std::size_t k = 0; k < full.materials.size(); ++k) out[k] = reduce_material(full.materials[k], F, o);
+}
+}  // namespace
+
+void apply_reduction(const FullStrengths& full, double F, const ReductionOptions& o, Model3& model) {
+  reduce_materials(full, F, o, model.materials);
+}
+
 void apply_reduction(const FullStrengths& full, double F, const ReductionOptions& o, Model& model) {
   for (std::size_t k = 0; k < full.joints.size(); ++k) model.joint_properties[k] = reduce_joint(full.joints[k], F, o);
-  for (std::size_t k = 0; k < full.materials.size(); ++k) model.materials[k] = reduce_material(full.materials[k], F, o);
+  reduce_materials(full, F, o, model.materials);
   model.contact.defaults = reduce_contact(full.contact_defaults, F);
   for (std::size_t k = 0; k < full.contact_pairs.size(); ++k)
     model.contact.pairs[k].props = reduce_contact(full.contact_pairs[k], F);

@@ -17,6 +17,7 @@
 #include "model/contact_properties.hpp"
 #include "model/joints.hpp"
 #include "model/model.hpp"
+#include "model/model3d.hpp"
 
 namespace dsdem::law {
 
@@ -43,8 +44,11 @@ struct FullStrengths {
   std::vector<ContactProperties> contact_pairs;
 };
 FullStrengths full_strengths(const Model& model);
+// A 3D model's: its materials (it has no joints or contact yet).
+FullStrengths full_strengths(const Model3& model);
 // Writes the strengths of `full` reduced by F into the model (its joint properties,
 // materials and contact parameters); everything else is left alone.
 void apply_reduction(const FullStrengths& full, double F, const ReductionOptions& o, Model& model);
+void apply_reduction(const FullStrengths& full, double F, const ReductionOptions& o, Model3& model);
 
 }  // namespace dsdem::law

@@ -64,6 +64,9 @@ std::vector<std::string> dimension_problems(const io::Scenario& sc) {
       break;
     }
   if (sc.reservoir.present) refuse(top, "reservoir: moving water is not in 3D yet");
+  if (!sc.stability.monitor.empty())
+    refuse(sc.stability.monitor.front().where, "stability.monitor: monitored points at [x, y] are plane; a 3D model's "
+                                               "factor of safety watches every node (leave stability.monitor out)");
   if (!sc.output.gauges.empty()) refuse(sc.output.gauges.front().where, "output.gauges: gauges at [x, y] are plane; a 3D model's gauges are not in yet");
   auto check_boundaries = [&](const std::vector<io::BoundarySpec>& list) {
     for (const auto& b : list)
@@ -193,6 +196,27 @@ std::string check_report_3d(const PreparedRun3& p) {
   return out;
 }
 
+void apply_stage_3d(solver::Solver3& s, const io::StageSpec& stage, const PreparedRun3& p, const Vec3& gravity,
+                    double start_time) {
+  const Model3& model = s.model();
+  solver::StepSettings3 st;
+  st.gravity = gravity;
+  st.alpha = stage.damping.alpha;
+  st.beta = stage.damping.beta;
+  st.local_damping = stage.damping.local;
+  st.dt = p.dt;
+  s.set_settings(st);
+  const std::vector<solver::PrescribedDof> previous = s.constraints();  // the stage before's supports
+  s.set_constraints(solver::build_constraints(model, stage.boundaries, start_time));
+  s.set_viscous_boundary(boundary::build_viscous_boundary_3d(model, viscous_surfaces(stage.boundaries)), previous);
+  const double f = p.scenario.earthquake.incident_factor;
+  if (stage.earthquake)
+    s.set_earthquake(p.quake_x ? &*p.quake_x : nullptr, p.quake_y ? &*p.quake_y : nullptr,
+                     p.quake_z ? &*p.quake_z : nullptr, f, start_time);
+  else
+    s.set_earthquake(nullptr, nullptr, nullptr, 0.0, 0.0);
+}
+
 RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
   const io::Scenario& sc = prepared.scenario;
   Model3& model = prepared.model;
@@ -249,7 +273,6 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
   };
 
   nlohmann::ordered_json stages = nlohmann::ordered_json::array();
-  std::vector<solver::PrescribedDof> previous;
   double stage_end = 0.0, next_field = 0.0, next_history = 0.0;
   auto last_progress = Clock::now();
   long steps_at_progress = 0;
@@ -257,22 +280,7 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
   try {
     for (std::size_t si = 0; si < sc.stages.size(); ++si) {
       const io::StageSpec& stage = sc.stages[si];
-      solver::StepSettings3 st;
-      st.gravity = prepared.gravity;
-      st.alpha = stage.damping.alpha;
-      st.beta = stage.damping.beta;
-      st.dt = prepared.dt;
-      solver.set_settings(st);
-      solver.set_constraints(solver::build_constraints(model, stage.boundaries, solver.time()));
-      solver.set_viscous_boundary(boundary::build_viscous_boundary_3d(model, viscous_surfaces(stage.boundaries)),
-                                  previous);
-      if (stage.earthquake)
-        solver.set_earthquake(prepared.quake_x ? &*prepared.quake_x : nullptr,
-                              prepared.quake_y ? &*prepared.quake_y : nullptr,
-                              prepared.quake_z ? &*prepared.quake_z : nullptr, sc.earthquake.incident_factor,
-                              solver.time());
-      else
-        solver.set_earthquake(nullptr, nullptr, nullptr, 0.0, 0.0);
+      apply_stage_3d(solver, stage, prepared, prepared.gravity, solver.time());
       if (si == 0) {
         solver.initialise();
         write_fields();
@@ -323,7 +331,6 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
                         {"end_time_s", solver.time()},
                         {"steps", solver.step_count() - steps_before},
                         {"at_rest", at_rest}});
-      previous = solver.constraints();
       if (options.stop_signal && *options.stop_signal) break;
     }
   } catch (const solver::InstabilityError& e) {

@@ -9,6 +9,7 @@
 #include "model/model3d.hpp"
 #include "run/runner.hpp"
 #include "seismic/accelerogram.hpp"
+#include "solver/continuum3d.hpp"
 
 namespace dsdem::run {
 
@@ -35,6 +36,13 @@ PreparedRun3 prepare_run_3d(const io::Scenario& scenario, const RawMesh3& mesh);
 // `dsdem check` of a 3D scenario: the model, its materials, dt and what controls it, the
 // stages and the estimated cost.
 std::string check_report_3d(const PreparedRun3& prepared);
+
+// Sets the solver up for one stage (docs/theory.md §6, §14): the step with the stage's
+// Rayleigh and local damping under `gravity`, its supports prescribed from start_time, its
+// viscous-spring boundary (the supports of the stage before kept as loads) and its
+// earthquake from start_time.
+void apply_stage_3d(solver::Solver3& s, const io::StageSpec& stage, const PreparedRun3& p, const Vec3& gravity,
+                    double start_time);
 
 // Runs every stage and writes OUT/{fields.pvd, fields/, history.csv, summary.json, dsdem.log}.
 // A run that goes unstable writes its last fields, history and summary (with the diagnosis)

@@ -20,6 +20,7 @@
 #include "io/json_file.hpp"
 #include "io/vtu_writer.hpp"
 #include "law/strength_reduction.hpp"
+#include "run/run3d.hpp"
 #include "run/stage.hpp"
 #include "run/text.hpp"
 #include "run/time_step.hpp"
@@ -40,20 +41,27 @@ const char* trial_result_name(TrialResult r) {
   return "?";
 }
 
-double unbalanced_force_ratio(const Model& model, std::span<const Vec2> damping_forces, double gravity) {
-  const Nodes& n = model.nodes;
+template <int D>
+double unbalanced_force_ratio(const NodeArrays<D>& n, std::type_identity_t<std::span<const VecD<D>>> damping_forces,
+                              double gravity) {
   const bool damped = damping_forces.size() == n.size();
   double max_f2 = 0.0, sum_w = 0.0;
   std::size_t count = 0;
   for (std::size_t i = 0; i < n.size(); ++i) {
     if (!(n.m[i] > 0.0)) continue;
-    const Vec2 f = damped ? Vec2(n.m[i] * n.a[i] - damping_forces[i]) : Vec2(n.m[i] * n.a[i]);
+    const VecD<D> f = damped ? VecD<D>(n.m[i] * n.a[i] - damping_forces[i]) : VecD<D>(n.m[i] * n.a[i]);
     max_f2 = std::max(max_f2, f.squaredNorm());
     sum_w += n.m[i] * gravity;
     ++count;
   }
   if (count == 0 || !(sum_w > 0.0)) return 0.0;
   return std::sqrt(max_f2) / (sum_w / static_cast<double>(count));
+}
+template double unbalanced_force_ratio<2>(const NodeArrays<2>&, std::span<const Vec2>, double);
+template double unbalanced_force_ratio<3>(const NodeArrays<3>&, std::span<const Vec3>, double);
+
+double unbalanced_force_ratio(const Model& model, std::span<const Vec2> damping_forces, double gravity) {
+  return unbalanced_force_ratio<2>(model.nodes, damping_forces, gravity);
 }
 
 namespace {
@@ -73,12 +81,29 @@ struct Watch {
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// The model, prepared run and solver of each dimension: the procedure is the same.
+template <int D>
+struct Dimension;
+template <>
+struct Dimension<2> {
+  using Prepared = PreparedRun;
+  using ModelT = Model;
+  using SolverT = solver::Solver;
+};
+template <>
+struct Dimension<3> {
+  using Prepared = PreparedRun3;
+  using ModelT = Model3;
+  using SolverT = solver::Solver3;
+};
+
 // One variant (static or pseudo-static): its gravity and settled state.
+template <int D>
 struct Variant {
   std::string name;         // "static", "pseudo_static"
-  Vec2 gravity;             // body force per unit mass, m/s^2
+  VecD<D> gravity;          // body force per unit mass, m/s^2
   fs::path settled;         // checkpoint of the settled state
-  std::vector<Vec2> u_settled;
+  std::vector<VecD<D>> u_settled;
   long broken_settled = 0;
   double lowest_failed = 0.0;  // lowest F that failed so far (its mechanism is on disk)
 };
@@ -92,9 +117,15 @@ io::DampingSpec quasi_static_damping(const io::StabilitySpec& spec) {
   return d;
 }
 
+template <int D>
 class StabilityRunner {
  public:
-  StabilityRunner(PreparedRun& prepared, const StabilityOptions& options);
+  using Prepared = typename Dimension<D>::Prepared;
+  using ModelT = typename Dimension<D>::ModelT;
+  using SolverT = typename Dimension<D>::SolverT;
+  using Vec = VecD<D>;
+  using Variant = run::Variant<D>;
+  StabilityRunner(Prepared& prepared, const StabilityOptions& options);
   ~StabilityRunner();
   StabilityResult run();
 
@@ -103,21 +134,28 @@ class StabilityRunner {
   void check_setup();
   void locate_monitors();
   io::StageSpec trial_stage() const;
-  io::Scenario scenario_with(const Vec2& gravity) const;
-  solver::Solver& new_solver();
+  // The scenario's body force (m/s^2).
+  Vec scenario_gravity() const;
+  // The solver set up for a stage starting at start_time under `gravity` (run/stage.hpp,
+  // run/run3d.hpp).
+  void apply_stage_to(SolverT& s, const io::StageSpec& st, const Vec& gravity, double start_time);
+  SolverT& new_solver();
+  long broken_joints(const SolverT& s) const;
+  // The mean element size (m) of the breakable zone, else of the whole mesh.
+  double mean_element_size(bool breakable_zone_only) const;
   bool stopped() const { return options_.stop_signal && *options_.stop_signal; }
   // A check's unbalanced force ratio; then the adaptive mass damping for the next check
   // interval from the motion since the last check (docs/theory.md §9).
-  double check_and_adapt(solver::Solver& s);
+  double check_and_adapt(SolverT& s);
   void start_watching();  // the motion is measured from the current state
   // Runs to equilibrium with the current solver: true when reached within max_steps.
   bool run_to_equilibrium(long max_steps, long& steps, double& ratio);
   // The observation window from the settled static state (its period), and the watch.
-  void choose_window(const std::vector<Vec2>& u_before_settling);
+  void choose_window(const std::vector<Vec>& u_before_settling);
   void settle_static(Variant& v);
   void settle_pseudo_static(const Variant& from, Variant& v);
   void keep_settled(Variant& v);
-  solver::Solver& start_trial(const Variant& v, double F);
+  SolverT& start_trial(const Variant& v, double F);
   StabilityTrial trial(Variant& v, double F, const Watch& watch, bool budget_check = false);
   // The dynamic variant's trial: the earthquake stages at strengths 1/F from the settled state.
   StabilityTrial dynamic_trial(Variant& v, double F);
@@ -134,16 +172,16 @@ class StabilityRunner {
     return t;
   }
 
-  PreparedRun& prepared_;
+  Prepared& prepared_;
   const StabilityOptions& options_;
   const io::Scenario& sc_;
   const io::StabilitySpec& spec_;
-  Model& model_;
+  ModelT& model_;
   const Clock::time_point wall_start_;
   fs::path out_, scratch_;
   std::ofstream log_file_;
   law::FullStrengths full_;
-  std::optional<solver::Solver> solver_;
+  std::optional<SolverT> solver_;
   std::vector<solver::Gauge> monitors_;
   std::size_t last_static_ = 0;  // index of the last static stage
   bool has_quake_ = false;       // the scenario has earthquake stages (after last_static_)
@@ -154,7 +192,7 @@ class StabilityRunner {
   Watch watch_;                  // the trials'
   std::vector<StabilityBracket> brackets_;
   // The adaptive damping's last check: displacements and unbalanced forces; scratch.
-  std::vector<Vec2> u_last_, f_last_, f_now_, du_, df_;
+  std::vector<Vec> u_last_, f_last_, f_now_, du_, df_;
   double failure_displacement_ = 0.0;
   double g_ = 9.81;
   double settled_time_ = 0.0;
@@ -162,7 +200,8 @@ class StabilityRunner {
   int threads_ = 1;
 };
 
-StabilityRunner::StabilityRunner(PreparedRun& prepared, const StabilityOptions& options)
+template <int D>
+StabilityRunner<D>::StabilityRunner(Prepared& prepared, const StabilityOptions& options)
     : prepared_(prepared),
       options_(options),
       sc_(prepared.scenario),
@@ -173,21 +212,24 @@ StabilityRunner::StabilityRunner(PreparedRun& prepared, const StabilityOptions& 
   if (options.threads > 0) omp_set_num_threads(options.threads);
   threads_ = omp_get_max_threads();
   full_ = law::full_strengths(model_);
-  g_ = sc_.gravity.norm();
+  g_ = scenario_gravity().norm();
 }
 
-StabilityRunner::~StabilityRunner() {
+template <int D>
+StabilityRunner<D>::~StabilityRunner() {
   std::error_code ec;
   if (!scratch_.empty()) fs::remove_all(scratch_, ec);
 }
 
-void StabilityRunner::log(const std::string& line) {
+template <int D>
+void StabilityRunner<D>::log(const std::string& line) {
   if (!options_.quiet) fmt::print(stderr, "{}\n", line);
   if (log_file_) log_file_ << line << '\n' << std::flush;
 }
 
 // A static stage to settle in and trials that can come to rest.
-void StabilityRunner::check_setup() {
+template <int D>
+void StabilityRunner<D>::check_setup() {
   std::size_t first_quake = sc_.stages.size();
   for (std::size_t si = 0; si < sc_.stages.size(); ++si)
     if (sc_.stages[si].earthquake) {
@@ -206,6 +248,90 @@ void StabilityRunner::check_setup() {
   if (!(g_ > 0.0)) throw io::ScenarioError({fmt::format("{}: gravity: the factor of safety needs gravity", sc_.file)});
   // Default failure displacement: the mean element size of the breakable zone A (where
   // the slide is), of the whole mesh without one.
+  failure_displacement_ = spec_.failure_displacement > 0.0 ? spec_.failure_displacement : mean_element_size(true);
+  // The settling's equilibrium run: the trials' budget or, before the window is known, a
+  // generous one (a settled slope is near equilibrium already).
+  max_steps_ = spec_.max_steps > 0 ? spec_.max_steps : 1000000;
+  if (spec_.kh || spec_.kv) {
+    // kh along x, kv along the vertical (y in a plane model, z in 3D).
+    const Vec g = scenario_gravity();
+    if (g.head(D - 1) != VecD<D - 1>::Zero())
+      throw io::ScenarioError({spec_.where.describe(D == 2 ? "kh and kv need gravity along -y (gravity: [0, -g])"
+                                                           : "kh and kv need gravity along -z (gravity: [0, 0, -g])")});
+  }
+}
+
+// Monitored points must lie in the mesh (within half an element, as gauges).
+template <int D>
+void StabilityRunner<D>::locate_monitors() {
+  if constexpr (D == 3) {
+    return;  // refused in 3D when the run is prepared (run3d.cpp): every node is watched
+  } else {
+  const double mean_size = mean_element_size(false);
+  std::vector<std::string> errors;
+  for (const auto& m : spec_.monitor) {
+    auto g = solver::locate_gauge(model_, m.name, m.at, 0.5 * mean_size);
+    if (!g)
+      errors.push_back(m.where.describe(
+          fmt::format("monitored point '{}' at ({}, {}) m lies outside the mesh", m.name, m.at.x(), m.at.y())));
+    else
+      monitors_.push_back(*g);
+  }
+  if (!errors.empty()) throw io::ScenarioError(errors);
+  }
+}
+
+template <int D>
+io::StageSpec StabilityRunner<D>::trial_stage() const {
+  io::StageSpec st = sc_.stages[last_static_];
+  st.failure = true;
+  st.earthquake = false;
+  st.damping = quasi_static_damping(spec_);
+  return st;
+}
+
+template <>
+Vec2 StabilityRunner<2>::scenario_gravity() const { return sc_.gravity; }
+template <>
+Vec3 StabilityRunner<3>::scenario_gravity() const { return prepared_.gravity; }
+
+template <>
+void StabilityRunner<2>::apply_stage_to(solver::Solver& s, const io::StageSpec& st, const Vec2& gravity,
+                                        double start_time) {
+  io::Scenario sc = sc_;
+  sc.gravity = gravity;
+  apply_stage(s, st, sc, prepared_.dt, start_time, &prepared_);
+}
+template <>
+void StabilityRunner<3>::apply_stage_to(solver::Solver3& s, const io::StageSpec& st, const Vec3& gravity,
+                                        double start_time) {
+  apply_stage_3d(s, st, prepared_, gravity, start_time);
+}
+
+template <>
+solver::Solver& StabilityRunner<2>::new_solver() {
+  solver_.reset();
+  solver_.emplace(model_);
+  install_time_step_rule(*solver_, prepared_);
+  solver_->set_stress_on_demand(true);
+  return *solver_;
+}
+template <>
+solver::Solver3& StabilityRunner<3>::new_solver() {
+  solver_.reset();
+  solver_.emplace(model_);
+  return *solver_;
+}
+
+template <>
+long StabilityRunner<2>::broken_joints(const solver::Solver& s) const { return s.broken_joints(); }
+template <>
+long StabilityRunner<3>::broken_joints(const solver::Solver3&) const { return 0; }  // no joints in 3D yet
+
+// Plane: the leg sqrt(2 A) of each triangle; 3D: the edge cbrt(6 V) of the cube each
+// tetrahedron is a sixth of.
+template <>
+double StabilityRunner<2>::mean_element_size(bool breakable_zone_only) const {
   const auto& tri = model_.triangles;
   double size_a = 0.0, size_all = 0.0;
   std::size_t n_a = 0;
@@ -217,65 +343,26 @@ void StabilityRunner::check_setup() {
       ++n_a;
     }
   }
-  const double mean_size = n_a > 0 ? size_a / static_cast<double>(n_a)
-                                   : size_all / static_cast<double>(std::max<std::size_t>(1, tri.size()));
-  failure_displacement_ = spec_.failure_displacement > 0.0 ? spec_.failure_displacement : mean_size;
-  // The settling's equilibrium run: the trials' budget or, before the window is known, a
-  // generous one (a settled slope is near equilibrium already).
-  max_steps_ = spec_.max_steps > 0 ? spec_.max_steps : 1000000;
-  if (spec_.kh || spec_.kv) {
-    if (sc_.gravity.x() != 0.0)
-      throw io::ScenarioError({spec_.where.describe("kh and kv need gravity along -y (gravity: [0, -g])")});
-  }
+  if (breakable_zone_only && n_a > 0) return size_a / static_cast<double>(n_a);
+  return size_all / static_cast<double>(std::max<std::size_t>(1, tri.size()));
+}
+template <>
+double StabilityRunner<3>::mean_element_size(bool) const {
+  const auto& tet = model_.tetrahedra;
+  double size = 0.0;
+  for (double v : tet.volume0) size += std::cbrt(6.0 * v);
+  return size / static_cast<double>(std::max<std::size_t>(1, tet.size()));
 }
 
-// Monitored points must lie in the mesh (within half an element, as gauges).
-void StabilityRunner::locate_monitors() {
-  double mean_size = 0.0;
-  for (double a : model_.triangles.area0) mean_size += std::sqrt(2.0 * a);
-  mean_size /= static_cast<double>(std::max<std::size_t>(1, model_.triangles.size()));
-  std::vector<std::string> errors;
-  for (const auto& m : spec_.monitor) {
-    auto g = solver::locate_gauge(model_, m.name, m.at, 0.5 * mean_size);
-    if (!g)
-      errors.push_back(m.where.describe(
-          fmt::format("monitored point '{}' at ({}, {}) m lies outside the mesh", m.name, m.at.x(), m.at.y())));
-    else
-      monitors_.push_back(*g);
-  }
-  if (!errors.empty()) throw io::ScenarioError(errors);
-}
-
-io::StageSpec StabilityRunner::trial_stage() const {
-  io::StageSpec st = sc_.stages[last_static_];
-  st.failure = true;
-  st.earthquake = false;
-  st.damping = quasi_static_damping(spec_);
-  return st;
-}
-
-io::Scenario StabilityRunner::scenario_with(const Vec2& gravity) const {
-  io::Scenario s = sc_;
-  s.gravity = gravity;
-  return s;
-}
-
-solver::Solver& StabilityRunner::new_solver() {
-  solver_.reset();
-  solver_.emplace(model_);
-  install_time_step_rule(*solver_, prepared_);
-  solver_->set_stress_on_demand(true);
-  return *solver_;
-}
-
-void StabilityRunner::start_watching() {
-  const Nodes& n = model_.nodes;
+template <int D>
+void StabilityRunner<D>::start_watching() {
+  const auto& n = model_.nodes;
   const std::size_t nn = n.size();
   u_last_ = n.u;
-  f_last_.assign(nn, Vec2::Zero());
+  f_last_.assign(nn, Vec::Zero());
   const auto fd = solver_->damping_forces();
   for (std::size_t i = 0; i < nn; ++i)
-    f_last_[i] = fd.size() == nn ? Vec2(n.m[i] * n.a[i] - fd[i]) : Vec2(n.m[i] * n.a[i]);
+    f_last_[i] = fd.size() == nn ? Vec(n.m[i] * n.a[i] - fd[i]) : Vec(n.m[i] * n.a[i]);
   f_now_.resize(nn);
   du_.resize(nn);
   df_.resize(nn);
@@ -286,18 +373,19 @@ void StabilityRunner::start_watching() {
 // critical for the slowest mode the motion shows, 2 omega, from Rayleigh's quotient of the
 // interval's displacement and force increments; none once the slope softens along its
 // motion, so a failing mass is never held back.
-double StabilityRunner::check_and_adapt(solver::Solver& s) {
-  const Nodes& n = model_.nodes;
+template <int D>
+double StabilityRunner<D>::check_and_adapt(SolverT& s) {
+  const auto& n = model_.nodes;
   const std::size_t nn = n.size();
   const auto fd = s.damping_forces();
   for (std::size_t i = 0; i < nn; ++i) {
-    f_now_[i] = fd.size() == nn ? Vec2(n.m[i] * n.a[i] - fd[i]) : Vec2(n.m[i] * n.a[i]);
+    f_now_[i] = fd.size() == nn ? Vec(n.m[i] * n.a[i] - fd[i]) : Vec(n.m[i] * n.a[i]);
     du_[i] = n.u[i] - u_last_[i];
     df_[i] = f_now_[i] - f_last_[i];
   }
-  const double ratio = unbalanced_force_ratio(model_, fd, g_);
+  const double ratio = unbalanced_force_ratio<D>(n, fd, g_);
   if (!spec_.damping_alpha) {
-    const double w2 = rayleigh_omega2(n, du_, df_);
+    const double w2 = rayleigh_omega2<D>(n, du_, df_);
     s.set_mass_damping(w2 > 0.0 ? 2.0 * std::sqrt(w2) : 0.0);
   }
   std::copy(n.u.begin(), n.u.end(), u_last_.begin());
@@ -305,8 +393,9 @@ double StabilityRunner::check_and_adapt(solver::Solver& s) {
   return ratio;
 }
 
-bool StabilityRunner::run_to_equilibrium(long max_steps, long& steps, double& ratio) {
-  solver::Solver& s = *solver_;
+template <int D>
+bool StabilityRunner<D>::run_to_equilibrium(long max_steps, long& steps, double& ratio) {
+  SolverT& s = *solver_;
   start_watching();
   for (steps = 0; steps < max_steps && !stopped();) {
     s.step();
@@ -316,23 +405,24 @@ bool StabilityRunner::run_to_equilibrium(long max_steps, long& steps, double& ra
       if (ratio < spec_.equilibrium_ratio) return true;
     }
   }
-  ratio = unbalanced_force_ratio(model_, s.damping_forces(), g_);
+  ratio = unbalanced_force_ratio<D>(model_.nodes, s.damping_forces(), g_);
   return ratio < spec_.equilibrium_ratio;
 }
 
 // The window is about the slope's fundamental period: Rayleigh's quotient on the
 // displacement of settling under gravity, or a shear column's 4 H / vs over the mesh's
 // height with the slowest material when the settling moved nothing measurable.
-void StabilityRunner::choose_window(const std::vector<Vec2>& u_before_settling) {
-  std::vector<Vec2> du(model_.nodes.size());
+template <int D>
+void StabilityRunner<D>::choose_window(const std::vector<Vec>& u_before_settling) {
+  std::vector<Vec> du(model_.nodes.size());
   for (std::size_t i = 0; i < du.size(); ++i) du[i] = model_.nodes.u[i] - u_before_settling[i];
-  period_ = rayleigh_period(model_.nodes, du, sc_.gravity);
+  period_ = rayleigh_period<D>(model_.nodes, du, scenario_gravity());
   period_source_ = "Rayleigh's quotient on the settling displacement";
   if (!(period_ > 0.0)) {
     double y_min = 1e300, y_max = -1e300, vs = 1e300;
     for (std::size_t i = 0; i < model_.nodes.size(); ++i) {
-      y_min = std::min(y_min, model_.nodes.X[i].y());
-      y_max = std::max(y_max, model_.nodes.X[i].y());
+      y_min = std::min(y_min, model_.nodes.X[i][D - 1]);  // the vertical: y, or z in 3D
+      y_max = std::max(y_max, model_.nodes.X[i][D - 1]);
     }
     for (const auto& m : model_.materials)
       if (m.rho > 0.0 && m.E > 0.0) vs = std::min(vs, m.cs());
@@ -356,23 +446,23 @@ void StabilityRunner::choose_window(const std::vector<Vec2>& u_before_settling) 
 }
 
 // The scenario's static stages at full strength, joints elastic, then equilibrium.
-void StabilityRunner::settle_static(Variant& v) {
+template <int D>
+void StabilityRunner<D>::settle_static(Variant& v) {
   const auto t0 = Clock::now();
   law::apply_reduction(full_, 1.0, {}, model_);
-  const std::vector<Vec2> u_before = model_.nodes.u;
-  solver::Solver& s = new_solver();
-  const io::Scenario sc = scenario_with(v.gravity);
+  const std::vector<Vec> u_before = model_.nodes.u;
+  SolverT& s = new_solver();
   double stage_end = 0.0;
   long steps = 0;
   for (std::size_t si = 0; si <= last_static_; ++si) {
     io::StageSpec st = sc_.stages[si];
     st.failure = false;
-    apply_stage(s, st, sc, prepared_.dt, s.time(), &prepared_);
+    apply_stage_to(s, st, v.gravity, s.time());
     if (si == 0) s.initialise();
     stage_end += st.duration;
     double peak = 0.0;
     const double stage_start = stage_end - st.duration;
-    while (s.time() < stage_end - 0.5 * s.settings().dt && !stopped()) {
+    while (s.time() < stage_end - 0.5 * s.dt() && !stopped()) {
       s.step();
       ++steps;
       peak = std::max(peak, s.kinetic_energy());
@@ -384,7 +474,7 @@ void StabilityRunner::settle_static(Variant& v) {
   io::StageSpec st = sc_.stages[last_static_];
   st.failure = false;
   st.damping = quasi_static_damping(spec_);
-  apply_stage(s, st, sc, prepared_.dt, s.time(), &prepared_);
+  apply_stage_to(s, st, v.gravity, s.time());
   long more = 0;
   double ratio = 0.0;
   const bool eq = run_to_equilibrium(max_steps_, more, ratio);
@@ -397,36 +487,41 @@ void StabilityRunner::settle_static(Variant& v) {
 }
 
 // From the static settled state: the pseudo-static body force on, full strength, elastic joints.
-void StabilityRunner::settle_pseudo_static(const Variant& from, Variant& v) {
+template <int D>
+void StabilityRunner<D>::settle_pseudo_static(const Variant& from, Variant& v) {
   const auto t0 = Clock::now();
   law::apply_reduction(full_, 1.0, {}, model_);
-  solver::Solver& s = new_solver();
+  SolverT& s = new_solver();
   io::StageSpec st = sc_.stages[last_static_];
   st.failure = false;
   st.damping = quasi_static_damping(spec_);
-  apply_stage(s, st, scenario_with(v.gravity), prepared_.dt, settled_time_, &prepared_);
+  apply_stage_to(s, st, v.gravity, settled_time_);
   s.initialise();
   s.restore(io::CheckpointReader(from.settled));
   long steps = 0;
   double ratio = 0.0;
   const bool eq = run_to_equilibrium(max_steps_, steps, ratio);
-  log(fmt::format("settled ({}, body force ({:.4g}, {:.4g}) m/s^2): {} steps{}, unbalanced force ratio {:.2e}, {}",
-                  v.name, v.gravity.x(), v.gravity.y(), steps, eq ? "" : " (no equilibrium within the step budget)",
+  std::string body_force;
+  for (int d = 0; d < D; ++d) body_force += fmt::format("{}{:.4g}", d > 0 ? ", " : "", v.gravity[d]);
+  log(fmt::format("settled ({}, body force ({}) m/s^2): {} steps{}, unbalanced force ratio {:.2e}, {}",
+                  v.name, body_force, steps, eq ? "" : " (no equilibrium within the step budget)",
                   ratio, human_time(seconds_since(t0))));
   keep_settled(v);
 }
 
-void StabilityRunner::keep_settled(Variant& v) {
+template <int D>
+void StabilityRunner<D>::keep_settled(Variant& v) {
   v.settled = scratch_ / fmt::format("settled_{}.h5", v.name);
   io::CheckpointWriter w(v.settled);
   solver_->save(w);
   w.commit();
   v.u_settled = model_.nodes.u;
-  v.broken_settled = solver_->broken_joints();
+  v.broken_settled = broken_joints(*solver_);
   settled_time_ = solver_->time();
 }
 
-double StabilityRunner::max_displacement(const Variant& v) const {
+template <int D>
+double StabilityRunner<D>::max_displacement(const Variant& v) const {
   const auto& u = model_.nodes.u;
   double m2 = 0.0;
   if (monitors_.empty()) {
@@ -434,8 +529,9 @@ double StabilityRunner::max_displacement(const Variant& v) const {
     return std::sqrt(m2);
   }
   double m = 0.0;
-  for (const auto& g : monitors_)
-    m = std::max(m, (solver::gauge_value(model_, g, u) - solver::gauge_value(model_, g, v.u_settled)).norm());
+  if constexpr (D == 2)
+    for (const auto& g : monitors_)
+      m = std::max(m, (solver::gauge_value(model_, g, u) - solver::gauge_value(model_, g, v.u_settled)).norm());
   return m;
 }
 
@@ -443,28 +539,31 @@ double StabilityRunner::max_displacement(const Variant& v) const {
 // stage's supports with failure on, restored to the variant's settled state: every trial
 // starts from it, so none inherits another's motion (a slope that slid and stopped again
 // would stand at the next F on a shape no longer its own).
-solver::Solver& StabilityRunner::start_trial(const Variant& v, double F) {
+template <int D>
+typename StabilityRunner<D>::SolverT& StabilityRunner<D>::start_trial(const Variant& v, double F) {
   law::ReductionOptions ro;
   ro.keep_tension = spec_.keep_tension;
   law::apply_reduction(full_, F, ro, model_);
-  for (const auto& p : model_.joint_properties)
-    if (const std::string why = validate(p); !why.empty())
-      throw io::ScenarioError({spec_.where_bounds.describe(fmt::format("at F = {}: {}", F, why))});
-  solver::Solver& s = new_solver();
-  apply_stage(s, trial_stage(), scenario_with(v.gravity), prepared_.dt, settled_time_, &prepared_);
+  if constexpr (D == 2)
+    for (const auto& p : model_.joint_properties)
+      if (const std::string why = validate(p); !why.empty())
+        throw io::ScenarioError({spec_.where_bounds.describe(fmt::format("at F = {}: {}", F, why))});
+  SolverT& s = new_solver();
+  apply_stage_to(s, trial_stage(), v.gravity, settled_time_);
   s.initialise();
   s.restore(io::CheckpointReader(v.settled));
   return s;
 }
 
-StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, bool budget_check) {
+template <int D>
+StabilityTrial StabilityRunner<D>::trial(Variant& v, double F, const Watch& watch, bool budget_check) {
   const auto t0 = Clock::now();
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
   t.budget_check = budget_check;
   t.history.reserve(static_cast<std::size_t>(watch.budget / kCheckEvery + 1));
-  solver::Solver& s = start_trial(v, F);
+  SolverT& s = start_trial(v, F);
   start_watching();
   const double floor = kMovingFloor * failure_displacement_;
   long next_judgement = watch.first_judgement;
@@ -513,13 +612,14 @@ StabilityTrial StabilityRunner::trial(Variant& v, double F, const Watch& watch, 
     t.result = TrialResult::Failed;
     t.reason = fmt::format("went unstable: {}", e.what());
   }
-  t.broken_joints = s.broken_joints() - v.broken_settled;
+  t.broken_joints = broken_joints(s) - v.broken_settled;
   record(v, t, t0);
   return t;
 }
 
 // Books a finished trial: its mechanism when it is the lowest F that failed, the log line.
-void StabilityRunner::record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0) {
+template <int D>
+void StabilityRunner<D>::record(Variant& v, StabilityTrial& t, std::chrono::steady_clock::time_point t0) {
   const double F = t.F;
   t.wall_time_s = seconds_since(t0);
   // A jointed mass may slide, break joints and come to rest again on them: it stands by
@@ -546,20 +646,21 @@ void StabilityRunner::record(Variant& v, StabilityTrial& t, std::chrono::steady_
 // From the static settled state (its supports and reactions), the scenario's earthquake
 // stages as they are, failure on, at strengths 1/F: the slope survives the earthquake
 // when no monitored point moves failure_displacement before they end.
-StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
+template <int D>
+StabilityTrial StabilityRunner<D>::dynamic_trial(Variant& v, double F) {
   const auto t0 = Clock::now();
   StabilityTrial t;
   t.variant = v.name;
   t.F = F;
-  solver::Solver& s = start_trial(v, F);  // the settled supports: the earthquake stages start from them
+  SolverT& s = start_trial(v, F);  // the settled supports: the earthquake stages start from them
   t.result = TrialResult::Survived;
   t.reason = "survived the earthquake stages";
   try {
     double stage_end = s.time();
     for (std::size_t si = last_static_ + 1; si < sc_.stages.size() && t.stands() && !stopped(); ++si) {
-      apply_stage(s, sc_.stages[si], sc_, prepared_.dt, s.time(), &prepared_);
+      apply_stage_to(s, sc_.stages[si], scenario_gravity(), s.time());
       stage_end += sc_.stages[si].duration;
-      while (s.time() < stage_end - 0.5 * s.settings().dt && !stopped()) {
+      while (s.time() < stage_end - 0.5 * s.dt() && !stopped()) {
         s.step();
         ++t.steps;
         if (t.steps % kCheckEvery != 0) continue;
@@ -578,28 +679,35 @@ StabilityTrial StabilityRunner::dynamic_trial(Variant& v, double F) {
     t.max_displacement = max_displacement(v);
     t.reason = fmt::format("went unstable: {}", e.what());
   }
-  t.unbalanced_ratio = unbalanced_force_ratio(model_, s.damping_forces(), g_);
-  t.broken_joints = s.broken_joints() - v.broken_settled;
+  t.unbalanced_ratio = unbalanced_force_ratio<D>(model_.nodes, s.damping_forces(), g_);
+  t.broken_joints = broken_joints(s) - v.broken_settled;
   record(v, t, t0);
   return t;
 }
 
 // The state of a failed trial: displacement since the settled state and the broken joints.
-void StabilityRunner::write_mechanism(const Variant& v, double F) {
+template <int D>
+void StabilityRunner<D>::write_mechanism(const Variant& v, double F) {
   const std::string suffix = v.name == "static" ? "" : "_" + v.name;
-  std::vector<Vec2> du(model_.nodes.size());
+  std::vector<Vec> du(model_.nodes.size());
   for (std::size_t i = 0; i < du.size(); ++i) du[i] = model_.nodes.u[i] - v.u_settled[i];
   solver_->update_stress();
   io::VtuOptions vo;
   vo.time_s = F;  // the frame's "time" is the factor it failed at
-  io::write_triangles_vtu(out_ / fmt::format("mechanism{}.vtu", suffix), model_.nodes, model_.triangles,
-                          model_.materials, {io::vector_field("displacement_since_settled", "m", du)}, {}, vo);
-  solver_->release_stress();
-  if (model_.joints.size() > 0)
-    io::write_cracks_vtu(out_ / fmt::format("mechanism_cracks{}.vtu", suffix), model_, F);
+  const fs::path path = out_ / fmt::format("mechanism{}.vtu", suffix);
+  const io::FieldSet fields{io::vector_field("displacement_since_settled", "m", du)};
+  if constexpr (D == 2) {
+    io::write_triangles_vtu(path, model_.nodes, model_.triangles, model_.materials, fields, {}, vo);
+    solver_->release_stress();
+    if (model_.joints.size() > 0)
+      io::write_cracks_vtu(out_ / fmt::format("mechanism_cracks{}.vtu", suffix), model_, F);
+  } else {
+    io::write_tetrahedra_vtu(path, model_.nodes, model_.tetrahedra, model_.materials, fields, {}, vo);
+  }
 }
 
-double StabilityRunner::bisect(Variant& v) {
+template <int D>
+double StabilityRunner<D>::bisect(Variant& v) {
   const bool dynamic = v.name == "dynamic";
   auto trial = [&](double F) { return dynamic ? dynamic_trial(v, F) : this->trial(v, F, watch_); };
   const std::string budget_hint =
@@ -654,7 +762,8 @@ double StabilityRunner::bisect(Variant& v) {
 // The two trials that bracket the factor of safety again, watched twice as long before
 // their motion is judged and with twice the budget: a verdict the longer watch does not
 // keep says the window decided it, not the slope.
-void StabilityRunner::check_budget(Variant& v, StabilityBracket& b) {
+template <int D>
+void StabilityRunner<D>::check_budget(Variant& v, StabilityBracket& b) {
   const Watch twice{2 * watch_.first_judgement, 2 * watch_.budget};
   const StabilityTrial a = trial(v, b.stood, twice, true);
   b.stood_held = a.stands();
@@ -668,11 +777,13 @@ void StabilityRunner::check_budget(Variant& v, StabilityBracket& b) {
                                 : std::string()));
 }
 
-void StabilityRunner::write_summary(StabilityResult& r) {
+template <int D>
+void StabilityRunner<D>::write_summary(StabilityResult& r) {
   nlohmann::ordered_json s;
   s["dsdem_version"] = std::string(DSDEM_VERSION) + " (" + DSDEM_GIT_COMMIT + ")";
   s["scenario"] = sc_.file;
   s["title"] = sc_.title;
+  if constexpr (D == 3) s["dimension"] = 3;
   s["factor_of_safety"] = r.factor_of_safety;
   if (r.factor_of_safety_pseudo_static) s["factor_of_safety_pseudo_static"] = *r.factor_of_safety_pseudo_static;
   if (r.factor_of_safety_dynamic) s["factor_of_safety_dynamic"] = *r.factor_of_safety_dynamic;
@@ -742,7 +853,8 @@ void StabilityRunner::write_summary(StabilityResult& r) {
 }
 
 // trials.csv: each static and pseudo-static trial's checks, for the convergence plot.
-void StabilityRunner::write_trial_histories() const {
+template <int D>
+void StabilityRunner<D>::write_trial_histories() const {
   std::string text = "trial,variant,F,result,budget_check,step,unbalanced_ratio,displacement_m\n";
   for (std::size_t k = 0; k < trials_.size(); ++k) {
     const auto& t = trials_[k];
@@ -753,7 +865,8 @@ void StabilityRunner::write_trial_histories() const {
   io::write_file_atomically(out_ / "trials.csv", text);
 }
 
-StabilityResult StabilityRunner::run() {
+template <int D>
+StabilityResult StabilityRunner<D>::run() {
   check_setup();
   locate_monitors();
   try {
@@ -764,11 +877,15 @@ StabilityResult StabilityRunner::run() {
   log_file_.open(out_ / "stability.log");
   scratch_ = fs::temp_directory_path() / fmt::format("dsdem-stability-{}", ::getpid());
   fs::create_directories(scratch_);
-  log(fmt::format("dsdem {} ({}), {} threads: factor of safety of {} ({} nodes, {} triangles, {} joints)",
-                  DSDEM_VERSION, DSDEM_GIT_COMMIT, threads_, sc_.file, model_.nodes.size(), model_.triangles.size(),
-                  model_.joints.size()));
+  if constexpr (D == 2)
+    log(fmt::format("dsdem {} ({}), {} threads: factor of safety of {} ({} nodes, {} triangles, {} joints)",
+                    DSDEM_VERSION, DSDEM_GIT_COMMIT, threads_, sc_.file, model_.nodes.size(), model_.triangles.size(),
+                    model_.joints.size()));
+  else
+    log(fmt::format("dsdem {} ({}), {} threads: factor of safety of {} (3D: {} nodes, {} tetrahedra)", DSDEM_VERSION,
+                    DSDEM_GIT_COMMIT, threads_, sc_.file, model_.nodes.size(), model_.tetrahedra.size()));
   StabilityResult r;
-  Variant stat{"static", sc_.gravity, {}, {}, 0, 0.0};
+  Variant stat{"static", scenario_gravity(), {}, {}, 0, 0.0};
   settle_static(stat);
   log(fmt::format("trials: local damping {}{}; equilibrium at unbalanced force ratio < {:.1e}; failure past {:.3g} m "
                   "of displacement{} or motion that keeps on over a doubling of the trial, judged from {} steps "
@@ -781,7 +898,10 @@ StabilityResult StabilityRunner::run() {
                   period_source_, solver_->dt(), watch_.budget));
   if (!stopped()) r.factor_of_safety = bisect(stat);
   if ((spec_.kh || spec_.kv) && !stopped()) {
-    const Vec2 g = sc_.gravity + g_ * Vec2(spec_.kh.value_or(0.0), spec_.kv.value_or(0.0));
+    Vec k = Vec::Zero();  // kh along x, kv up
+    k.x() = spec_.kh.value_or(0.0);
+    k[D - 1] = spec_.kv.value_or(0.0);
+    const Vec g = scenario_gravity() + g_ * k;
     Variant ps{"pseudo_static", g, {}, {}, 0, 0.0};
     settle_pseudo_static(stat, ps);
     if (!stopped()) r.factor_of_safety_pseudo_static = bisect(ps);
@@ -816,7 +936,11 @@ StabilityResult StabilityRunner::run() {
 }  // namespace
 
 StabilityResult find_factor_of_safety(PreparedRun& prepared, const StabilityOptions& options) {
-  return StabilityRunner(prepared, options).run();
+  return StabilityRunner<2>(prepared, options).run();
+}
+
+StabilityResult find_factor_of_safety(PreparedRun3& prepared, const StabilityOptions& options) {
+  return StabilityRunner<3>(prepared, options).run();
 }
 
 }  // namespace dsdem::run

@@ -33,9 +33,11 @@
 #include <csignal>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "run/prepare.hpp"
+#include "run/run3d.hpp"
 #include "run/trial_verdict.hpp"
 
 namespace dsdem::run {
@@ -91,10 +93,17 @@ struct StabilityResult {
 // when absent). Throws io::ScenarioError (file, line, key) for bounds that bracket nothing,
 // a monitored point outside the mesh, a static stage missing or undamped trials.
 StabilityResult find_factor_of_safety(PreparedRun& prepared, const StabilityOptions& options);
+// The same on a 3D continuum (docs/theory.md §9, §14): every node watched (no monitored
+// points yet), the mechanism as tetrahedra.
+StabilityResult find_factor_of_safety(PreparedRun3& prepared, const StabilityOptions& options);
 
 // The unbalanced-force ratio of the equilibrium test above at the model's current state:
 // max_i |m_i a_i - f_damping,i| / mean_i (m_i |g|) over the nodes with mass, with the
 // damping force each node took in the step (Solver::damping_forces(); empty: none).
 double unbalanced_force_ratio(const Model& model, std::span<const Vec2> damping_forces, double gravity);
+// The same over the nodes of either dimension.
+template <int D>
+double unbalanced_force_ratio(const NodeArrays<D>& nodes, std::type_identity_t<std::span<const VecD<D>>> damping_forces,
+                              double gravity);
 
 }  // namespace dsdem::run

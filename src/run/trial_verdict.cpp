@@ -36,7 +36,9 @@ MotionTrend motion_trend(std::span<const TrialSample> samples, long every, doubl
   return t;
 }
 
-double rayleigh_omega2(const Nodes& nodes, std::span<const Vec2> du, std::span<const Vec2> df) {
+template <int D>
+double rayleigh_omega2(const NodeArrays<D>& nodes, std::type_identity_t<std::span<const VecD<D>>> du,
+                       std::type_identity_t<std::span<const VecD<D>>> df) {
   double work = 0.0, inertia = 0.0;
   for (std::size_t i = 0; i < du.size() && i < df.size() && i < nodes.size(); ++i) {
     if (!(nodes.m[i] > 0.0)) continue;
@@ -46,7 +48,9 @@ double rayleigh_omega2(const Nodes& nodes, std::span<const Vec2> du, std::span<c
   return inertia > 0.0 ? work / inertia : 0.0;
 }
 
-double rayleigh_period(const Nodes& nodes, std::span<const Vec2> displacement, const Vec2& gravity) {
+template <int D>
+double rayleigh_period(const NodeArrays<D>& nodes, std::type_identity_t<std::span<const VecD<D>>> displacement,
+                       const std::type_identity_t<VecD<D>>& gravity) {
   double work = 0.0, inertia = 0.0;
   for (std::size_t i = 0; i < displacement.size() && i < nodes.size(); ++i) {
     if (!(nodes.m[i] > 0.0)) continue;
@@ -56,5 +60,10 @@ double rayleigh_period(const Nodes& nodes, std::span<const Vec2> displacement, c
   if (!(work > 0.0) || !(inertia > 0.0)) return 0.0;
   return 2.0 * std::numbers::pi * std::sqrt(inertia / work);
 }
+
+template double rayleigh_omega2<2>(const NodeArrays<2>&, std::span<const Vec2>, std::span<const Vec2>);
+template double rayleigh_omega2<3>(const NodeArrays<3>&, std::span<const Vec3>, std::span<const Vec3>);
+template double rayleigh_period<2>(const NodeArrays<2>&, std::span<const Vec2>, const Vec2&);
+template double rayleigh_period<3>(const NodeArrays<3>&, std::span<const Vec3>, const Vec3&);
 
 }  // namespace dsdem::run

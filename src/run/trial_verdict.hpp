@@ -14,6 +14,7 @@
 // history, a failing one's does not, whatever the damping that slows it.
 #include <cstddef>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "model/model.hpp"
@@ -46,13 +47,18 @@ MotionTrend motion_trend(std::span<const TrialSample> samples, long every, doubl
 // omega^2 = -du.df / du.M du, 1/s^2 (Underwood 1983: the frequency of the mode the motion
 // shows). Negative where the forces grow along the motion (a softening slope); zero for no
 // motion.
-double rayleigh_omega2(const Nodes& nodes, std::span<const Vec2> du, std::span<const Vec2> df);
+// Any dimension (plane and 3D nodes).
+template <int D>
+double rayleigh_omega2(const NodeArrays<D>& nodes, std::type_identity_t<std::span<const VecD<D>>> du,
+                       std::type_identity_t<std::span<const VecD<D>>> df);
 
 // The slope's fundamental period (s) by Rayleigh's quotient on its settled displacement
 // under gravity (the static deflection shape): omega^2 = sum m g.u / sum m |u|^2. Zero when
 // the displacement holds no such shape (no gravity work, e.g. a model that starts from
 // its initial stresses).
-double rayleigh_period(const Nodes& nodes, std::span<const Vec2> displacement, const Vec2& gravity);
+template <int D>
+double rayleigh_period(const NodeArrays<D>& nodes, std::type_identity_t<std::span<const VecD<D>>> displacement,
+                       const std::type_identity_t<VecD<D>>& gravity);
 
 // The fundamental period of a soil column of height H and shear-wave speed vs: 4 H / vs.
 inline double shear_column_period(double height, double vs) { return vs > 0.0 ? 4.0 * height / vs : 0.0; }

@@ -11,6 +11,7 @@
 #include "exec/deterministic_sums.hpp"
 #include "law/registry.hpp"
 #include "solver/integrator.hpp"
+#include "solver/local_damping.hpp"
 #include "solver/solver.hpp"
 
 namespace dsdem::solver {
@@ -84,14 +85,22 @@ void Solver3::set_settings(const StepSettings3& s) {
         fmt::format("Solver3: dt {} s and safety {} (dt >= 0, 0 < safety <= {})", s.dt, s.safety, kMaxSafety3D));
   settings_ = s;
   dt_ = s.dt > 0.0 ? s.dt : s.safety * stable_time_step();
-  const std::size_t nn = model_.nodes.size();
-  const bool damped = s.alpha > 0.0 || s.beta > 0.0;
-  if (damped && damping_force_.empty()) {
-    damping_force_.assign(nn, Vec3::Zero());
-    damping_force_prev_.assign(nn, Vec3::Zero());
-    u_prev_.assign(nn, Vec3::Zero());
-  }
+  if (damping_on()) allocate_damping_buffers();
   if (s.beta > 0.0) tet_damping_.resize(model_.tetrahedra.size());
+}
+
+void Solver3::set_mass_damping(double alpha) {
+  settings_.alpha = alpha;
+  if (damping_on()) allocate_damping_buffers();
+}
+
+// Once on, the buffers stay: the last damped step's forces still do work in the next.
+void Solver3::allocate_damping_buffers() {
+  if (!damping_force_.empty()) return;
+  const std::size_t nn = model_.nodes.size();
+  damping_force_.assign(nn, Vec3::Zero());
+  damping_force_prev_.assign(nn, Vec3::Zero());
+  u_prev_ = model_.nodes.u;
 }
 
 std::size_t Solver3::node_chunks() const { return (model_.nodes.size() + kNodeChunk - 1) / kNodeChunk; }
@@ -261,8 +270,17 @@ void Solver3::add_boundary_forces() {
 
 void Solver3::add_damping_forces() {
   const double alpha = settings_.alpha;
-  if (alpha <= 0.0) return;
+  const double local = settings_.local_damping;
   const auto& n = model_.nodes;
+  if (local > 0.0) {
+    // On the force without the damping so far (the stiffness part is in the sum already).
+    forces_.add_per_node(team_, [&](std::size_t i) {
+      const Vec3 fd = local_damping_force(Vec3(forces_.at(i) - damping_force_[i]), n.v[i], local);
+      damping_force_[i] += fd;  // booked with drift_work in update_energy()
+      return fd;
+    });
+  }
+  if (alpha <= 0.0) return;
   forces_.add_per_node(team_, [&](std::size_t i) {
     const Vec3 fd = -alpha * n.m[i] * n.v[i];
     damping_force_[i] += fd;

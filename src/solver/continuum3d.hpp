@@ -13,6 +13,7 @@
 #include "exec/team.hpp"
 #include "fem/bulk_law.hpp"
 #include "fem/tet4.hpp"
+#include "io/checkpoint.hpp"
 #include "model/model3d.hpp"
 #include "solver/constraints.hpp"
 #include "solver/energy.hpp"
@@ -28,6 +29,8 @@ struct StepSettings3 {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // m/s^2
   double alpha = 0.0;  // Rayleigh mass coefficient, 1/s
   double beta = 0.0;   // Rayleigh stiffness coefficient, s
+  // Cundall's local non-viscous damping coefficient (docs/theory.md §9), 0: none.
+  double local_damping = 0.0;
   double dt = 0.0;     // s; 0: safety x the stable step (stable_time_step())
   double safety = 0.3; // of the stable step, when dt is 0; at most kMaxSafety3D
 };
@@ -40,6 +43,9 @@ class Solver3 {
 
   void set_settings(const StepSettings3& s);
   const StepSettings3& settings() const { return settings_; }
+  // The Rayleigh mass coefficient from the next step on, 1/s (the factor of safety's
+  // adaptive dynamic relaxation, docs/theory.md §9).
+  void set_mass_damping(double alpha);
   double dt() const { return dt_; }
   // The stable step of the model as it is, s, as in 2D: the smallest altitude over cp, with
   // the stiffness damping's reduction (docs/theory.md §2, §6). Only kMaxSafety3D of it is
@@ -72,6 +78,14 @@ class Solver3 {
   // The ledger at the current state (its Verlet offset an O(N) sum on each call).
   const EnergyLedger& energy() const;
   double kinetic_energy() const { return energy_.kinetic; }  // for per-step checks: no sum
+  // The damping force (Rayleigh and local) each node took in the last step, N; empty when
+  // no damping is on.
+  std::span<const Vec3> damping_forces() const { return damping_force_prev_; }
+  // Checkpoint of the whole state (bit-identical restart): restore() expects a solver set
+  // up as the saved one (the same model, stage supports and boundary), after initialise().
+  // Throws std::runtime_error naming the entry when the file belongs to another model.
+  void save(io::CheckpointWriter& out) const;
+  void restore(const io::CheckpointReader& in);
   Model3& model() { return model_; }
   const Model3& model() const { return model_; }
   // Sum of the reactions at the prescribed dofs of `nodes`, N.
@@ -98,6 +112,8 @@ class Solver3 {
   void check_stability() const;
 
   void setup_laws();
+  bool damping_on() const { return settings_.alpha > 0.0 || settings_.beta > 0.0 || settings_.local_damping > 0.0; }
+  void allocate_damping_buffers();
   // One tetrahedron's response from the state at the step's start; the end state to `end`.
   fem::TetResponse respond(std::size_t t, bool cauchy, std::array<Vec3, 4>& damping, double* end) const;
   // Node ranges of the node loops: contiguous, fixed for the model.

@@ -2,6 +2,7 @@
 // continues bit-identically (docs/theory.md §1 step 9; docs/user-guide.md).
 #include <fmt/format.h>
 
+#include "solver/checkpoint_arrays.hpp"
 #include "solver/solver.hpp"
 
 #include <algorithm>
@@ -18,37 +19,10 @@ constexpr int kJointStateWidth = 6;
 static_assert(sizeof(JointPointState) == kJointStateWidth * sizeof(double),
               "JointPointState changed: update the checkpoint's joint state");
 
-template <class T, class Get>
-std::vector<double> flatten(const std::vector<T>& v, int width, Get get) {
-  std::vector<double> out(v.size() * width);
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (int k = 0; k < width; ++k) out[i * width + k] = get(v[i], k);
-  return out;
-}
-
-std::vector<double> vec2s(const std::vector<Vec2>& v) {
-  return flatten(v, 2, [](const Vec2& x, int k) { return x[k]; });
-}
-std::vector<double> vec3s(const std::vector<Vec3>& v) {
-  return flatten(v, 3, [](const Vec3& x, int k) { return x[k]; });
-}
-
-void check_size(const std::string& name, std::size_t got, std::size_t want) {
-  if (got != want)
-    throw std::runtime_error(fmt::format("checkpoint '{}' has {} values, the model needs {}: it belongs to another model",
-                                         name, got, want));
-}
-
-void read_vec2s(const io::CheckpointReader& in, const std::string& name, std::vector<Vec2>& v) {
-  const auto d = in.doubles(name);
-  check_size(name, d.size(), 2 * v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec2(d[2 * i], d[2 * i + 1]);
-}
-void read_vec3s(const io::CheckpointReader& in, const std::string& name, std::vector<Vec3>& v) {
-  const auto d = in.doubles(name);
-  check_size(name, d.size(), 3 * v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
-}
+std::vector<double> vec2s(const std::vector<Vec2>& v) { return flatten_vectors(v); }
+std::vector<double> vec3s(const std::vector<Vec3>& v) { return flatten_vectors(v); }
+void read_vec2s(const io::CheckpointReader& in, const std::string& name, std::vector<Vec2>& v) { read_vectors(in, name, v); }
+void read_vec3s(const io::CheckpointReader& in, const std::string& name, std::vector<Vec3>& v) { read_vectors(in, name, v); }
 
 // Law state (law/registry.hpp): one array per declared variable, under its own name, and
 // their count. Nothing at all without state, so such files keep their old layout.

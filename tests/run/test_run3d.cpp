@@ -130,6 +130,8 @@ TEST(Run3D, KeysOfTheOtherDimensionAreRefusedWithTheirKey) {
   EXPECT_NE(region.find("its volumes are: soil"), std::string::npos) << region;
   const std::string safety = problems(dir, {"time.safety=0.8"});
   EXPECT_NE(safety.find("time.safety 0.8 is above 0.5"), std::string::npos) << safety;
+  const std::string monitor = problems(dir, {"stability.monitor=[{name: crest, at: [0.5, 0.5]}]"});
+  EXPECT_NE(monitor.find("stability.monitor: monitored points at [x, y] are plane"), std::string::npos) << monitor;
   // A plane scenario with a 3D gravity and a z history.
   const fs::path plane = fs::path(DSDEM_SOURCE_DIR) / "examples" / "elastic_slope" / "scenario.yaml";
   const fs::path pdir = test::fresh_dir("run3d_plane_keys");

@@ -1,13 +1,18 @@
 // The 3D continuum (solver/continuum3d): the patch test, rigid rotations, energy, a column
 // settling under its weight, Mohr-Coulomb in compression, a cantilever's first frequency,
-// and the same bits for one and two threads.
+// the same bits for one and two threads, local damping and checkpoints.
 #include <gtest/gtest.h>
 #include <omp.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include <cmath>
 #include <cstdio>
 
 #include "boundary/boundary_setup3d.hpp"
+#include "common/remove_at_exit.hpp"
+#include "io/checkpoint.hpp"
 #include "common/materials.hpp"
 #include "mesh/model_builder3d.hpp"
 #include "mesh/structured.hpp"
@@ -348,4 +353,102 @@ TEST(Continuum3D, SoilColumnDoublesAtTheSurfaceAndAbsorbsAtTheBase) {
     EXPECT_NEAR(r.surface_peak_ratio, 1.0, 0.05) << "direction " << dir;
     EXPECT_LT(r.energy_left, 0.05) << "direction " << dir;
   }
+}
+
+// Cundall's local damping alone (docs/theory.md §9) brings a column settling under its
+// weight to rest, with its work booked as the integrator applies it: the ledger closes.
+TEST(Continuum3D, LocalDampingBringsAColumnToRestWithItsWorkBooked) {
+  const double H = 10.0, rho = 2000.0, g = 9.81;
+  Model3 model = mesh::build_model_3d(mesh::box_mesh(2, 2, 10, 1.0, 1.0, H), rock3(1e8, 0.25, rho));
+  solver::Solver3 s(model);
+  std::vector<solver::PrescribedDof> dofs = fixed(model, "zmin", {0, 1, 2});
+  append(dofs, fixed(model, "xmin", {0}));
+  append(dofs, fixed(model, "xmax", {0}));
+  append(dofs, fixed(model, "ymin", {1}));
+  append(dofs, fixed(model, "ymax", {1}));
+  s.set_constraints(dofs);
+  solver::StepSettings3 st;
+  st.gravity = Vec3(0.0, 0.0, -g);
+  st.local_damping = 0.8;
+  s.set_settings(st);
+  s.initialise();
+  double kmax = 0.0;
+  for (int k = 0; k < 4000; ++k) {
+    s.step();
+    kmax = std::max(kmax, s.kinetic_energy());
+  }
+  const auto& e = s.energy();
+  EXPECT_GT(e.damping_dissipated, 0.0);
+  EXPECT_LT(e.kinetic, 1e-6 * kmax);
+  EXPECT_LT(balance(e), 1e-6) << "damping " << e.damping_dissipated << " strain " << e.strain;
+  // The unbalanced force is the damping's own at rest: m a - f_d is small beside the weight.
+  const auto fd = s.damping_forces();
+  ASSERT_EQ(fd.size(), model.nodes.size());
+  double worst = 0.0, weight = 0.0;
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    worst = std::max(worst, (model.nodes.m[i] * model.nodes.a[i] - fd[i]).norm());
+    weight = std::max(weight, model.nodes.m[i] * g);
+  }
+  EXPECT_LT(worst, 1e-4 * weight);
+}
+
+// A checkpoint taken mid-run and restored into a new solver set up the same way continues
+// with the same bits: nodes, law state (Mohr-Coulomb), damping and the ledger.
+TEST(Continuum3D, ACheckpointContinuesWithTheSameBits) {
+  const auto path = std::filesystem::temp_directory_path() / ("dsdem_ckpt3d_" + std::to_string(::getpid()) + ".h5");
+  test::remove_at_exit(path);
+  auto make = [](Model3& model) {
+    auto s = std::make_unique<solver::Solver3>(model);
+    s->set_constraints(fixed(model, "xmin", {0, 1, 2}));
+    solver::StepSettings3 st;
+    st.alpha = 2.0;
+    st.beta = 1e-5;
+    st.local_damping = 0.3;
+    s->set_settings(st);
+    s->initialise();
+    return s;
+  };
+  auto model_of = [] {
+    return mesh::build_model_3d(mesh::box_mesh(6, 2, 2, 3.0, 1.0, 1.0),
+                                test::mohr_coulomb_material("rock", 1e8, 0.3, 2000.0, 1e4, 30.0, 5.0));
+  };
+  Model3 a = model_of();
+  auto sa = make(a);
+  for (int k = 0; k < 200; ++k) sa->step();
+  {
+    io::CheckpointWriter w(path);
+    sa->save(w);
+    w.commit();
+  }
+  for (int k = 0; k < 200; ++k) sa->step();
+  ASSERT_GT(sa->energy().plastic_dissipated, 0.0);  // the law state matters
+
+  Model3 b = model_of();
+  auto sb = make(b);
+  sb->restore(io::CheckpointReader(path));
+  EXPECT_EQ(sb->step_count(), 200);
+  for (int k = 0; k < 200; ++k) sb->step();
+  for (std::size_t i = 0; i < a.nodes.size(); ++i)
+    for (int d = 0; d < 3; ++d) {
+      ASSERT_EQ(a.nodes.u[i][d], b.nodes.u[i][d]) << i;
+      ASSERT_EQ(a.nodes.v[i][d], b.nodes.v[i][d]) << i;
+    }
+  EXPECT_EQ(sa->time(), sb->time());
+  EXPECT_EQ(sa->energy().plastic_dissipated, sb->energy().plastic_dissipated);
+  EXPECT_EQ(sa->energy().damping_dissipated, sb->energy().damping_dissipated);
+  EXPECT_EQ(sa->energy().balance_error(), sb->energy().balance_error());
+
+  // Another model's checkpoint is refused, naming the entry, and changes nothing.
+  Model3 c = mesh::build_model_3d(mesh::box_mesh(4, 2, 2, 3.0, 1.0, 1.0),
+                                  test::mohr_coulomb_material("rock", 1e8, 0.3, 2000.0, 1e4, 30.0, 5.0));
+  auto sc = make(c);
+  const auto u_before = c.nodes.u;
+  try {
+    sc->restore(io::CheckpointReader(path));
+    FAIL() << "restored another model's checkpoint";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("nodes/u"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(c.nodes.u, u_before);
+  EXPECT_EQ(sc->step_count(), 0);
 }
