@@ -16,6 +16,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev googletest
   libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-meshio
+  # dsdem render of a 3D run: VTK offscreen; Debian's VTK draws through X only, so Xvfb when headless
+  python3-vtk9 xvfb
   ffmpeg
   clang-14 libclang-rt-14-dev
 )

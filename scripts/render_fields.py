@@ -5,6 +5,12 @@
                          [--frames all|last|first|N,M,A-B] [--movie] [--fps 10]
                          [--bbox xmin,xmax,ymin,ymax] [--clim lo,hi] [--width 1280]
                          [--water speed|pressure|none] [--water-clim lo,hi] [--no-cracks] [--no-gauges] [--quiet]
+                         [--section x|y|z[=COORDINATE]]
+
+A 3D run (summary.json "dimension": 3, or tetrahedra in the frames) is drawn by
+render_fields3d.py instead, with VTK: per frame the model in perspective
+(<field>_NNNNNN.png) and a section through it (<field>_section_NNNNNN.png), with the same
+fields, frame selection, colour limits, movie and errors.
 
 Reads OUT/fields.pvd (OUT/fields/fields_NNNNNN.vtu, triangles at the deformed
 configuration) and, when present, OUT/cracks.pvd (joint segments of the same frame:
@@ -763,27 +769,7 @@ class Renderer:
             self.water_fill.set_verts([below] if (pts[:, 1] > y0).any() else [])
 
     def movie(self, pngs: list[Path]) -> Path:
-        ffmpeg = shutil.which("ffmpeg")
-        if not ffmpeg:
-            raise lib.InputError("ffmpeg not found on PATH: install ffmpeg, or render without --movie")
-        mp4 = self.render_dir / f"{safe_name(self.spec.key)}.mp4"
-        with tempfile.TemporaryDirectory(prefix="dsdem-movie-") as tmp:
-            for i, p in enumerate(pngs):
-                os.symlink(p.resolve(), Path(tmp) / f"{i:06d}.png")
-            part = mp4.with_name(mp4.stem + ".part.mp4")
-            cmd = [
-                ffmpeg, "-y", "-loglevel", "error", "-framerate", str(self.a.fps),
-                "-i", str(Path(tmp) / "%06d.png"),
-                "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2,format=yuv420p",
-                "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "20", "-movflags", "+faststart",
-                str(part),
-            ]
-            r = subprocess.run(cmd, capture_output=True, text=True)
-            if r.returncode != 0:
-                part.unlink(missing_ok=True)
-                raise RuntimeError(f"ffmpeg failed ({r.returncode}): {r.stderr.strip()}")
-            part.replace(mp4)
-        return mp4
+        return make_movie(pngs, self.render_dir / f"{safe_name(self.spec.key)}.mp4", self.a.fps)
 
     def draw_range(self, lo: int, hi: int) -> list[Path]:
         if not hasattr(self, "fig"):
@@ -829,6 +815,43 @@ def _draw_range(r: tuple[int, int]) -> list[Path]:
     return _RENDERER.draw_range(*r)
 
 
+def make_movie(pngs: list[Path], mp4: Path, fps: float) -> Path:
+    """The PNGs, in order, as an H.264 mp4 (ffmpeg), written under a temporary name then renamed."""
+    ffmpeg = shutil.which("ffmpeg")
+    if not ffmpeg:
+        raise lib.InputError("ffmpeg not found on PATH: install ffmpeg, or render without --movie")
+    with tempfile.TemporaryDirectory(prefix="dsdem-movie-") as tmp:
+        for i, p in enumerate(pngs):
+            os.symlink(p.resolve(), Path(tmp) / f"{i:06d}.png")
+        part = mp4.with_name(mp4.stem + ".part.mp4")
+        cmd = [
+            ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps),
+            "-i", str(Path(tmp) / "%06d.png"),
+            "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2,format=yuv420p",
+            "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "20", "-movflags", "+faststart",
+            str(part),
+        ]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            part.unlink(missing_ok=True)
+            raise RuntimeError(f"ffmpeg failed ({r.returncode}): {r.stderr.strip()}")
+        part.replace(mp4)
+    return mp4
+
+
+def is_3d(out: Path) -> bool:
+    """A 3D run: summary.json says "dimension": 3 (a plane run's has no such key), or, before the
+    run has written its summary, the first field frame holds tetrahedra and no triangles."""
+    summary = lib.read_summary(out)
+    if summary:
+        return summary.get("dimension") == 3
+    frames = lib.read_pvd(out / "fields.pvd") or lib.glob_frames(out / "fields", "fields")
+    if not frames:
+        return False
+    types = {cb.type for cb in read_mesh(frames[0].path).cells}
+    return "tetra" in types and "triangle" not in types
+
+
 def safe_name(s: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", s)
 
@@ -849,6 +872,8 @@ def main(argv=None) -> int:
                     help="colour the moving water's particles by speed or pressure, or do not draw them (default speed)")
     ap.add_argument("--water-clim", help="the water's colour limits lo,hi in SI units (default: 0 to the 99th "
                                          "percentile of every particle in the model over all frames)")
+    ap.add_argument("--section", help="3D runs: the section's plane, x|y|z[=COORDINATE in m] (default y through "
+                                      "the model's centre)")
     ap.add_argument("--no-cracks", action="store_true", help="do not draw joints")
     ap.add_argument("--no-gauges", action="store_true", help="do not mark the gauges")
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
@@ -860,11 +885,20 @@ def main(argv=None) -> int:
     out = Path(a.out)
     if not out.is_dir():
         raise lib.InputError(f"{out}: no such output folder")
-    r = Renderer(a, out)
-    outputs = r.run()
+    if is_3d(out):  # tetrahedra: VTK's offscreen rendering (render_fields3d.py)
+        import render_fields3d
+
+        render_dir = out / "render"
+        outputs = render_fields3d.render(a, out, sys.modules[__name__])
+    else:
+        if a.section:
+            raise lib.InputError(f"--section {a.section}: a plane run has no sections (3D runs only)")
+        r = Renderer(a, out)
+        render_dir = r.render_dir
+        outputs = r.run()
     if not a.quiet:
         pngs = [p for p in outputs if p.suffix == ".png"]
-        print(f"wrote {len(pngs)} image(s) to {r.render_dir}:")
+        print(f"wrote {len(pngs)} image(s) to {render_dir}:")
         for p in pngs if len(pngs) <= 12 else pngs[:3] + [Path("...")] + pngs[-3:]:
             print(f"  {p}")
         for p in outputs:

@@ -10,6 +10,11 @@ plot_history first if OUT/plots is missing or older than history.csv), the last 
 snapshot (rendered with render_fields if none exists, unless --no-render), every scalar of
 summary.json with its unit, the scenario YAML, run information and the log. Images are
 embedded as base64: the file can be mailed or archived on its own, no external links.
+
+A 3D run (summary.json "dimension": 3) has no gauges, joints, run-out or water: its key results
+are the largest displacement (and where), the largest speed, the energy balance; its snapshot is
+the last frame twice, the model's outer surface in perspective and the section through it
+(render_fields3d.py).
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ import argparse
 import base64
 import datetime as _dt
 import html
+import math
 import re
 import sys
 from pathlib import Path
@@ -172,7 +178,8 @@ def dict_list_table(items: list[dict], first: str = "name") -> str:
     return f"<table><thead><tr>{''.join(head)}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
 
 
-def key_cards(summary: dict) -> str:
+def key_cards(summary: dict, max_speed: float | None = None) -> str:
+    """The key results as cards; max_speed: a 3D run's largest node speed from history.csv."""
     cards = []
 
     def card(value: str, label: str):
@@ -211,6 +218,14 @@ def key_cards(summary: dict) -> str:
         if re.search(r"(blocked|blockage|runout|run_out|travel)", k) and isinstance(v, (int, float)):
             label, unit = key_label(k)
             card(f"{lib.fmt_num(v, 3)} {unit}".strip(), label)
+    umax = summary.get("max_displacement")
+    if isinstance(umax, dict) and isinstance(umax.get("value_m"), (int, float)):  # a 3D run's largest
+        at = umax.get("at_m")
+        where = (f" (at x, y, z = {', '.join(f'{c:.4g}' for c in at)} m)"
+                 if isinstance(at, list) and all(isinstance(c, (int, float)) for c in at) else "")
+        card(scaled(umax["value_m"], "m"), f"largest displacement{where}")
+    if isinstance(max_speed, (int, float)) and math.isfinite(max_speed):
+        card(scaled(max_speed, "m/s"), "largest speed of any node (history.csv)")
     if isinstance(summary.get("end_time_s"), (int, float)):
         card(f"{summary['end_time_s']:.4g} s", "simulated time")
     if isinstance(summary.get("energy_balance_error"), (int, float)):
@@ -558,12 +573,50 @@ def ensure_plots(out: Path, quiet: bool) -> list[Path]:
     return sorted(pngs, key=lambda p: (order.get(p.name, len(order)), p.name))
 
 
+def png_text(path: Path) -> dict[str, str]:
+    """The tEXt chunks of a PNG (render_fields3d.py writes the frame's time and section there)."""
+    import struct
+    import zlib
+
+    out: dict[str, str] = {}
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return out
+    pos = 8
+    while pos + 8 <= len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"tEXt" and b"\0" in body:
+            k, v = body.split(b"\0", 1)
+            out[k.decode("latin-1")] = v.decode("latin-1")
+        elif kind == b"zTXt" and b"\0" in body:
+            k, v = body.split(b"\0", 1)
+            try:
+                out[k.decode("latin-1")] = zlib.decompress(v[1:]).decode("latin-1")
+            except zlib.error:
+                pass
+        elif kind in (b"IDAT", b"IEND"):
+            break  # the text chunks come before the picture
+        pos += 12 + length
+    return out
+
+
+def section_of(snap: Path | None) -> Path | None:
+    """The section of a 3D snapshot's frame (<field>_section_NNNNNN.png beside <field>_NNNNNN.png)."""
+    m = re.match(r"^(.*)_(\d{6})\.png$", snap.name) if snap is not None else None
+    if m is None:
+        return None
+    p = snap.with_name(f"{m.group(1)}_section_{m.group(2)}.png")
+    return p if p.is_file() else None
+
+
 def latest_snapshot(out: Path, allow_render: bool, quiet: bool) -> Path | None:
     def find():
         best = None
         for p in (out / "render").glob("*_[0-9][0-9][0-9][0-9][0-9][0-9].png") if (out / "render").is_dir() else []:
             m = re.match(r"^(.*)_(\d{6})\.png$", p.name)
-            if not m or p.name.endswith(".tmp.png"):
+            if not m or p.name.endswith(".tmp.png") or m.group(1).endswith("_section"):
                 continue
             rank = (int(m.group(2)), m.group(1) == "velocity", p.stat().st_mtime)
             if best is None or rank > best[0]:
@@ -586,6 +639,15 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
     summary = lib.read_summary(out)
     if not summary:
         raise lib.InputError(f"{out / 'summary.json'}: not found or unreadable")
+    three_d = summary.get("dimension") == 3
+    max_speed = None
+    if three_d:  # the history's largest speed: a key number of a 3D run, which has no gauges
+        try:
+            h = lib.read_history(out / "history.csv")
+            if h.has("max_speed_m_per_s") and h.data.shape[0]:
+                max_speed = float(np.nanmax(h.col("max_speed_m_per_s")))
+        except lib.InputError:
+            pass
     title = str(summary.get("title") or out.name)
     scen_path = lib.find_scenario(out, summary)
     scenario_name = str(summary.get("scenario", "")) or (str(scen_path) if scen_path else "")
@@ -601,18 +663,18 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
             nav.append((anchor, heading))
             sec.append(f'<section id="{anchor}"><h2>{esc(heading)}</h2>\n{body}\n</section>')
 
-    section("key", "Key results", key_cards(summary))
+    section("key", "Key results", key_cards(summary, max_speed))
     section("stability", "Factor of safety", stability_section(out, summary))
     if isinstance(summary.get("moving_water"), dict):
         section("reservoir-wave", "Reservoir wave", reservoir_wave_section(out, summary, plots))
     else:  # a dry reservoir: the estimate only
         section("wave", "Impulse wave (Heller & Hager estimate)", impulse_wave_section(summary))
 
-    model_rows = []
+    model_rows = [("model", "", "3D, linear tetrahedra")] if three_d else []
     for k in MODEL_KEYS:
         if k in summary:
             label, unit = key_label(k)
-            model_rows.append((label, unit, summary[k]))
+            model_rows.append(("tetrahedra" if three_d and k == "elements" else label, unit, summary[k]))
     section("model", "Model", kv_table(model_rows) if model_rows else "")
 
     gauges = [g for g in summary.get("gauges", []) if isinstance(g, dict)]
@@ -635,9 +697,19 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
     if snap is not None:
         m = re.match(r"^(.*)_(\d{6})\.png$", snap.name)
         cap = f"{lib.humanize(m.group(1)).capitalize()} field, frame {int(m.group(2))}" if m else snap.name
-        section("snapshot", "Snapshot",
-                f"<figure>{img_tag(snap, cap)}<figcaption>{esc(cap)} (<code>render/{esc(snap.name)}</code>). "
+        cut = section_of(snap)
+        if three_d:
+            cap += ": the model's outer surface in perspective"
+        body = (f"<figure>{img_tag(snap, cap)}<figcaption>{esc(cap)} (<code>render/{esc(snap.name)}</code>). "
                 f"More: <code>dsdem render {esc(out)} --movie</code></figcaption></figure>")
+        if cut is not None:
+            plane = png_text(cut).get("dsdem:section")
+            ccap = (f"{lib.humanize(m.group(1)).capitalize()} field, frame {int(m.group(2))}: the section"
+                    + (f" {plane}" if plane else "") + ", the model behind the plane, its cut face showing the "
+                    "field inside")
+            body += (f"<figure>{img_tag(cut, ccap)}<figcaption>{esc(ccap)} (<code>render/{esc(cut.name)}</code>). "
+                     f"Another plane: <code>dsdem render {esc(out)} --section x=...</code></figcaption></figure>")
+        section("snapshot", "Snapshot", body)
 
     # Every scalar of summary.json (minus what the sections above show as tables).
     scalars = flatten_scalars({k: v for k, v in summary.items() if k not in ("gauges", "title", "scenario")})
@@ -685,6 +757,9 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
     if version:
         head_sub.append(f"dsdem {esc(version)}")
     head_sub.append(f"report of {esc(now)}")
+    footer = ("dsdem: continuous–discontinuous simulation (FEM-DSDEM) of rock-slope failure and landslide run-out, "
+              + ("3D continuum (linear tetrahedra). Values in SI units; energies in J." if three_d else
+                 "2D.\nValues in SI units per metre of thickness unless stated."))
     page = f"""<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -702,8 +777,7 @@ def build(out: Path, allow_render: bool, quiet: bool) -> Path:
 <nav>{''.join(f'<a href="#{a}">{esc(h)}</a>' for a, h in nav)}</nav>
 </header>
 {chr(10).join(sec)}
-<footer>dsdem: continuous–discontinuous simulation (FEM-DSDEM) of rock-slope failure and landslide run-out, 2D.
-Values in SI units per metre of thickness unless stated.</footer>
+<footer>{footer}</footer>
 </main>
 </body>
 </html>

@@ -34,7 +34,7 @@ std::string env_or(const char* name, const std::string& fallback) {
 
 std::string python_interpreter() {
   if (const char* v = std::getenv("DSDEM_PYTHON"); v != nullptr && *v != '\0') return v;
-  // The system Python has numpy, matplotlib and meshio (scripts/install-deps.sh); a
+  // The system Python has numpy, matplotlib, meshio and VTK (scripts/install-deps.sh); a
   // pyenv or venv python3 earlier on PATH usually does not.
   std::error_code ec;
   if (fs::exists("/usr/bin/python3", ec)) return "/usr/bin/python3";
@@ -99,6 +99,7 @@ struct RenderOptions {
   int jobs = 0;
   std::string water = "speed";
   std::string water_clim;
+  std::string section;
   bool no_cracks = false;
   bool no_gauges = false;
   bool quiet = false;
@@ -134,6 +135,7 @@ int run_render_command(const RenderOptions& o) {
   if (o.jobs > 0) args.insert(args.end(), {"--jobs", std::to_string(o.jobs)});
   args.insert(args.end(), {"--water", o.water});
   if (!o.water_clim.empty()) args.insert(args.end(), {"--water-clim", o.water_clim});
+  if (!o.section.empty()) args.insert(args.end(), {"--section", o.section});
   if (o.no_cracks) args.emplace_back("--no-cracks");
   if (o.no_gauges) args.emplace_back("--no-gauges");
   if (o.quiet) args.emplace_back("--quiet");
@@ -223,7 +225,9 @@ void add_post_commands(CLI::App& app) {
   // render
   {
     auto o = std::make_shared<RenderOptions>();
-    auto* cmd = app.add_subcommand("render", "Render field frames to PNG snapshots (and an mp4 movie) into OUT/render/");
+    auto* cmd = app.add_subcommand("render",
+                                   "Render field frames to PNG snapshots (and an mp4 movie) into OUT/render/; a 3D "
+                                   "run gives two per frame: the model in perspective and a section through it");
     cmd->add_option("out", o->out, "Output folder of a dsdem run")->required();
     cmd->add_option("--field", o->field,
                     "velocity | displacement | material | stress (von Mises) | damage, or any array of the VTU "
@@ -232,7 +236,9 @@ void add_post_commands(CLI::App& app) {
     cmd->add_option("--frames", o->frames, "all | last | first | N | N,M | A-B (frame numbers)")->capture_default_str();
     cmd->add_flag("--movie", o->movie, "Also assemble OUT/render/<field>.mp4 with ffmpeg (H.264)");
     cmd->add_option("--fps", o->fps, "Movie frames per second")->check(CLI::PositiveNumber)->capture_default_str();
-    cmd->add_option("--bbox", o->bbox, "View box xmin,xmax,ymin,ymax in m (default: the model over all frames)");
+    cmd->add_option("--bbox", o->bbox,
+                    "View box xmin,xmax,ymin,ymax in m; in 3D xmin,xmax,ymin,ymax,zmin,zmax (default: the model over "
+                    "all frames)");
     cmd->add_option("--clim", o->clim, "Colour limits lo,hi in SI units (default: over all frames)");
     cmd->add_option("--width", o->width, "Image width in pixels (default 1280)")->check(CLI::Range(320, 8000));
     cmd->add_option("--jobs", o->jobs, "Parallel render processes (default: all cores, at most 8)")
@@ -245,6 +251,9 @@ void add_post_commands(CLI::App& app) {
     cmd->add_option("--water-clim", o->water_clim,
                     "The water's colour limits lo,hi in SI units (default: 0 to the 99th percentile of the particles "
                     "in the model over all frames)");
+    cmd->add_option("--section", o->section,
+                    "3D runs: the section's plane x|y|z[=COORDINATE in m], e.g. x=12.5 (default y through the "
+                    "model's centre)");
     cmd->add_flag("--no-cracks", o->no_cracks, "Do not draw the joints (cracks)");
     cmd->add_flag("--no-gauges", o->no_gauges, "Do not mark the gauges");
     cmd->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");

@@ -62,6 +62,48 @@ fs::path fractured_copy(const std::string& name) {
   return dir;
 }
 
+// A 12 x 6 x 6 m block of tetrahedra (371 of them) settling on a fixed base: 3 field frames of a
+// 3D run in under a second, written and run by the test.
+const char* kBlockGeo = R"(SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 12, 6, 6};
+Physical Volume("rock") = {1};
+MeshSize{ PointsOf{ Volume{1}; } } = 2.2;
+e = 1e-3;
+Physical Surface("base") = Surface In BoundingBox{-e, -e, -e, 12 + e, 6 + e, e};
+)";
+
+const char* kBlockScenario = R"(title: block of tetrahedra settling
+mesh: {file: block.geo, element_size: 2.2}
+materials:
+  rock: {E: 1.0e8, nu: 0.25, rho: 2000}
+regions:
+  - {group: rock, material: rock}
+gravity: [0, 0, -9.81]
+time: {safety: 0.3}
+stages:
+  - name: gravity
+    duration: 0.2
+    boundaries:
+      - {group: base, type: fixed}
+output: {field_interval: 0.1, history_interval: 0.01}
+)";
+
+class PostRun3D : public ::testing::Test {
+ protected:
+  static inline fs::path dir_, out_;
+  static void SetUpTestSuite() {
+    dir_ = fresh_dir("post_run3d");
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "block.geo") << kBlockGeo;
+    std::ofstream(dir_ / "scenario.yaml") << kBlockScenario;
+    out_ = dir_ / "out";
+    const auto c = run_dsdem("run " + (dir_ / "scenario.yaml").string() + " -o " + out_.string() + " --threads 1 -q");
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    ASSERT_TRUE(fs::exists(out_ / "fields" / "fields_000002.vtu")) << c.output;
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+};
+
 }  // namespace
 
 TEST_F(PostRun, PlotWritesGaugeAndEnergyPngsAndListsThem) {
@@ -190,4 +232,78 @@ TEST(PostCommands, ScriptsDirCanBeOverriddenByEnvironment) {
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("/nonexistent/dsdem-scripts/plot_history.py"), std::string::npos) << err;
   ::unsetenv("DSDEM_SCRIPTS_DIR");
+}
+
+// A 3D run: per frame the model in perspective and the section through its centre (normal y),
+// each frame's time and the plane in the PNG's text.
+TEST_F(PostRun3D, RenderWritesThePerspectiveAndTheSectionOfEachChosenFrame) {
+  const auto c = run_dsdem("render " + out_.string() + " --frames 1,2 --jobs 1");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  for (const char* f : {"velocity_000001.png", "velocity_section_000001.png", "velocity_000002.png",
+                        "velocity_section_000002.png"}) {
+    EXPECT_TRUE(is_png(out_ / "render" / f)) << f << "\n" << c.output;
+    EXPECT_NE(c.output.find(f), std::string::npos) << c.output;
+  }
+  EXPECT_FALSE(fs::exists(out_ / "render" / "velocity_000000.png"));
+  EXPECT_FALSE(fs::exists(out_ / "render" / "velocity_section_000000.png"));
+  const std::string section = read_text(out_ / "render" / "velocity_section_000002.png");
+  EXPECT_NE(section.find(std::string("dsdem:section") + '\0' + "y = 3 m"), std::string::npos);
+  EXPECT_NE(section.find("dsdem:time"), std::string::npos);
+}
+
+TEST_F(PostRun3D, RenderMovieWritesAnMp4OfEachView) {
+  if (!have_ffmpeg()) GTEST_SKIP() << "ffmpeg is not installed";
+  const auto c = run_dsdem("render " + out_.string() + " --field stress --movie --fps 5 --jobs 1 -q");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  for (const char* name : {"stress.mp4", "stress_section.mp4"}) {
+    const fs::path mp4 = out_ / "render" / name;
+    ASSERT_TRUE(fs::exists(mp4)) << name << "\n" << c.output;
+    EXPECT_GT(fs::file_size(mp4), 1000u) << name;
+    EXPECT_EQ(read_text(mp4).substr(4, 4), "ftyp") << name;  // an MP4 container
+  }
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(is_png(out_ / "render" / ("stress_00000" + std::to_string(i) + ".png"))) << i;
+    EXPECT_TRUE(is_png(out_ / "render" / ("stress_section_00000" + std::to_string(i) + ".png"))) << i;
+  }
+}
+
+// The 2D errors, and the 3D ones: a plane outside the model; no display and no Xvfb to make one.
+TEST_F(PostRun3D, BadInputExitsWith2AndNoDisplayWith1NamingWhy) {
+  auto c = run_dsdem("render " + out_.string() + " --field no_such_array --frames last");
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("no_such_array"), std::string::npos) << c.output;
+  c = run_dsdem("render " + out_.string() + " --frames 7");
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("frames 0..2"), std::string::npos) << c.output;
+  c = run_dsdem("render " + out_.string() + " --frames last --section y=40");
+  EXPECT_EQ(c.exit_code, 2) << c.output;
+  EXPECT_NE(c.output.find("misses the model"), std::string::npos) << c.output;
+  c = run_command("env -u DISPLAY PATH=/nonexistent " + std::string(DSDEM_BINARY) + " render " + out_.string() +
+                  " --frames last --field displacement");
+  EXPECT_EQ(c.exit_code, 1) << c.output;
+  EXPECT_NE(c.output.find("cannot render the 3D run"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("xvfb"), std::string::npos) << c.output;
+  EXPECT_FALSE(fs::exists(out_ / "render" / "displacement_000002.png"));
+}
+
+// The report of a 3D run: its key numbers and both pictures of the last frame; no gauge, water or
+// run-out section.
+TEST_F(PostRun3D, ReportShowsThePerspectiveAndTheSectionOfTheLastFrame) {
+  const auto c = run_dsdem("report " + out_.string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const std::string html = read_text(out_ / "report.html");
+  ASSERT_FALSE(html.empty());
+  EXPECT_NE(html.find("<code>render/velocity_000002.png</code>"), std::string::npos);
+  EXPECT_NE(html.find("<code>render/velocity_section_000002.png</code>"), std::string::npos);
+  EXPECT_NE(html.find("the section y = 3 m"), std::string::npos);
+  EXPECT_GE(count(html, "src=\"data:image/png;base64,"), 3u);  // a history plot and the two pictures
+  EXPECT_NE(html.find("3D, linear tetrahedra"), std::string::npos);
+  EXPECT_NE(html.find("largest displacement (at x, y, z ="), std::string::npos);
+  EXPECT_NE(html.find("largest speed of any node"), std::string::npos);
+  const std::string summary = read_text(out_ / "summary.json");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(summary, m, std::regex("\"elements\": (\\d+)")));
+  EXPECT_NE(html.find("<td>tetrahedra</td><td class=\"num\">" + m[1].str() + "</td>"), std::string::npos);
+  for (const char* absent : {"id=\"gauges\"", "id=\"wave\"", "id=\"reservoir-wave\"", "per metre of thickness"})
+    EXPECT_EQ(html.find(absent), std::string::npos) << absent;
 }
