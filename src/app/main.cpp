@@ -98,45 +98,10 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       ->check(CLI::PositiveNumber);
 }
 
-// `dsdem run` on a volume mesh: the 3D continuum (no restart yet).
-int run_3d_command(RunArgs& a, const dsdem::io::Scenario& sc, const dsdem::RawMesh3& mesh,
-                   const std::filesystem::path& work) {
-  if (!a.restart_path.empty() || a.stop_at_step > 0)
-    throw dsdem::io::ScenarioError({fmt::format("{}: --restart and --stop-at-step are not in 3D runs yet", sc.file)});
-  auto prepared = dsdem::run::prepare_run_3d(sc, mesh);
-  std::error_code ec;
-  std::filesystem::remove_all(work, ec);
-  dsdem::run::RunOptions options;
-  options.output_dir = a.out_dir.empty() ? "." : a.out_dir;
-  options.threads = a.threads;
-  options.quiet = a.quiet;
-  options.write_fields = !a.no_fields;
-  options.stop_signal = &g_stop_signal;
-  const auto result = dsdem::run::run_3d(prepared, options);
-  if (result.stopped_by_signal) {
-    fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}\n", result.stopped_by_signal,
-               options.output_dir);
-    return 128 + result.stopped_by_signal;
-  }
-  fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", options.output_dir, result.steps,
-             result.wall_time_s, result.energy_balance_error);
-  return 0;
-}
-
-int run_command(RunArgs& a) {
-  install_stop_handlers();
-  const auto sc = dsdem::io::load_scenario(a.scenario_path, a.sets);
-  if (a.threads > 0) omp_set_num_threads(a.threads);
-  // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
-  const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-run-{}", ::getpid());
-  ScratchDir cleanup{work};
-  // A volume mesh makes a 3D model (docs/theory.md §14).
-  if (auto mesh3 = dsdem::mesh::load_volume_mesh(sc, work.string())) return run_3d_command(a, sc, *mesh3, work);
-  auto prepared = dsdem::run::prepare_run(sc, work.string());
-  // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
-  // run killed outright later on.
-  std::error_code ec;
-  std::filesystem::remove_all(work, ec);
+// Runs a prepared scenario of either dimension (run_fn: run::run or run::run_3d) and says
+// where its results are and how to continue a stopped run.
+template <class Prepared, class RunFn>
+int run_prepared(RunArgs& a, Prepared& prepared, RunFn run_fn, bool plots) {
   dsdem::run::RunOptions options;
   options.output_dir = a.out_dir;
   options.threads = a.threads;
@@ -149,7 +114,7 @@ int run_command(RunArgs& a) {
     options.output_dir = a.out_dir = std::filesystem::path(a.restart_path).parent_path().string();
   if (options.output_dir.empty()) options.output_dir = a.out_dir = ".";
   if (g_stop_signal) return 128 + static_cast<int>(g_stop_signal);  // stopped while meshing: nothing written
-  const auto result = dsdem::run::run(prepared, options);
+  const auto result = run_fn(prepared, options);
   if (result.stopped_by_signal) {
     fmt::print(stderr, "stopped by signal {}: last fields, history and summary in {}; continue with {}\n",
                result.stopped_by_signal, a.out_dir, result.continue_command);
@@ -162,9 +127,31 @@ int run_command(RunArgs& a) {
   }
   fmt::print("results in {} ({} steps, {:.1f} s wall, energy balance error {:.2e})\n", a.out_dir, result.steps,
              result.wall_time_s, result.energy_balance_error);
-  if (!a.no_plots && dsdem::app::run_plot(a.out_dir, true) != 0)
+  if (plots && !a.no_plots && dsdem::app::run_plot(a.out_dir, true) != 0)
     fmt::print(stderr, "warning: history plots were not made\n");
   return 0;
+}
+
+int run_command(RunArgs& a) {
+  install_stop_handlers();
+  const auto sc = dsdem::io::load_scenario(a.scenario_path, a.sets);
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+  // Mesh and validate in a scratch folder: a scenario that fails leaves no output behind.
+  const auto work = std::filesystem::temp_directory_path() / fmt::format("dsdem-run-{}", ::getpid());
+  ScratchDir cleanup{work};
+  // A volume mesh makes a 3D model (docs/theory.md §14): the same runner, no history plots yet.
+  if (auto mesh3 = dsdem::mesh::load_volume_mesh(sc, work.string())) {
+    auto prepared = dsdem::run::prepare_run_3d(sc, *mesh3);
+    std::error_code ec;
+    std::filesystem::remove_all(work, ec);
+    return run_prepared(a, prepared, dsdem::run::run_3d, false);
+  }
+  auto prepared = dsdem::run::prepare_run(sc, work.string());
+  // The mesh is in memory now (prepared.mesh_text): no scratch folder left behind by a
+  // run killed outright later on.
+  std::error_code ec;
+  std::filesystem::remove_all(work, ec);
+  return run_prepared(a, prepared, dsdem::run::run, true);
 }
 
 struct CheckArgs {

@@ -186,6 +186,8 @@ struct StageSpec {
 struct GaugeSpec {
   std::string name;
   Vec2 at = Vec2::Zero();
+  Vec3 at_3d = Vec3::Zero();  // output.gauges[].at given as [x, y, z] (a 3D model's)
+  int components = 2;         // of `at` as written
   SourceLocation where;
 };
 

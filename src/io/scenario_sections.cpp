@@ -546,7 +546,11 @@ void read_output(SchemaReader& r, YAML::Node& root, Scenario& sc) {
         r.check_keys(gs[i], ip);
         GaugeSpec g;
         g.name = r.string(gs[i], ip, "name").value_or("");
-        if (auto at = r.vector2(gs[i], ip, "at")) g.at = Vec2((*at)[0], (*at)[1]);
+        if (auto at = r.vector(gs[i], ip, "at")) {
+          g.components = static_cast<int>(at->size());
+          if (g.components == 2) g.at = Vec2((*at)[0], (*at)[1]);
+          else g.at_3d = Vec3((*at)[0], (*at)[1], (*at)[2]);
+        }
         g.where = location(r, gs[i]["at"].IsDefined() ? gs[i]["at"] : gs[i], ip.child("at").actual);
         for (const auto& other : sc.output.gauges)
           if (!g.name.empty() && other.name == g.name)

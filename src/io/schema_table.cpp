@@ -399,8 +399,10 @@ void add_output(std::vector<KeySpec>& s) {
   s.push_back(of("output.gauges", KeyType::List, "", "Gauges: material points followed through the run."));
   s.push_back(of("output.gauges[]", KeyType::Map, "", "One gauge."));
   s.push_back(of("output.gauges[].name", KeyType::String, "required", "Gauge name (history column prefix)."));
-  s.push_back(of("output.gauges[].at", KeyType::Vector2, "required",
-                 "Reference position; the gauge follows the material point there.", "m"));
+  s.push_back(of("output.gauges[].at", KeyType::Vector, "required",
+                 "Reference position, [x, y] in a plane model, [x, y, z] in a 3D one; the gauge follows the material "
+                 "point there.",
+                 "m"));
 }
 
 // Factor of safety by strength reduction: `dsdem stability` (docs/theory.md §9).

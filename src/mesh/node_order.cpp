@@ -27,4 +27,11 @@ double node_order_fingerprint(std::span<const Vec2> X) {
   return sum;
 }
 
+double node_order_fingerprint(std::span<const Vec3> X) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < X.size(); ++i)
+    sum += static_cast<double>(i % 1021 + 1) * (X[i].x() + 3.0 * X[i].y() + 7.0 * X[i].z());
+  return sum;
+}
+
 }  // namespace dsdem::mesh

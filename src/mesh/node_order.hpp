@@ -33,5 +33,6 @@ inline void renumber(std::span<Index> nodes, const std::vector<Index>& new_id) {
 // written with another numbering (dsdem before this one numbered nodes as the mesh did)
 // is refused instead of continuing with its node arrays in the wrong order.
 double node_order_fingerprint(std::span<const Vec2> X);
+double node_order_fingerprint(std::span<const Vec3> X);  // of a 3D model's nodes
 
 }  // namespace dsdem::mesh

@@ -65,13 +65,13 @@ std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, cons
 
 namespace {
 
+}  // namespace
+
 // Frames after the checkpoint (in time or in number) are written again by the resumed run.
 io::PvdSeries open_series(const fs::path& out, const std::string& name, const RunnerState* resume_from,
                           std::size_t frames) {
   return resume_from ? io::PvdSeries::resume(out / name, resume_from->time, frames) : io::PvdSeries(out / name);
 }
-
-}  // namespace
 
 RunOutputs::RunOutputs(const PreparedRun& prepared, solver::Solver& solver, const fs::path& out, bool write_fields,
                        const RunnerState* resume_from, const RunnerState* measured_from)

@@ -26,6 +26,11 @@ ReactionGroups reaction_groups(const io::Scenario& sc, const Model& model);
 // history.csv's columns, in the order RunOutputs::write_history fills them.
 std::vector<io::HistoryColumn> history_columns(const PreparedRun& prepared, const ReactionGroups& reactions);
 
+// A frame series in `out`: new, or with `resume_from` (a restart in the checkpoint's own
+// folder) the first `frames` frames up to the checkpoint's time kept.
+io::PvdSeries open_series(const std::filesystem::path& out, const std::string& name, const RunnerState* resume_from,
+                          std::size_t frames);
+
 class RunOutputs {
  public:
   // Opens history.csv and the frame series in `out`. With `resume_from` (a restart in the

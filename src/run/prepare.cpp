@@ -269,6 +269,9 @@ void refuse_3d_keys(const io::Scenario& sc) {
         errors.push_back(b.where.describe(fmt::format("boundary '{}': a plane model takes scattering_centre as [x, y]",
                                                       b.group)));
     }
+  for (const auto& g : sc.output.gauges)
+    if (g.components == 3)
+      errors.push_back(g.where.describe(fmt::format("gauge '{}': a plane model's gauge is at [x, y]", g.name)));
   const io::MotionSpec& h = sc.earthquake.horizontal;
   if (h.present && h.direction_given && h.azimuth_deg != 0.0)
     errors.push_back(h.where.describe("direction: a plane model's horizontal record moves along x"));

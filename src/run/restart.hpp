@@ -7,6 +7,7 @@
 
 #include "io/checkpoint.hpp"
 #include "run/prepare.hpp"
+#include "run/run3d.hpp"
 
 namespace dsdem::run {
 
@@ -30,12 +31,17 @@ struct RunnerState {
   // With moving water: its frames so far and its measurements' state (WaterWatch::state).
   std::size_t water_frames = 0;
   std::vector<double> water_watch;
+  // A 3D run's largest displacement at a history row so far (m) and its node.
+  std::vector<double> peak_displacement;
 };
 
-void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const PreparedRun& run);
+// A plane run (PreparedRun) or a 3D one (PreparedRun3).
+template <class Prepared>
+void write_runner_state(io::CheckpointWriter& w, const RunnerState& s, const Prepared& run);
 
 // Reads the runner's part of a checkpoint and checks that it belongs to this model, time
 // step and scenario (messages say what differs). Throws std::runtime_error.
-RunnerState read_runner_state(const io::CheckpointReader& in, const PreparedRun& run);
+template <class Prepared>
+RunnerState read_runner_state(const io::CheckpointReader& in, const Prepared& run);
 
 }  // namespace dsdem::run

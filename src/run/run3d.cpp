@@ -2,9 +2,7 @@
 #include "run/run3d.hpp"
 
 #include <fmt/format.h>
-#include <spdlog/sinks/basic_file_sink.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -15,11 +13,11 @@
 
 #include "boundary/boundary_setup3d.hpp"
 #include "fem/tet4.hpp"
-#include "io/history_writer.hpp"
-#include "io/json_file.hpp"
-#include "io/pvd.hpp"
-#include "io/vtu_writer.hpp"
 #include "mesh/model_builder3d.hpp"
+#include "run/outputs3d.hpp"
+#include "run/check.hpp"
+#include "run/text.hpp"
+#include "run/summary.hpp"
 #include "run/prepare.hpp"
 #include "solver/constraints.hpp"
 #include "solver/continuum3d.hpp"
@@ -29,7 +27,6 @@
 namespace dsdem::run {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -67,7 +64,8 @@ std::vector<std::string> dimension_problems(const io::Scenario& sc) {
   if (!sc.stability.monitor.empty())
     refuse(sc.stability.monitor.front().where, "stability.monitor: monitored points at [x, y] are plane; a 3D model's "
                                                "factor of safety watches every node (leave stability.monitor out)");
-  if (!sc.output.gauges.empty()) refuse(sc.output.gauges.front().where, "output.gauges: gauges at [x, y] are plane; a 3D model's gauges are not in yet");
+  for (const auto& g : sc.output.gauges)
+    if (g.components == 2) refuse(g.where, fmt::format("gauge '{}': a 3D model's gauge is at [x, y, z]", g.name));
   auto check_boundaries = [&](const std::vector<io::BoundarySpec>& list) {
     for (const auto& b : list)
       if (b.scattering_centre && !b.scattering_centre_3d)
@@ -88,12 +86,6 @@ std::vector<boundary::ViscousSurface> viscous_surfaces(const std::vector<io::Bou
   return out;
 }
 
-std::string human_time(double s) {
-  if (!std::isfinite(s) || s < 0) return "?";
-  if (s < 120) return fmt::format("{:.0f} s", s);
-  if (s < 7200) return fmt::format("{:.0f} min", s / 60);
-  return fmt::format("{:.1f} h", s / 3600);
-}
 
 }  // namespace
 
@@ -105,6 +97,18 @@ PreparedRun3 prepare_run_3d(const io::Scenario& scenario, const RawMesh3& mesh) 
   if (!errors.empty()) throw io::ScenarioError(errors);
   run.model = mesh::build_model_3d(sc, mesh);
   run.mesh_file = mesh.msh_file;
+  {  // Gauges within half the mean element size of the mesh (as in a plane model).
+    double mean_size = 0.0;
+    for (double v : run.model.tetrahedra.volume0) mean_size += std::cbrt(6.0 * v);
+    mean_size /= static_cast<double>(std::max<std::size_t>(1, run.model.tetrahedra.size()));
+    for (const auto& g : sc.output.gauges) {
+      if (auto located = solver::locate_gauge(run.model, g.name, g.at_3d, 0.5 * mean_size))
+        run.gauges.push_back(*located);
+      else
+        errors.push_back(g.where.describe(fmt::format("gauge '{}' at ({}, {}, {}) m lies outside the mesh", g.name,
+                                                      g.at_3d.x(), g.at_3d.y(), g.at_3d.z())));
+    }
+  }
   try {  // every material's law runs on tetrahedra, with admissible parameters
     const solver::Solver3 probe(run.model);
   } catch (const std::invalid_argument& e) {
@@ -193,6 +197,38 @@ std::string check_report_3d(const PreparedRun3& p) {
   for (const auto& st : sc.stages)
     out += fmt::format("  stage {}: {} s, alpha {} 1/s, beta {} s{}\n", st.name, st.duration, st.damping.alpha,
                        st.damping.beta, st.earthquake ? ", earthquake" : "");
+  for (const auto& g : p.gauges)
+    out += fmt::format("gauge      {:<12} at ({}, {}, {}) m in tetrahedron {}\n", g.name, g.at.x(), g.at.y(), g.at.z(),
+                       g.tetrahedron);
+  // The cost: a few steps timed on a copy of the model in the first stage (after the first
+  // ones, which pay for first-touch and the timed thread choice), the memory its solver holds.
+  Model3 copy = p.model;
+  solver::Solver3 s(copy);
+  apply_stage_3d(s, sc.stages.front(), p, p.gravity, 0.0);
+  s.initialise();
+  const long total = std::max<long>(1, p.estimated_steps);
+  const long warmup = std::min<long>(20, total);
+  for (long i = 0; i < warmup; ++i) s.step();
+  long timed = 0;
+  double elapsed = 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  while (timed < total - warmup && timed < 1000 && (timed < 20 || elapsed < 0.5)) {
+    s.step();
+    ++timed;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const double per_step = timed > 0 ? elapsed / static_cast<double>(timed) : 0.0;
+  const double wall = per_step * static_cast<double>(p.estimated_steps);
+  out += fmt::format("estimate   {:.3g} ms per step ({} threads, {} steps timed, {:.3g} M tetrahedron-steps/s) -> about "
+                     "{} of wall time\n",
+                     per_step * 1e3, omp_get_max_threads(), timed,
+                     per_step > 0.0 ? static_cast<double>(tet.size()) / per_step / 1e6 : 0.0, human_time(wall));
+  // The solver's arrays as measured, the model's copy they act on, and the program (~60 MB).
+  const std::size_t mem = s.memory_bytes() + (60u << 20), avail = available_memory_bytes();
+  out += fmt::format("memory     about {} needed, {} available; output about {}\n", human_bytes(static_cast<double>(mem)),
+                     avail ? human_bytes(static_cast<double>(avail)) : std::string("unknown"),
+                     human_bytes(static_cast<double>(estimate_output_bytes(p))));
+  for (const auto& w : resource_warnings(mem, avail, wall)) out += fmt::format("warning: {}\n", w);
   return out;
 }
 
@@ -217,130 +253,27 @@ void apply_stage_3d(solver::Solver3& s, const io::StageSpec& stage, const Prepar
     s.set_earthquake(nullptr, nullptr, nullptr, 0.0, 0.0);
 }
 
-RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
+std::string time_step_log_line(const PreparedRun3& p) {
+  return fmt::format("dt = {:.4g} s ({:.3g} x stable {:.4g} s, the smallest altitude over cp at tetrahedron {})", p.dt,
+                     p.dt / p.stable_dt, p.stable_dt, p.controlling_tetrahedron);
+}
+
+std::size_t estimate_output_bytes(const PreparedRun3& p, bool write_fields) {
+  const io::Scenario& sc = p.scenario;
+  const double end = sc.end_time();
+  const double frames = write_fields && sc.output.field_interval > 0 ? std::floor(end / sc.output.field_interval) + 2 : 0;
+  // A VTU frame: ~ 90 B per node (position, displacement, velocity), ~ 200 B per tetrahedron
+  // (connectivity, stress, strain, material; binary, base64); a history row ~ 250 B.
+  const double frame = 90.0 * static_cast<double>(p.model.nodes.size()) + 200.0 * static_cast<double>(p.model.tetrahedra.size());
+  const double rows = sc.output.history_interval > 0 ? std::floor(end / sc.output.history_interval) + 2 : 0;
+  return static_cast<std::size_t>(frames * frame + rows * 250.0 + (1u << 20));
+}
+
+nlohmann::ordered_json make_summary_3d(const PreparedRun3& prepared, const solver::Solver3& solver,
+                                       const RunOutputs3& outputs, const std::vector<GaugeStats>& gauges,
+                                       const RunFacts& facts) {
   const io::Scenario& sc = prepared.scenario;
-  Model3& model = prepared.model;
-  const fs::path out = options.output_dir;
-  fs::create_directories(out);
-  auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "dsdem.log").string(), true);
-  std::vector<spdlog::sink_ptr> sinks{file_sink};
-  if (!options.quiet) sinks.push_back(std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
-  auto log = std::make_shared<spdlog::logger>("dsdem3d", sinks.begin(), sinks.end());
-  log->set_pattern("[%H:%M:%S] %v");
-  log->flush_on(spdlog::level::info);
-  log->info("dsdem {} ({}), 3D continuum", DSDEM_VERSION, DSDEM_GIT_COMMIT);
-  log->info("scenario {}: {} nodes, {} tetrahedra", sc.file, model.nodes.size(), model.tetrahedra.size());
-  log->info("time step {:.4g} s ({} of the stable step {:.4g} s)", prepared.dt, prepared.dt / prepared.stable_dt,
-            prepared.stable_dt);
-
-  solver::Solver3 solver(model);
-  const auto wall_start = Clock::now();
-  io::PvdSeries pvd(out / "fields.pvd");
-  std::size_t frame = 0;
-  double last_history = -1.0, last_field = -1.0;  // s: the end writes only what the steps did not
-  auto write_fields = [&] {
-    if (!options.write_fields || solver.time() == last_field) return;
-    last_field = solver.time();
-    solver.update_stress();
-    const fs::path f = pvd.frame_path(frame++);
-    io::write_tetrahedra_vtu(f, model.nodes, model.tetrahedra, model.materials, {}, {}, {.time_s = solver.time()});
-    pvd.add(solver.time(), f);
-  };
-  io::HistoryWriter history(out / "history.csv",
-                            {{"time", "s"}, {"stage", ""}, {"kinetic_energy", "J"}, {"strain_energy", "J"},
-                             {"gravity_potential", "J"}, {"external_work", "J"}, {"damping_dissipated", "J"},
-                             {"plastic_dissipated", "J"}, {"energy_balance_error", ""}, {"max_displacement", "m"},
-                             {"max_speed", "m_per_s"}});
-  double max_balance = 0.0, max_displacement = 0.0;
-  Index max_displacement_node = kNoIndex;
-  auto write_history = [&](std::size_t si) {
-    if (solver.time() == last_history) return;
-    last_history = solver.time();
-    const auto& e = solver.energy();
-    double umax = 0.0, vmax = 0.0;
-    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
-      const double u = model.nodes.u[i].norm();
-      if (u > umax) umax = u;
-      vmax = std::max(vmax, model.nodes.v[i].norm());
-      if (u > max_displacement) {
-        max_displacement = u;
-        max_displacement_node = static_cast<Index>(i);
-      }
-    }
-    max_balance = std::max(max_balance, e.balance_error());
-    history.append({solver.time(), static_cast<double>(si), e.kinetic, e.strain, e.gravity_potential, e.external_work,
-                    e.damping_dissipated, e.plastic_dissipated, e.balance_error(), umax, vmax});
-  };
-
-  nlohmann::ordered_json stages = nlohmann::ordered_json::array();
-  double stage_end = 0.0, next_field = 0.0, next_history = 0.0;
-  auto last_progress = Clock::now();
-  long steps_at_progress = 0;
-  std::string stopped_why;
-  try {
-    for (std::size_t si = 0; si < sc.stages.size(); ++si) {
-      const io::StageSpec& stage = sc.stages[si];
-      apply_stage_3d(solver, stage, prepared, prepared.gravity, solver.time());
-      if (si == 0) {
-        solver.initialise();
-        write_fields();
-        write_history(0);
-        next_field = sc.output.field_interval;
-        next_history = sc.output.history_interval;
-      }
-      stage_end += stage.duration;
-      log->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s{}", si + 1, stage.name, stage.duration,
-                stage_end, stage.damping.alpha, stage.damping.beta, stage.earthquake ? ", earthquake" : "");
-      double peak_kinetic = 0.0;
-      const double stage_start = solver.time();
-      const long steps_before = solver.step_count();
-      bool at_rest = false;
-      while (solver.time() < stage_end - 0.5 * prepared.dt) {
-        if (options.stop_signal && *options.stop_signal) break;
-        solver.step();
-        const double t = solver.time();
-        if (t >= next_history - 0.5 * prepared.dt) {
-          write_history(si);
-          next_history += sc.output.history_interval;
-        }
-        if (t >= next_field - 0.5 * prepared.dt) {
-          write_fields();
-          next_field += sc.output.field_interval;
-        }
-        const double ek = solver.kinetic_energy();
-        peak_kinetic = std::max(peak_kinetic, ek);
-        if (stage.stop_kinetic_ratio > 0.0 && t - stage_start > 0.05 * stage.duration &&
-            ek < stage.stop_kinetic_ratio * peak_kinetic) {
-          log->info("stage '{}' at rest at t = {:.4g} s (kinetic energy below {} of its peak)", stage.name, t,
-                    stage.stop_kinetic_ratio);
-          at_rest = true;
-          break;
-        }
-        const auto now = Clock::now();
-        const double since = std::chrono::duration<double>(now - last_progress).count();
-        if (since >= sc.output.progress_interval) {
-          const double rate = static_cast<double>(solver.step_count() - steps_at_progress) / since;
-          log->info("[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  energy balance {:.2e}", stage.name, t,
-                    sc.end_time(), rate, human_time((sc.end_time() - t) / prepared.dt / rate),
-                    solver.energy().balance_error());
-          last_progress = now;
-          steps_at_progress = solver.step_count();
-        }
-      }
-      stages.push_back({{"name", stage.name},
-                        {"end_time_s", solver.time()},
-                        {"steps", solver.step_count() - steps_before},
-                        {"at_rest", at_rest}});
-      if (options.stop_signal && *options.stop_signal) break;
-    }
-  } catch (const solver::InstabilityError& e) {
-    stopped_why = e.what();
-    log->error("run stopped: {}", e.what());
-  }
-  write_history(sc.stages.empty() ? 0 : sc.stages.size() - 1);
-  write_fields();
-  history.close();
-  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  const Model3& model = prepared.model;
   // The plane run's keys where they mean the same (run/summary.cpp), energies in J.
   nlohmann::ordered_json summary;
   summary["title"] = sc.title;
@@ -355,14 +288,23 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
   summary["dt_controlled_by"] = fmt::format("tetrahedron {} (its smallest altitude over cp; stable step {:.6g} s)",
                                             prepared.controlling_tetrahedron, prepared.stable_dt);
   summary["end_time_s"] = solver.time();
-  summary["threads"] = options.threads;
-  summary["wall_time_s"] = wall;
+  summary["threads"] = facts.threads;
+  summary["wall_time_s"] = facts.wall_time_s;
+  summary["wall_time_total_s"] = facts.wall_time_before_s + facts.wall_time_s;
+  const long steps_run = solver.step_count() - facts.first_step;
   summary["element_steps_per_s"] =
-      wall > 0.0 ? static_cast<double>(model.tetrahedra.size()) * static_cast<double>(solver.step_count()) / wall : 0.0;
-  summary["energy_balance_error"] = max_balance;
-  summary["completed"] = stopped_why.empty() && !(options.stop_signal && *options.stop_signal);
-  if (!stopped_why.empty()) summary["stopped"] = stopped_why;
-  summary["stages"] = stages;
+      facts.loop_time_s > 0.0
+          ? static_cast<double>(model.tetrahedra.size()) * static_cast<double>(steps_run) / facts.loop_time_s
+          : 0.0;
+  if (!facts.restarted_from.empty()) {
+    summary["restarted_from"] = facts.restarted_from;
+    summary["restart_step"] = facts.first_step;
+  }
+  summary["checkpoint"] = facts.checkpoint;
+  summary["energy_balance_error"] = facts.max_balance_error;
+  summary["completed"] = facts.completed;
+  if (facts.stopped_by) summary["stopped_by_signal"] = facts.stopped_by;
+  if (facts.stopped_at_step) summary["stopped_at_step"] = solver.step_count();
   const auto& e = solver.energy();
   summary["final_energies"] = {{"unit", "J"},
                                {"kinetic", e.kinetic},
@@ -371,22 +313,39 @@ RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) {
                                {"external_work", e.external_work},
                                {"damping_dissipated", e.damping_dissipated},
                                {"plastic_dissipated", e.plastic_dissipated}};
-  nlohmann::ordered_json umax = {{"value_m", max_displacement}};
-  if (max_displacement_node != kNoIndex) {
-    const Vec3 X = model.nodes.X[static_cast<std::size_t>(max_displacement_node)];
+  nlohmann::ordered_json umax = {{"value_m", outputs.max_displacement()}};
+  if (const Index node = outputs.max_displacement_node(); node != kNoIndex) {
+    const Vec3 X = model.nodes.X[static_cast<std::size_t>(node)];
     umax["at_m"] = {X.x(), X.y(), X.z()};
   }
   summary["max_displacement"] = umax;
-  io::write_json_file(out / "summary.json", summary);
-  log->info("{} steps in {:.1f} s; largest energy balance error {:.2e}", solver.step_count(), wall, max_balance);
-  if (!stopped_why.empty()) throw std::runtime_error(fmt::format("the run went unstable: {}", stopped_why));
-  RunResult result;
-  result.steps = solver.step_count();
-  result.wall_time_s = wall;
-  result.energy_balance_error = max_balance;
-  result.summary_path = (out / "summary.json").string();
-  result.stopped_by_signal = options.stop_signal ? static_cast<int>(*options.stop_signal) : 0;
-  return result;
+  nlohmann::ordered_json gj = nlohmann::ordered_json::array();
+  for (std::size_t gi = 0; gi < prepared.gauges.size(); ++gi) {
+    const solver::Gauge3& g = prepared.gauges[gi];
+    const Vec3 u = solver::gauge_value(model, g, model.nodes.u);
+    gj.push_back({{"name", g.name},
+                  {"at_m", {g.at.x(), g.at.y(), g.at.z()}},
+                  {"max_displacement_m", gauges[gi].max_disp},
+                  {"peak_velocity_mps", gauges[gi].max_speed},
+                  {"time_of_peak_velocity_s", gauges[gi].time_of_max_speed},
+                  {"final_displacement_m", {u.x(), u.y(), u.z()}}});
+  }
+  summary["gauges"] = gj;
+  return summary;
+}
+
+nlohmann::ordered_json make_diagnosis_3d(const solver::InstabilityError& e, const solver::Solver3& solver,
+                                         const PreparedRun3& prepared) {
+  return {{"kind", e.kind},
+          {"message", std::string(e.what())},
+          {"entity", e.kind == "inverted_element" ? "element" : "model"},
+          {"id", e.id},
+          {"position_m", {e.position.x(), e.position.y(), e.z}},
+          {"step", e.step},
+          {"time_s", e.time},
+          {"dt_s", solver.dt()},
+          {"stable_dt_s", prepared.stable_dt},
+          {"stable_dt_controlled_by", fmt::format("tetrahedron {}", prepared.controlling_tetrahedron)}};
 }
 
 }  // namespace dsdem::run

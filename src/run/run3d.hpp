@@ -10,6 +10,7 @@
 #include "run/runner.hpp"
 #include "seismic/accelerogram.hpp"
 #include "solver/continuum3d.hpp"
+#include "solver/gauges.hpp"
 
 namespace dsdem::run {
 
@@ -17,6 +18,7 @@ struct PreparedRun3 {
   io::Scenario scenario;
   Model3 model;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // m/s^2
+  std::vector<solver::Gauge3> gauges;  // output.gauges, located in the tetrahedra
   double stable_dt = 0.0;  // s: the smallest altitude over cp (docs/theory.md §2)
   Index controlling_tetrahedron = kNoIndex;  // the tetrahedron with that smallest step
   double dt = 0.0;         // s: the step of the run
@@ -44,9 +46,14 @@ std::string check_report_3d(const PreparedRun3& prepared);
 void apply_stage_3d(solver::Solver3& s, const io::StageSpec& stage, const PreparedRun3& p, const Vec3& gravity,
                     double start_time);
 
-// Runs every stage and writes OUT/{fields.pvd, fields/, history.csv, summary.json, dsdem.log}.
-// A run that goes unstable writes its last fields, history and summary (with the diagnosis)
-// and throws.
+// Runs every stage and writes OUT/{fields.pvd, fields/, history.csv, summary.json,
+// checkpoint.h5, dsdem.log} (run/runner.hpp: the plane run's runner, checkpoints and
+// restart). A run that goes unstable writes its last fields and history and
+// OUT/diagnosis.json, and throws solver::InstabilityError.
 RunResult run_3d(PreparedRun3& prepared, const RunOptions& options);
+
+// The parts of the runner that differ from the plane run's.
+std::string time_step_log_line(const PreparedRun3& prepared);
+std::size_t estimate_output_bytes(const PreparedRun3& prepared, bool write_fields = true);
 
 }  // namespace dsdem::run

@@ -22,6 +22,8 @@
 #include "io/checkpoint.hpp"
 #include "io/json_file.hpp"
 #include "run/outputs.hpp"
+#include "run/outputs3d.hpp"
+#include "run/run3d.hpp"
 #include "run/restart.hpp"
 #include "run/stage.hpp"
 #include "run/summary.hpp"
@@ -64,7 +66,8 @@ void warn_of_fast_water(spdlog::logger& log, const WaterWatch& water, double c0)
 
 // Before step 0: the output directory must exist or be creatable, be writable and have
 // room for the results. Bad output settings are bad input (exit code 2); nothing is written.
-void check_output_dir(const fs::path& out, const PreparedRun& prepared, bool write_fields) {
+template <class Prepared>
+void check_output_dir(const fs::path& out, const Prepared& prepared, bool write_fields) {
   try {
     io::ensure_writable_directory(out);
   } catch (const std::exception& e) {
@@ -97,11 +100,39 @@ void keep_mesh(const fs::path& out, const PreparedRun& prepared) {
   }
 }
 
+// The prepared run, solver and outputs of each dimension: the runner is the same.
+template <int D>
+struct RunParts;
+template <>
+struct RunParts<2> {
+  using Prepared = PreparedRun;
+  using SolverT = solver::Solver;
+  using Outputs = RunOutputs;
+};
+template <>
+struct RunParts<3> {
+  using Prepared = PreparedRun3;
+  using SolverT = solver::Solver3;
+  using Outputs = RunOutputs3;
+};
+
+// The solver set up for a stage that starts at start_time (run/stage.hpp, run/run3d.hpp).
+void set_up_stage(solver::Solver& s, const io::StageSpec& stage, PreparedRun& p, double start_time) {
+  apply_stage(s, stage, p.scenario, p.dt, start_time, &p);
+}
+void set_up_stage(solver::Solver3& s, const io::StageSpec& stage, PreparedRun3& p, double start_time) {
+  apply_stage_3d(s, stage, p, p.gravity, start_time);
+}
+
 // One run: its solver, outputs, log and the state a checkpoint keeps, from the set-up
 // through the stage loop to the summary.
+template <int D>
 class Runner {
  public:
-  Runner(PreparedRun& prepared, const RunOptions& options);
+  using Prepared = typename RunParts<D>::Prepared;
+  using SolverT = typename RunParts<D>::SolverT;
+  using Outputs = typename RunParts<D>::Outputs;
+  Runner(Prepared& prepared, const RunOptions& options);
   RunResult run();
 
  private:
@@ -123,6 +154,7 @@ class Runner {
   void save_checkpoint();
   void on_instability(const solver::InstabilityError& e);
   RunResult finish();
+  void warn_about_water(const RunFacts& facts);
   void write_last_state();
   void log_end(bool completed, double wall, double max_balance_error);
   // `dsdem run SCENARIO --set ... --restart CHECKPOINT`: the run continued as it was set up.
@@ -130,7 +162,7 @@ class Runner {
     return "dsdem run " + sc_.file + shell_sets(sc_.overrides) + " --restart " + checkpoint_path_.string();
   }
 
-  PreparedRun& prepared_;
+  Prepared& prepared_;
   const RunOptions& options_;
   const io::Scenario& sc_;
   const Clock::time_point wall_start_;
@@ -147,8 +179,8 @@ class Runner {
   bool resume_inside_stage_ = false;
   std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink_;
   std::shared_ptr<spdlog::logger> log_;
-  std::optional<solver::Solver> solver_;
-  std::optional<RunOutputs> outputs_;
+  std::optional<SolverT> solver_;
+  std::optional<Outputs> outputs_;
   bool tty_ = false;
   Clock::time_point loop_start_, last_progress_, last_checkpoint_;
   long steps_at_last_progress_ = 0, first_step_ = 0;
@@ -158,7 +190,8 @@ class Runner {
   std::size_t excluded_logged_ = 0;  // water particles taken out so far whose exclusion was logged
 };
 
-Runner::Runner(PreparedRun& prepared, const RunOptions& options)
+template <int D>
+Runner<D>::Runner(Prepared& prepared, const RunOptions& options)
     : prepared_(prepared),
       options_(options),
       sc_(prepared.scenario),
@@ -169,9 +202,10 @@ Runner::Runner(PreparedRun& prepared, const RunOptions& options)
   threads_ = omp_get_max_threads();
 }
 
-RunResult Runner::run() {
+template <int D>
+RunResult Runner<D>::run() {
   check_output_dir(out_, prepared_, options_.write_fields);
-  keep_mesh(out_, prepared_);
+  if constexpr (D == 2) keep_mesh(out_, prepared_);
   open_restart();
   open_log();
   start_solver();
@@ -188,7 +222,8 @@ RunResult Runner::run() {
 
 // The checkpoint must come from this model and time step. Resuming in the checkpoint's
 // own directory continues its files; elsewhere new files start at the checkpoint's time.
-void Runner::open_restart() {
+template <int D>
+void Runner<D>::open_restart() {
   if (options_.restart_from.empty()) return;
   const fs::path ckpt(options_.restart_from);
   try {
@@ -204,7 +239,8 @@ void Runner::open_restart() {
 }
 
 // Log: file always, terminal unless quiet.
-void Runner::open_log() {
+template <int D>
+void Runner<D>::open_log() {
   file_sink_ = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out_ / "dsdem.log").string(), !continue_files_);
   std::vector<spdlog::sink_ptr> sinks{file_sink_};
   if (!options_.quiet) sinks.push_back(std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
@@ -212,22 +248,30 @@ void Runner::open_log() {
   log_->set_pattern("[%H:%M:%S] %v");
   log_->flush_on(spdlog::level::info);
 
-  const Model& model = prepared_.model;
+  const auto& model = prepared_.model;
   log_->info("dsdem {} ({}), {} threads", DSDEM_VERSION, DSDEM_GIT_COMMIT, threads_);
-  for (const auto& line : prepared_.build_log)
-    log_->log(static_cast<spdlog::level::level_enum>(line.level), "{}", line.text);
-  log_->info("scenario {}: {} nodes, {} triangles, {} joints", sc_.file, model.nodes.size(), model.triangles.size(),
-             model.joints.size());
+  if constexpr (D == 2) {
+    for (const auto& line : prepared_.build_log)
+      log_->log(static_cast<spdlog::level::level_enum>(line.level), "{}", line.text);
+    log_->info("scenario {}: {} nodes, {} triangles, {} joints", sc_.file, model.nodes.size(), model.triangles.size(),
+               model.joints.size());
+  } else {
+    log_->info("scenario {}: 3D continuum, {} nodes, {} tetrahedra", sc_.file, model.nodes.size(),
+               model.tetrahedra.size());
+  }
   log_->info("{}", time_step_log_line(prepared_));
 }
 
-void Runner::start_solver() {
+template <int D>
+void Runner<D>::start_solver() {
   solver_.emplace(prepared_.model);
-  install_time_step_rule(*solver_, prepared_);
-  // Stress and strain are needed by the field frames and the checkpoint only: computed
-  // there (write_fields; Solver::save) instead of every step, and not kept in between.
-  solver_->set_stress_on_demand(true);
-  if (prepared_.moving_water) start_moving_water();
+  if constexpr (D == 2) {
+    install_time_step_rule(*solver_, prepared_);
+    // Stress and strain are needed by the field frames and the checkpoint only: computed
+    // there (write_fields; Solver::save) instead of every step, and not kept in between.
+    solver_->set_stress_on_demand(true);
+    if (prepared_.moving_water) start_moving_water();
+  }
   try {
     outputs_.emplace(prepared_, *solver_, out_, options_.write_fields, continue_files_ ? &state_ : nullptr,
                      checkpoint_ ? &state_ : nullptr);
@@ -244,7 +288,8 @@ void Runner::start_solver() {
 }
 
 // The reservoir's water on the solver; settled first unless a checkpoint will set its state.
-void Runner::start_moving_water() {
+template <int D>
+void Runner<D>::start_moving_water() {
   const MovingWaterLayout& w = *prepared_.moving_water;
   // A small body of water is not worth a thread team: its loops are shorter than a
   // barrier, and a partner thread descheduled on a busy machine stalls every one of them.
@@ -263,15 +308,17 @@ void Runner::start_moving_water() {
 
 // Each stage's supports, viscous boundary and earthquake as the original run set them (at
 // their own start times), then the saved state over them.
-void Runner::resume() {
-  solver::Solver& solver = *solver_;
+template <int D>
+void Runner<D>::resume() {
+  SolverT& solver = *solver_;
   for (std::size_t si = 0; si < state_.stage_starts.size(); ++si) {
-    apply_stage(solver, sc_.stages[si], sc_, prepared_.dt, state_.stage_starts[si], &prepared_);
+    set_up_stage(solver, sc_.stages[si], prepared_, state_.stage_starts[si]);
     if (si == 0) solver.initialise();
   }
   solver.restore(*checkpoint_);
   checkpoint_.reset();
-  if (const sph::Fluid* fluid = solver.moving_water()) excluded_logged_ = fluid->excluded().size();  // logged before
+  if constexpr (D == 2)
+    if (const sph::Fluid* fluid = solver.moving_water()) excluded_logged_ = fluid->excluded().size();  // logged before
   log_->info("restarted from {} at step {}, t = {:.6g} s, {} stage {} '{}'", options_.restart_from, solver.step_count(),
              solver.time(), resume_inside_stage_ ? "in" : "at the start of", resume_stage_ + 1,
              sc_.stages[resume_stage_].name);
@@ -281,17 +328,19 @@ void Runner::resume() {
   }
 }
 
-void Runner::run_stages() {
+template <int D>
+void Runner<D>::run_stages() {
   for (std::size_t si = state_.stage; si < sc_.stages.size(); ++si) {
     run_stage(si);
     if (stopped_early(sc_.stages[si])) break;
   }
 }
 
-void Runner::enter_stage(std::size_t si) {
-  solver::Solver& solver = *solver_;
+template <int D>
+void Runner<D>::enter_stage(std::size_t si) {
+  SolverT& solver = *solver_;
   const io::StageSpec& stage = sc_.stages[si];
-  apply_stage(solver, stage, sc_, prepared_.dt, solver.time(), &prepared_);
+  set_up_stage(solver, stage, prepared_, solver.time());
   state_.stage = si;
   state_.stage_starts.push_back(solver.time());
   if (si == 0) {
@@ -303,24 +352,30 @@ void Runner::enter_stage(std::size_t si) {
   }
   state_.stage_end += stage.duration;
   state_.peak_kinetic = 0.0;
-  log_->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s, joints {}", si + 1, stage.name,
-             stage.duration, state_.stage_end, stage.damping.alpha, stage.damping.beta,
-             stage.failure ? "may break" : "elastic (no failure)");
+  if constexpr (D == 2)
+    log_->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s, joints {}", si + 1, stage.name,
+               stage.duration, state_.stage_end, stage.damping.alpha, stage.damping.beta,
+               stage.failure ? "may break" : "elastic (no failure)");
+  else
+    log_->info("stage {} '{}': {} s to t = {} s, alpha = {} 1/s, beta = {} s{}", si + 1, stage.name, stage.duration,
+               state_.stage_end, stage.damping.alpha, stage.damping.beta, stage.earthquake ? ", earthquake" : "");
 }
 
-void Runner::run_stage(std::size_t si) {
+template <int D>
+void Runner<D>::run_stage(std::size_t si) {
   if (!(resume_inside_stage_ && si == resume_stage_)) enter_stage(si);
   const io::StageSpec& stage = sc_.stages[si];
   // Stop within half a step of the stage end.
-  while (solver_->time() < state_.stage_end - 0.5 * solver_->settings().dt) {
+  while (solver_->time() < state_.stage_end - 0.5 * solver_->dt()) {
     if (options_.stop_signal && *options_.stop_signal) break;
     if (!step(stage, si)) break;
   }
 }
 
 // One step and what follows it. False: the stage ends here (at rest, or --stop-at-step).
-bool Runner::step(const io::StageSpec& stage, std::size_t si) {
-  solver::Solver& solver = *solver_;
+template <int D>
+bool Runner<D>::step(const io::StageSpec& stage, std::size_t si) {
+  SolverT& solver = *solver_;
   solver.step();
   outputs_->update_gauge_stats(state_.gauges);
   const double t = solver.time();
@@ -343,43 +398,53 @@ bool Runner::step(const io::StageSpec& stage, std::size_t si) {
   return true;
 }
 
-void Runner::write_due_outputs(std::size_t si, double t) {
-  const solver::Solver& solver = *solver_;
-  if (t >= state_.next_history - 0.5 * solver.settings().dt) {
+template <int D>
+void Runner<D>::write_due_outputs(std::size_t si, double t) {
+  const SolverT& solver = *solver_;
+  if (t >= state_.next_history - 0.5 * solver.dt()) {
     outputs_->write_history(static_cast<int>(si));
     log_excluded_water();
     state_.next_history += sc_.output.history_interval;
     state_.max_balance_error = std::max(state_.max_balance_error, solver.energy().balance_error());
   }
-  if (t >= state_.next_field - 0.5 * solver.settings().dt) {
+  if (t >= state_.next_field - 0.5 * solver.dt()) {
     outputs_->write_fields();
     state_.next_field += sc_.output.field_interval;
   }
 }
 
 // The stage's kinetic energy fell below stop_kinetic_ratio of its peak (after its first 5 %).
-bool Runner::at_rest(const io::StageSpec& stage, double t) const {
+template <int D>
+bool Runner<D>::at_rest(const io::StageSpec& stage, double t) const {
   return stage.stop_kinetic_ratio > 0 && solver_->kinetic_energy() < stage.stop_kinetic_ratio * state_.peak_kinetic &&
          t > 0.05 * stage.duration + (state_.stage_end - stage.duration);
 }
 
-bool Runner::checkpoint_due(Clock::time_point now) const {
+template <int D>
+bool Runner<D>::checkpoint_due(Clock::time_point now) const {
   const auto& o = sc_.output;
   return (o.checkpoint_steps > 0 && solver_->step_count() % o.checkpoint_steps == 0) ||
          (o.checkpoint_interval > 0 &&
           std::chrono::duration<double>(now - last_checkpoint_).count() >= o.checkpoint_interval);
 }
 
-void Runner::report_progress(const io::StageSpec& stage, double t, Clock::time_point now) {
-  const solver::Solver& solver = *solver_;
+template <int D>
+void Runner<D>::report_progress(const io::StageSpec& stage, double t, Clock::time_point now) {
+  const SolverT& solver = *solver_;
   const double rate =
       (solver.step_count() - steps_at_last_progress_) / std::chrono::duration<double>(now - last_progress_).count();
-  const double eta = (sc_.end_time() - t) / solver.settings().dt / rate;
-  const std::string line = fmt::format(
-      "[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  dt {:.4g} s  broken joints {}  contacts {}  energy "
-      "balance {:.2e}",
-      stage.name, t, sc_.end_time(), rate, human_time(eta), solver.settings().dt, solver.broken_joints(),
-      solver.active_contacts(), solver.energy().balance_error());
+  const double eta = (sc_.end_time() - t) / solver.dt() / rate;
+  std::string line;
+  if constexpr (D == 2)
+    line = fmt::format(
+        "[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  dt {:.4g} s  broken joints {}  contacts {}  energy "
+        "balance {:.2e}",
+        stage.name, t, sc_.end_time(), rate, human_time(eta), solver.dt(), solver.broken_joints(),
+        solver.active_contacts(), solver.energy().balance_error());
+  else
+    line = fmt::format("[{}] t = {:.4g} / {:.4g} s  {:.0f} steps/s  ETA {}  dt {:.4g} s  energy balance {:.2e}",
+                       stage.name, t, sc_.end_time(), rate, human_time(eta), solver.dt(),
+                       solver.energy().balance_error());
   if (tty_)
     fmt::print(stderr, "\r{:<100}", line);
   else if (!options_.quiet)
@@ -391,8 +456,9 @@ void Runner::report_progress(const io::StageSpec& stage, double t, Clock::time_p
 }
 
 // A signal or --stop-at-step ended the stage: a checkpoint to continue from.
-bool Runner::stopped_early(const io::StageSpec& stage) {
-  const solver::Solver& solver = *solver_;
+template <int D>
+bool Runner<D>::stopped_early(const io::StageSpec& stage) {
+  const SolverT& solver = *solver_;
   if (options_.stop_signal && *options_.stop_signal) {
     stopped_by_ = static_cast<int>(*options_.stop_signal);
     if (tty_) fmt::print(stderr, "\n");
@@ -414,7 +480,8 @@ bool Runner::stopped_early(const io::StageSpec& stage) {
 
 // The history on disk holds exactly the rows counted in the checkpoint: a resumed run
 // keeps that many rows and appends after them. (Solver::save computes the stress it writes.)
-void Runner::save_checkpoint() {
+template <int D>
+void Runner<D>::save_checkpoint() {
   log_excluded_water();  // before the checkpoint marks them as logged for a restart
   outputs_->record_counts(state_);
   state_.time = solver_->time();
@@ -428,42 +495,50 @@ void Runner::save_checkpoint() {
 
 // Each water particle taken out of the water since the last call (sph::Fluid::excluded), the
 // first twenty one by one.
-void Runner::log_excluded_water() {
-  const sph::Fluid* fluid = solver_->moving_water();
-  if (!fluid) return;
-  constexpr std::size_t kOneByOne = 20;
-  const auto excluded = fluid->excluded();
-  const double c0 = fluid->parameters().c0, limit = fluid->parameters().excluded_limit;
-  const double settle = sc_.reservoir.sph.settle;  // the water's clock ran through its settle before step 0
-  const std::size_t allowed = fluid->excluded_capacity();
-  for (; excluded_logged_ < std::min(excluded.size(), kOneByOne); ++excluded_logged_) {
-    const sph::Fluid::ExcludedParticle& x = excluded[excluded_logged_];
-    const std::string when = x.time < settle ? fmt::format("in the settle, {:.6g} s before step 0", settle - x.time)
-                                             : fmt::format("at t = {:.6g} s", x.time - settle);
-    log_->warn("water particle {} taken out of the water {} at ({:.6g}, {:.6g}) m: {:.4g} m/s (c0 = {:.4g} m/s), "
-               "density {:.5g} kg/m^3; {} of the {} reservoir.sph.excluded_limit = {:.4g} allows (summary.json "
-               "moving_water.excluded)",
-               x.id, when, x.x, x.y, x.speed, c0, x.density, excluded_logged_ + 1, allowed, limit);
-  }
-  if (excluded.size() > excluded_logged_) {
-    log_->warn("{} more water particles taken out of the water by t = {:.6g} s, {} of the {} allowed (summary.json "
-               "moving_water.excluded)",
-               excluded.size() - excluded_logged_, excluded.back().time - settle, excluded.size(), allowed);
-    excluded_logged_ = excluded.size();
+template <int D>
+void Runner<D>::log_excluded_water() {
+  if constexpr (D == 3) return;  // no water in 3D yet
+  else {
+    const sph::Fluid* fluid = solver_->moving_water();
+    if (!fluid) return;
+    constexpr std::size_t kOneByOne = 20;
+    const auto excluded = fluid->excluded();
+    const double c0 = fluid->parameters().c0, limit = fluid->parameters().excluded_limit;
+    const double settle = sc_.reservoir.sph.settle;  // the water's clock ran through its settle before step 0
+    const std::size_t allowed = fluid->excluded_capacity();
+    for (; excluded_logged_ < std::min(excluded.size(), kOneByOne); ++excluded_logged_) {
+      const sph::Fluid::ExcludedParticle& x = excluded[excluded_logged_];
+      const std::string when = x.time < settle ? fmt::format("in the settle, {:.6g} s before step 0", settle - x.time)
+                                               : fmt::format("at t = {:.6g} s", x.time - settle);
+      log_->warn("water particle {} taken out of the water {} at ({:.6g}, {:.6g}) m: {:.4g} m/s (c0 = {:.4g} m/s), "
+                 "density {:.5g} kg/m^3; {} of the {} reservoir.sph.excluded_limit = {:.4g} allows (summary.json "
+                 "moving_water.excluded)",
+                 x.id, when, x.x, x.y, x.speed, c0, x.density, excluded_logged_ + 1, allowed, limit);
+    }
+    if (excluded.size() > excluded_logged_) {
+      log_->warn("{} more water particles taken out of the water by t = {:.6g} s, {} of the {} allowed (summary.json "
+                 "moving_water.excluded)",
+                 excluded.size() - excluded_logged_, excluded.back().time - settle, excluded.size(), allowed);
+      excluded_logged_ = excluded.size();
+    }
   }
 }
 
 // The diagnosis first (it must survive whatever follows), then the last state.
-void Runner::on_instability(const solver::InstabilityError& e) {
+template <int D>
+void Runner<D>::on_instability(const solver::InstabilityError& e) {
   if (tty_) fmt::print(stderr, "\n");
   log_excluded_water();
   log_->error("run stopped: {}", e.what());
-  io::write_json_file(out_ / "diagnosis.json", make_diagnosis(e, *solver_, prepared_));
+  if constexpr (D == 2)
+    io::write_json_file(out_ / "diagnosis.json", make_diagnosis(e, *solver_, prepared_));
+  else
+    io::write_json_file(out_ / "diagnosis.json", make_diagnosis_3d(e, *solver_, prepared_));
   try {
     outputs_->write_fields();
     outputs_->write_history(-1);
     outputs_->close_history();
-    outputs_->write_crack_log();
+    if constexpr (D == 2) outputs_->write_crack_log();
   } catch (const std::exception& w) {
     log_->error("could not write the last state: {}", w.what());
   }
@@ -471,9 +546,10 @@ void Runner::on_instability(const solver::InstabilityError& e) {
 }
 
 // The last state, unless just written.
-void Runner::write_last_state() {
-  const solver::Solver& solver = *solver_;
-  const double half_step = 0.5 * solver.settings().dt;
+template <int D>
+void Runner<D>::write_last_state() {
+  const SolverT& solver = *solver_;
+  const double half_step = 0.5 * solver.dt();
   if (outputs_->field_frames() == 0 ||
       std::abs(state_.next_field - sc_.output.field_interval - solver.time()) > half_step)
     outputs_->write_fields();
@@ -482,32 +558,9 @@ void Runner::write_last_state() {
     outputs_->write_history(static_cast<int>(std::min(state_.stage, sc_.stages.size() - 1)));
 }
 
-RunResult Runner::finish() {
-  const solver::Solver& solver = *solver_;
-  if (tty_) fmt::print(stderr, "\n");
-  write_last_state();
-  log_excluded_water();
-  const bool completed = stopped_by_ == 0 && !stopped_at_step_;
-  if (completed) {
-    // The end state, for a later continuation with added stages.
-    state_.stage = sc_.stages.size();
-    save_checkpoint();
-  }
-  outputs_->close_history();
-  const double max_balance_error = std::max(state_.max_balance_error, solver.energy().balance_error());
-
-  const double wall = seconds_since(wall_start_);
-  RunFacts facts;
-  facts.threads = threads_;
-  facts.wall_time_s = wall;
-  facts.loop_time_s = seconds_since(loop_start_);
-  facts.wall_time_before_s = wall_before_;
-  facts.first_step = first_step_;
-  if (resumed_) facts.restarted_from = options_.restart_from;
-  facts.checkpoint = checkpoint_path_.string();
-  facts.fragments = outputs_->fragments();
-  facts.energy_unit = outputs_->energy_unit();
-  facts.water = outputs_->water_watch();
+// What the moving water's measurements say the user should know (plane runs).
+template <int D>
+void Runner<D>::warn_about_water(const RunFacts& facts) {
   if (facts.water && facts.water->escaped_particles() > 0)
     log_->warn("{} water particles left the model's box: the reservoir leaks through a gap in the solid or over its "
                "edge (summary.json moving_water.escaped_particles)",
@@ -530,13 +583,48 @@ RunResult Runner::finish() {
                    "run would tell (summary.json moving_water.runup.{})",
                    r.name, r.peak.t, r.name);
   if (facts.water && prepared_.moving_water) warn_of_fast_water(*log_, *facts.water, prepared_.moving_water->parameters.c0);
+}
+
+template <int D>
+RunResult Runner<D>::finish() {
+  const SolverT& solver = *solver_;
+  if (tty_) fmt::print(stderr, "\n");
+  write_last_state();
+  log_excluded_water();
+  const bool completed = stopped_by_ == 0 && !stopped_at_step_;
+  if (completed) {
+    // The end state, for a later continuation with added stages.
+    state_.stage = sc_.stages.size();
+    save_checkpoint();
+  }
+  outputs_->close_history();
+  const double max_balance_error = std::max(state_.max_balance_error, solver.energy().balance_error());
+
+  const double wall = seconds_since(wall_start_);
+  RunFacts facts;
+  facts.threads = threads_;
+  facts.wall_time_s = wall;
+  facts.loop_time_s = seconds_since(loop_start_);
+  facts.wall_time_before_s = wall_before_;
+  facts.first_step = first_step_;
+  if (resumed_) facts.restarted_from = options_.restart_from;
+  facts.checkpoint = checkpoint_path_.string();
   facts.max_balance_error = max_balance_error;
   facts.completed = completed;
   facts.stopped_by = stopped_by_;
   facts.stopped_at_step = stopped_at_step_;
-  facts.slide_impact = outputs_->slide_impact();
-  const nlohmann::ordered_json summary = make_summary(prepared_, solver, state_.gauges, facts);
-  outputs_->write_crack_log();
+  nlohmann::ordered_json summary;
+  if constexpr (D == 2) {
+    facts.fragments = outputs_->fragments();
+    facts.energy_unit = outputs_->energy_unit();
+    facts.water = outputs_->water_watch();
+    warn_about_water(facts);
+    facts.slide_impact = outputs_->slide_impact();
+    summary = make_summary(prepared_, solver, state_.gauges, facts);
+    outputs_->write_crack_log();
+  } else {
+    summary = make_summary_3d(prepared_, solver, *outputs_, state_.gauges, facts);
+  }
   io::write_json_file(out_ / "summary.json", summary);
   log_end(completed, wall, max_balance_error);
   spdlog::drop("dsdem");
@@ -553,8 +641,9 @@ RunResult Runner::finish() {
   return result;
 }
 
-void Runner::log_end(bool completed, double wall, double max_balance_error) {
-  const solver::Solver& solver = *solver_;
+template <int D>
+void Runner<D>::log_end(bool completed, double wall, double max_balance_error) {
+  const SolverT& solver = *solver_;
   if (!completed)
     log_->warn("stopped{}: {} steps in {}; last fields, history and summary in {}; continue with `{}`",
                stopped_by_ ? " by " + signal_name(stopped_by_) : " at step " + std::to_string(solver.step_count()),
@@ -562,20 +651,25 @@ void Runner::log_end(bool completed, double wall, double max_balance_error) {
   else
     log_->info("done: {} steps in {}, energy balance error {:.2e}; results in {}", solver.step_count(),
                human_time(wall), max_balance_error, out_.string());
-  if (solver.has_time_step_rule() && solver.settings().dt != prepared_.dt)
-    log_->info("time step grew from {:.4g} s to {:.4g} s as joints broke; now set by {}", prepared_.dt,
-               solver.settings().dt, step_control(solver, prepared_).controlled_by);
-  // The timed thread choice (Solver::probe_parallel) fell back to one thread for a large
-  // part of the run: say so, or a slow run on a busy machine is a mystery.
-  const long steps_run = solver.step_count() - first_step_;
-  if (threads_ > 1 && steps_run > 0 && solver.serial_steps_chosen() > steps_run / 10)
-    log_->info("{} of the {} steps ({:.0f} %) ran on one thread: timing found the {} threads slower then "
-               "(other busy processes on the machine?)",
-               solver.serial_steps_chosen(), steps_run, 100.0 * solver.serial_steps_chosen() / steps_run, threads_);
+  if constexpr (D == 3) return;  // a fixed step and the solver's own thread timing
+  else {
+    if (solver.has_time_step_rule() && solver.settings().dt != prepared_.dt)
+      log_->info("time step grew from {:.4g} s to {:.4g} s as joints broke; now set by {}", prepared_.dt,
+                 solver.settings().dt, step_control(solver, prepared_).controlled_by);
+    // The timed thread choice (Solver::probe_parallel) fell back to one thread for a large
+    // part of the run: say so, or a slow run on a busy machine is a mystery.
+    const long steps_run = solver.step_count() - first_step_;
+    if (threads_ > 1 && steps_run > 0 && solver.serial_steps_chosen() > steps_run / 10)
+      log_->info("{} of the {} steps ({:.0f} %) ran on one thread: timing found the {} threads slower then "
+                 "(other busy processes on the machine?)",
+                 solver.serial_steps_chosen(), steps_run, 100.0 * solver.serial_steps_chosen() / steps_run, threads_);
+  }
 }
 
 }  // namespace
 
-RunResult run(PreparedRun& prepared, const RunOptions& options) { return Runner(prepared, options).run(); }
+RunResult run(PreparedRun& prepared, const RunOptions& options) { return Runner<2>(prepared, options).run(); }
+
+RunResult run_3d(PreparedRun3& prepared, const RunOptions& options) { return Runner<3>(prepared, options).run(); }
 
 }  // namespace dsdem::run

@@ -10,6 +10,7 @@
 
 #include "run/prepare.hpp"
 #include "run/restart.hpp"
+#include "run/run3d.hpp"
 #include "run/water_watch.hpp"
 #include "solver/solver.hpp"
 
@@ -39,6 +40,15 @@ nlohmann::ordered_json make_summary(const PreparedRun& prepared, const solver::S
 
 nlohmann::ordered_json make_diagnosis(const solver::InstabilityError& e, const solver::Solver& solver,
                                       const PreparedRun& prepared);
+
+// The same for a 3D run (run/run3d.cpp): the plane run's keys where they mean the same,
+// "dimension": 3, energies in J, the largest displacement at a history row.
+class RunOutputs3;
+nlohmann::ordered_json make_summary_3d(const PreparedRun3& prepared, const solver::Solver3& solver,
+                                       const RunOutputs3& outputs, const std::vector<GaugeStats>& gauges,
+                                       const RunFacts& facts);
+nlohmann::ordered_json make_diagnosis_3d(const solver::InstabilityError& e, const solver::Solver3& solver,
+                                         const PreparedRun3& prepared);
 
 // OUT/summary.json of a finished or stopped run, keys in file order. Throws
 // std::runtime_error naming the file.

@@ -347,15 +347,15 @@ void Solver3::check_stability() const {
       const Mat3 F = fem::deformation_gradient(n.x(c[0]), n.x(c[1]), n.x(c[2]), n.x(c[3]), tet.Dm_inv[t]);
       if (F.determinant() > 0.0) continue;
       const Vec3 p = (n.x(c[0]) + n.x(c[1]) + n.x(c[2]) + n.x(c[3])) / 4.0;
-      throw InstabilityError(fmt::format("tetrahedron {} inverted (det F = {:.3g}) at t = {:.6g} s, step {}, at "
+      throw InstabilityError::in_3d(fmt::format("tetrahedron {} inverted (det F = {:.3g}) at t = {:.6g} s, step {}, at "
                                          "({:.6g}, {:.6g}, {:.6g}) m: the step is too large or the mesh too distorted",
                                          t, F.determinant(), time_, step_, p.x(), p.y(), p.z()),
-                             "inverted_element", static_cast<Index>(t), Vec2(p.x(), p.y()), step_, time_);
+                             "inverted_element", static_cast<Index>(t), p, step_, time_);
     }
   }
   if (!std::isfinite(energy_.kinetic) || !std::isfinite(energy_.strain))
-    throw InstabilityError(fmt::format("the state is no longer finite at t = {:.6g} s, step {}", time_, step_),
-                           "non_finite", kNoIndex, Vec2::Zero(), step_, time_);
+    throw InstabilityError::in_3d(fmt::format("the state is no longer finite at t = {:.6g} s, step {}", time_, step_),
+                           "non_finite", kNoIndex, Vec3(Vec3::Zero()), step_, time_);
 }
 
 Vec3 Solver3::reaction_on(std::span<const Index> nodes) const {

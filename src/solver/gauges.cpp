@@ -51,4 +51,44 @@ Vec2 gauge_value(const Model& model, const Gauge& g, const std::vector<Vec2>& fi
   return g.weights[0] * field[c[0]] + g.weights[1] * field[c[1]] + g.weights[2] * field[c[2]];
 }
 
+std::optional<Gauge3> locate_gauge(const Model3& model, const std::string& name, const Vec3& p, double tolerance) {
+  const auto& tet = model.tetrahedra;
+  const auto& X = model.nodes.X;
+  Gauge3 best;
+  best.name = name;
+  best.at = p;
+  double best_outside = std::numeric_limits<double>::infinity();
+  for (std::size_t t = 0; t < tet.size(); ++t) {
+    // The reference edge matrix's inverse maps p - X0 to the weights of corners 1-3.
+    const Vec3 l = tet.Dm_inv[t] * (p - X[tet.conn[t][0]]);
+    const std::array<double, 4> w{1.0 - l.sum(), l.x(), l.y(), l.z()};
+    const double outside = -std::min({w[0], w[1], w[2], w[3]});  // <= 0 inside
+    if (outside < best_outside) {
+      best_outside = outside;
+      best.tetrahedron = static_cast<Index>(t);
+      best.weights = w;
+    }
+    if (outside <= 0.0) break;
+  }
+  if (best.tetrahedron == kNoIndex) return std::nullopt;
+  if (best_outside > 0.0) {
+    // Distance to the nearest tetrahedron: clamp the weights and measure.
+    const auto& c = tet.conn[static_cast<std::size_t>(best.tetrahedron)];
+    std::array<double, 4> w = best.weights;
+    for (auto& x : w) x = std::max(0.0, x);
+    const double s = w[0] + w[1] + w[2] + w[3];
+    for (auto& x : w) x /= s;
+    const Vec3 q = w[0] * X[c[0]] + w[1] * X[c[1]] + w[2] * X[c[2]] + w[3] * X[c[3]];
+    if ((q - p).norm() > tolerance) return std::nullopt;
+    best.weights = w;
+  }
+  return best;
+}
+
+Vec3 gauge_value(const Model3& model, const Gauge3& g, const std::vector<Vec3>& field) {
+  const auto& c = model.tetrahedra.conn[static_cast<std::size_t>(g.tetrahedron)];
+  return g.weights[0] * field[c[0]] + g.weights[1] * field[c[1]] + g.weights[2] * field[c[2]] +
+         g.weights[3] * field[c[3]];
+}
+
 }  // namespace dsdem::solver

@@ -32,9 +32,19 @@ class InstabilityError : public std::runtime_error {
  public:
   InstabilityError(const std::string& what, std::string kind, Index id, Vec2 position, long step, double time)
       : std::runtime_error(what), kind(std::move(kind)), id(id), position(position), step(step), time(time) {}
+  // In a 3D model: the position with its z.
+  static InstabilityError in_3d(const std::string& what, std::string kind, Index id, const Vec3& position, long step,
+                                double time) {
+    InstabilityError e(what, std::move(kind), id, Vec2(position.x(), position.y()), step, time);
+    e.z = position.z();
+    e.three_d = true;
+    return e;
+  }
   std::string kind;  // "inverted_element", "non_finite", "energy_growth", "water_unsound"
   Index id;
   Vec2 position;
+  double z = 0.0;        // m, the position's z in a 3D model
+  bool three_d = false;  // thrown by a 3D model
   long step;
   double time;
 };

@@ -359,3 +359,50 @@ TEST_F(Restart, CompleteRunContinuesWithAnAddedStage) {
 }
 
 }  // namespace
+
+// A 3D run (examples/box3d made coarse and short: a gravity stage on rollers, then a
+// three-component earthquake through viscous springs) stopped in either stage continues
+// from its checkpoint to the files of the run that was never stopped.
+std::string small_box3d() {
+  return example("box3d/scenario.yaml") +
+         " --set mesh.element_size=8 --set stages.0.duration=0.2 --set stages.1.duration=0.25"
+         " --set output.field_interval=0.1 --set output.history_interval=0.01 -q --threads 1";
+}
+
+class Restart3D : public ::testing::TestWithParam<long> {};
+
+TEST_P(Restart3D, AStoppedRunContinuesBitIdenticallyInItsOwnFolder) {
+  static const fs::path reference = [] {
+    const fs::path d = fresh_dir("restart3d_reference");
+    const auto c = run_dsdem("run " + small_box3d() + " -o " + d.string());
+    EXPECT_EQ(c.exit_code, 0) << c.output;
+    return d;
+  }();
+  const long stop = GetParam();
+  const fs::path out = fresh_dir("restart3d_at_" + std::to_string(stop));
+  const auto first = run_dsdem("run " + small_box3d() + " -o " + out.string() + " --stop-at-step " + std::to_string(stop));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_NE(first.output.find("--restart"), std::string::npos) << first.output;
+  const std::string partial = read_text(out / "summary.json");
+  EXPECT_NE(partial.find("\"completed\": false"), std::string::npos) << partial;
+  const auto second = run_dsdem("run " + small_box3d() + " --restart " + (out / "checkpoint.h5").string());
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_NE(read_text(out / "dsdem.log").find("restarted from"), std::string::npos);
+  EXPECT_EQ(read_text(reference / "history.csv"), read_text(out / "history.csv")) << "history.csv differs";
+  EXPECT_EQ(read_text(reference / "fields.pvd"), read_text(out / "fields.pvd")) << "fields.pvd differs";
+  ASSERT_GE(std::distance(fs::directory_iterator(reference / "fields"), fs::directory_iterator{}), 5);
+  for (const auto& e : fs::directory_iterator(reference / "fields"))
+    EXPECT_EQ(read_text(e.path()), read_text(out / "fields" / e.path().filename())) << e.path().filename();
+  const std::string a = read_text(reference / "summary.json"), b = read_text(out / "summary.json");
+  for (const char* key : {"steps", "end_time_s", "energy_balance_error", "value_m"}) {
+    std::smatch ma, mb;
+    ASSERT_TRUE(std::regex_search(a, ma, std::regex("\"" + std::string(key) + "\": [^,\n]+"))) << key;
+    ASSERT_TRUE(std::regex_search(b, mb, std::regex("\"" + std::string(key) + "\": [^,\n]+"))) << key;
+    EXPECT_EQ(ma.str(), mb.str());
+  }
+  EXPECT_NE(b.find("\"restart_step\": " + std::to_string(stop)), std::string::npos) << b;
+  fs::remove_all(out);
+}
+// In the gravity stage (1673 steps; the earthquake stage's springs and record start after the restart)
+// and in the earthquake stage.
+INSTANTIATE_TEST_SUITE_P(Restart, Restart3D, ::testing::Values(300L, 2000L));

@@ -101,7 +101,7 @@ TEST(Scenario, WrongTypeIsReported) {
   const auto e = errors_of(replace(good(), "E: 10.0e9", "E: ten"));
   EXPECT_TRUE(has_error(e, "case.yaml:7:8: materials.rock.E: expected a number in Pa, got 'ten'"));
   const auto e2 = errors_of(replace(good(), "at: [0.5, 1.0]", "at: 3"));
-  EXPECT_TRUE(has_error(e2, "output.gauges[0].at: expected two numbers [x, y] in m"));
+  EXPECT_TRUE(has_error(e2, "output.gauges[0].at: expected [x, y] (a plane model) or [x, y, z] (a 3D model) in m"));
 }
 
 TEST(Scenario, MissingValuesAreReported) {

@@ -85,7 +85,10 @@ TEST(Run3D, ColumnSettlesByTheClosedFormAndWritesItsOutputs) {
   auto mesh = mesh::load_volume_mesh(sc, (dir / "work").string());
   ASSERT_TRUE(mesh.has_value());
   run::PreparedRun3 prepared = run::prepare_run_3d(sc, *mesh);
-  EXPECT_NE(run::check_report_3d(prepared).find("tetrahedra"), std::string::npos);
+  const std::string report = run::check_report_3d(prepared);
+  EXPECT_NE(report.find("tetrahedra"), std::string::npos) << report;
+  EXPECT_NE(report.find("ms per step"), std::string::npos) << report;  // the cost, timed
+  EXPECT_NE(report.find("memory     about"), std::string::npos) << report;
   run::RunOptions options;
   options.output_dir = (dir / "out").string();
   options.quiet = true;
@@ -108,6 +111,51 @@ TEST(Run3D, ColumnSettlesByTheClosedFormAndWritesItsOutputs) {
   EXPECT_TRUE(summary["completed"].get<bool>());
   EXPECT_LT(summary["energy_balance_error"].get<double>(), 1e-3);
   EXPECT_NEAR(summary["max_displacement"]["value_m"].get<double>(), -expected, 0.05 * -expected);
+}
+
+// Gauges at [x, y, z] follow the material point in its tetrahedron: the one at the top of the
+// settling column reads the top's settlement in history.csv and summary.json; one outside the
+// mesh, or at [x, y], is refused with its key.
+TEST(Run3D, AGaugeFollowsItsMaterialPointAndOneOutsideIsRefused) {
+  std::string s = kColumnScenario;
+  s.replace(s.find("output: {field_interval: 1.0, history_interval: 0.1}"), 52,
+            "output:\n  field_interval: 1.0\n  history_interval: 0.1\n  gauges:\n    - {name: top, at: [2, 2, 20]}\n"
+            "    - {name: mid, at: [1, 3, 10]}\n");
+  const fs::path dir = write_case("run3d_gauges", s);
+  const io::Scenario sc = io::load_scenario((dir / "scenario.yaml").string());
+  auto mesh = mesh::load_volume_mesh(sc, (dir / "work").string());
+  ASSERT_TRUE(mesh.has_value());
+  run::PreparedRun3 prepared = run::prepare_run_3d(sc, *mesh);
+  ASSERT_EQ(prepared.gauges.size(), 2u);
+  EXPECT_NE(run::check_report_3d(prepared).find("gauge      top"), std::string::npos);
+  run::RunOptions options;
+  options.output_dir = (dir / "out").string();
+  options.quiet = true;
+  run::run_3d(prepared, options);
+  const double E = 1e8, nu = 0.25, rho = 2000, g = 9.81, H = 20.0;
+  const double M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+  const auto summary = io::read_json_file(dir / "out" / "summary.json");
+  ASSERT_EQ(summary["gauges"].size(), 2u);
+  const auto& top = summary["gauges"][0];
+  EXPECT_EQ(top["name"], "top");
+  // Uniaxial strain: u_z(z) = -rho g (H z - z^2 / 2) / M; at the top rho g H^2 / (2 M), at mid-height 3/4 of it.
+  const double top_closed = -rho * g * H * H / (2.0 * M), mid_closed = 0.75 * top_closed;
+  EXPECT_NEAR(top["final_displacement_m"][2].get<double>() / top_closed, 1.0, 0.02);
+  EXPECT_NEAR(summary["gauges"][1]["final_displacement_m"][2].get<double>() / mid_closed, 1.0, 0.02);
+  EXPECT_NEAR(top["final_displacement_m"][0].get<double>(), 0.0, 1e-3 * -top_closed);  // rollers: no sideways motion
+  EXPECT_GE(top["max_displacement_m"].get<double>(), -top["final_displacement_m"][2].get<double>() * 0.999);
+  // The history has each gauge's columns.
+  std::ifstream h(dir / "out" / "history.csv");
+  std::string header;
+  std::getline(h, header);
+  if (!header.empty() && header[0] == '#') std::getline(h, header);
+  EXPECT_NE(header.find("top_displacement_z"), std::string::npos) << header;
+  EXPECT_NE(header.find("mid_acceleration_x"), std::string::npos) << header;
+  // Outside the mesh, or at [x, y]: refused with the key.
+  const std::string outside = problems(dir, {"output.gauges.1.at=[1, 3, 30]"});
+  EXPECT_NE(outside.find("gauge 'mid' at (1, 3, 30) m lies outside the mesh"), std::string::npos) << outside;
+  const std::string plane = problems(dir, {"output.gauges.1.at=[1, 3]"});
+  EXPECT_NE(plane.find("gauge 'mid': a 3D model's gauge is at [x, y, z]"), std::string::npos) << plane;
 }
 
 // Keys of a plane model in a 3D scenario, and of a 3D model in a plane one, are refused
@@ -138,6 +186,8 @@ TEST(Run3D, KeysOfTheOtherDimensionAreRefusedWithTheirKey) {
   fs::copy(plane.parent_path(), pdir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   const std::string g3 = problems(pdir, {"gravity=[0, 0, -9.81]"});
   EXPECT_NE(g3.find("a plane model (the mesh has no volumes) takes gravity as [x, y]"), std::string::npos) << g3;
+  const std::string gauge3 = problems(pdir, {"output.gauges=[{name: g, at: [10, 10, 0]}]"});
+  EXPECT_NE(gauge3.find("gauge 'g': a plane model's gauge is at [x, y]"), std::string::npos) << gauge3;
 }
 
 // A horizontal record's direction: x, y or an azimuth in degrees; anything else refused.
