@@ -33,6 +33,23 @@ class InputError(Exception):
     """Bad input (missing file, unknown field, malformed option): exit code 2."""
 
 
+# `dsdem render --field` names and the VTU arrays they stand for, in a plane and a 3D run
+# (render_fields.py and render_fields3d.py add their own stress components).
+FIELD_ALIASES = {
+    "velocity": "velocity_m_per_s",
+    "displacement": "displacement_m",
+    "acceleration": "acceleration_m_per_s2",
+    "stress": "von_mises_stress_Pa",
+    "von_mises": "von_mises_stress_Pa",
+    "material": "material_id",
+    "max_principal": "max_principal_stress_Pa",
+    "min_principal": "min_principal_stress_Pa",
+    "sxx": "stress_Pa:xx",
+    "syy": "stress_Pa:yy",
+    "sxy": "stress_Pa:xy",
+}
+
+
 def fail(message: str, code: int = EXIT_INPUT) -> None:
     print(f"error: {message}", file=sys.stderr)
     sys.exit(code)

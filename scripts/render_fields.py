@@ -65,19 +65,7 @@ try:
 except ImportError:  # pragma: no cover
     lib.fail("the Python package meshio is required (Debian: apt install python3-meshio)", 1)
 
-FIELD_ALIASES = {
-    "velocity": "velocity_m_per_s",
-    "displacement": "displacement_m",
-    "acceleration": "acceleration_m_per_s2",
-    "stress": "von_mises_stress_Pa",
-    "von_mises": "von_mises_stress_Pa",
-    "material": "material_id",
-    "max_principal": "max_principal_stress_Pa",
-    "min_principal": "min_principal_stress_Pa",
-    "sxx": "stress_Pa:xx",
-    "syy": "stress_Pa:yy",
-    "sxy": "stress_Pa:xy",
-}
+FIELD_ALIASES = lib.FIELD_ALIASES
 PRETTY = {
     "velocity_m_per_s": "Velocity magnitude",
     "displacement_m": "Displacement magnitude",

@@ -70,20 +70,10 @@ class RenderUnavailable(Exception):
 
 
 FIELD_ALIASES = {
-    "velocity": "velocity_m_per_s",
-    "displacement": "displacement_m",
-    "acceleration": "acceleration_m_per_s2",
-    "stress": "von_mises_stress_Pa",
-    "von_mises": "von_mises_stress_Pa",
-    "material": "material_id",
-    "max_principal": "max_principal_stress_Pa",
-    "min_principal": "min_principal_stress_Pa",
-    "sxx": "stress_Pa:xx",
-    "syy": "stress_Pa:yy",
+    **lib.FIELD_ALIASES,
     "szz": "stress_Pa:zz",
     "syz": "stress_Pa:yz",
     "sxz": "stress_Pa:xz",
-    "sxy": "stress_Pa:xy",
 }
 PRETTY = {
     "velocity_m_per_s": "Velocity magnitude",

@@ -81,16 +81,7 @@ void RunOutputs3::write_history(int stage_index) {
 }
 
 void RunOutputs3::update_gauge_stats(std::vector<GaugeStats>& stats) const {
-  for (std::size_t gi = 0; gi < prepared_.gauges.size(); ++gi) {
-    const auto& g = prepared_.gauges[gi];
-    const double d = solver::gauge_value(model_, g, model_.nodes.u).norm();
-    const double s = solver::gauge_value(model_, g, model_.nodes.v).norm();
-    stats[gi].max_disp = std::max(stats[gi].max_disp, d);
-    if (s > stats[gi].max_speed) {
-      stats[gi].max_speed = s;
-      stats[gi].time_of_max_speed = solver_.time();
-    }
-  }
+  update_gauge_peaks(stats, prepared_.gauges, model_, solver_.time());
 }
 
 void RunOutputs3::write_fields() {

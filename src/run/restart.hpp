@@ -1,11 +1,13 @@
 #pragma once
 // The runner's part of a checkpoint: what it carries from step to step besides the
 // solver's state, so that a restarted run writes what the uninterrupted one would.
+#include <algorithm>
 #include <cstddef>
 #include <optional>
 #include <vector>
 
 #include "io/checkpoint.hpp"
+#include "solver/gauges.hpp"
 #include "run/prepare.hpp"
 #include "run/run3d.hpp"
 
@@ -15,6 +17,22 @@ namespace dsdem::run {
 struct GaugeStats {
   double max_disp = 0.0, max_speed = 0.0, time_of_max_speed = 0.0;
 };
+
+// Each gauge's peaks after a step at `time`: a plane model's gauges or a 3D one's
+// (solver/gauges.hpp: gauge_value interpolates in the element that holds the gauge).
+template <class ModelT, class GaugeT>
+void update_gauge_peaks(std::vector<GaugeStats>& stats, const std::vector<GaugeT>& gauges, const ModelT& model,
+                        double time) {
+  for (std::size_t gi = 0; gi < gauges.size(); ++gi) {
+    const double d = solver::gauge_value(model, gauges[gi], model.nodes.u).norm();
+    const double s = solver::gauge_value(model, gauges[gi], model.nodes.v).norm();
+    stats[gi].max_disp = std::max(stats[gi].max_disp, d);
+    if (s > stats[gi].max_speed) {
+      stats[gi].max_speed = s;
+      stats[gi].time_of_max_speed = time;
+    }
+  }
+}
 
 struct RunnerState {
   double time = 0.0;                  // s, of the checkpoint
