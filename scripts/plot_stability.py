@@ -104,6 +104,13 @@ def plot_trials(out: Path, s: dict) -> None:
     plt.close(fig)
 
 
+def mechanism_title(m, suffix: str) -> str:
+    """'Mechanism at F = ... (variant)': the frame's time is the factor it failed at."""
+    F = m.field_data.get("TimeValue")
+    ftxt = f" at F = {float(np.ravel(F)[0]):.3f}" if F is not None else ""
+    return f"Mechanism{ftxt} ({suffix.strip('_') or 'static'})"
+
+
 def outer_faces(tet: np.ndarray) -> np.ndarray:
     """The triangles that bound a tetrahedral mesh: the faces only one tetrahedron has."""
     faces = np.concatenate([tet[:, [0, 1, 2]], tet[:, [0, 1, 3]], tet[:, [0, 2, 3]], tet[:, [1, 2, 3]]])
@@ -136,9 +143,7 @@ def plot_mechanism_3d(out: Path, suffix: str, m, tet: np.ndarray) -> None:
         axis.set_major_locator(plt.MaxNLocator(4))
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, shrink=0.7,
                  label="displacement since the settled state [m]")
-    F = m.field_data.get("TimeValue")
-    ftxt = f" at F = {float(np.ravel(F)[0]):.3f}" if F is not None else ""
-    ax.set_title(f"Mechanism{ftxt} ({suffix.strip('_') or 'static'}), 3D: the outer surface")
+    ax.set_title(mechanism_title(m, suffix) + ", 3D: the outer surface")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
@@ -177,9 +182,7 @@ def plot_mechanism(out: Path, suffix: str, s: dict) -> None:
         if lines is not None and broken is not None:
             for a, b in lines[broken]:
                 ax.plot(c.points[[a, b], 0], c.points[[a, b], 1], "k-", lw=0.8)
-    F = m.field_data.get("TimeValue")
-    ftxt = f" at F = {float(np.ravel(F)[0]):.3f}" if F is not None else ""
-    ax.set_title(f"Mechanism{ftxt} ({suffix.strip('_') or 'static'}): broken joints in black")
+    ax.set_title(mechanism_title(m, suffix) + ": broken joints in black")
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
